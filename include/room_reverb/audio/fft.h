@@ -1,0 +1,42 @@
+#pragma once
+// Real FFT over FFTW3 (single precision). Plans are made once per size and shared by
+// every RealFft of that size (FFTW's planner is not thread-safe, its execution is), so
+// constructing a RealFft after the first of its size costs only two buffer allocations.
+#include <complex>
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+namespace room_reverb::core {
+
+// Smallest n' >= n of the form 2^a 3^b 5^c 7^d, the sizes FFTW handles fastest.
+std::size_t nextFastFftSize(std::size_t n);
+
+class RealFft {
+ public:
+  explicit RealFft(std::size_t size);
+  ~RealFft();
+  RealFft(const RealFft&) = delete;
+  RealFft& operator=(const RealFft&) = delete;
+
+  std::size_t size() const { return size_; }
+  std::size_t spectrumSize() const { return size_ / 2 + 1; }
+
+  // time: size() samples -> spectrum: spectrumSize() bins, unnormalised.
+  void forward(const float* time, std::complex<float>* spectrum);
+  // spectrum: spectrumSize() bins -> time: size() samples, scaled by 1/size() so that
+  // inverse(forward(x)) == x.
+  void inverse(const std::complex<float>* spectrum, float* time);
+
+  std::vector<std::complex<float>> forward(const std::vector<float>& time);
+  std::vector<float> inverse(const std::vector<std::complex<float>>& spectrum);
+
+ private:
+  struct Plans;
+  std::size_t size_;
+  std::shared_ptr<const Plans> plans_;
+  float* time_buffer_;
+  void* spectrum_buffer_;  // fftwf_complex*, kept opaque so FFTW stays out of this header
+};
+
+}  // namespace room_reverb::core

@@ -1,0 +1,63 @@
+#include "arguments.h"
+
+#include <cstdlib>
+
+#include "command.h"
+
+namespace room_reverb::tool {
+
+Arguments::Arguments(const std::vector<std::string>& args, const std::set<std::string>& valued,
+                     const std::set<std::string>& flags) {
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& arg = args[i];
+    if (arg.rfind("--", 0) != 0 || arg == "--") {
+      positional_.push_back(arg);
+      continue;
+    }
+    std::string name = arg.substr(2);
+    std::string value;
+    const auto equals = name.find('=');
+    const bool inline_value = equals != std::string::npos;
+    if (inline_value) {
+      value = name.substr(equals + 1);
+      name = name.substr(0, equals);
+    }
+    if (flags.count(name)) {
+      if (inline_value) throw UsageError("--" + name + " takes no value");
+      values_[name] = "";
+    } else if (valued.count(name)) {
+      if (!inline_value) {
+        if (i + 1 >= args.size()) throw UsageError("--" + name + " needs a value");
+        value = args[++i];
+      }
+      values_[name] = value;
+    } else {
+      throw UsageError("unknown option --" + name);
+    }
+  }
+}
+
+std::string Arguments::value(const std::string& name, const std::string& fallback) const {
+  const auto found = values_.find(name);
+  return found == values_.end() ? fallback : found->second;
+}
+
+int Arguments::intValue(const std::string& name, int fallback) const {
+  if (!has(name)) return fallback;
+  const std::string text = value(name, "");
+  char* end = nullptr;
+  const long parsed = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0') throw UsageError("--" + name + " needs an integer, got '" + text + "'");
+  return static_cast<int>(parsed);
+}
+
+double Arguments::doubleValue(const std::string& name, double fallback) const {
+  if (!has(name)) return fallback;
+  const std::string text = value(name, "");
+  char* end = nullptr;
+  const double parsed = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0') throw UsageError("--" + name + " needs a number, got '" + text + "'");
+  return parsed;
+}
+
+}  // namespace room_reverb::tool

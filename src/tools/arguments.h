@@ -1,0 +1,28 @@
+#pragma once
+// A small command-line parser: positional arguments and --options with or without values.
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace room_reverb::tool {
+
+class Arguments {
+ public:
+  // `valued`: options that take a value (--name VALUE or --name=VALUE); `flags`: options
+  // without one. Anything else starting with "--" is a UsageError.
+  Arguments(const std::vector<std::string>& args, const std::set<std::string>& valued,
+            const std::set<std::string>& flags);
+
+  bool has(const std::string& name) const { return values_.count(name) > 0; }
+  std::string value(const std::string& name, const std::string& fallback) const;
+  int intValue(const std::string& name, int fallback) const;
+  double doubleValue(const std::string& name, double fallback) const;
+  const std::vector<std::string>& positional() const { return positional_; }
+
+ private:
+  std::map<std::string, std::string> values_;
+  std::vector<std::string> positional_;
+};
+
+}  // namespace room_reverb::tool

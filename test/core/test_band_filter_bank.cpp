@@ -1,0 +1,92 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "room_reverb/audio/band_filter_bank.h"
+#include "synthetic_rir.h"
+
+using namespace room_reverb::core;
+using room_reverb::test::energy;
+
+namespace {
+
+double sumOfBandEnergies(const BandFilterBank& bank, const std::vector<float>& x) {
+  double sum = 0.0;
+  for (const auto& band : bank.split(x)) sum += energy(band);
+  return sum;
+}
+
+}  // namespace
+
+TEST(FrequencyBands, StandardSets) {
+  const auto octaves = standardBands(BandResolution::kOctave);
+  ASSERT_EQ(octaves.size(), 9u);
+  EXPECT_EQ(octaves.front().nominal_hz, 63);
+  EXPECT_EQ(octaves.back().nominal_hz, 16000);
+  EXPECT_DOUBLE_EQ(octaves[4].center_hz, 1000.0);
+  EXPECT_NEAR(octaves[4].upper_hz, 1000.0 * std::sqrt(2.0), 1e-9);
+  const auto thirds = standardBands(BandResolution::kThirdOctave);
+  ASSERT_EQ(thirds.size(), 31u);
+  EXPECT_EQ(thirds.front().nominal_hz, 20);
+  EXPECT_EQ(thirds.back().nominal_hz, 20000);
+  EXPECT_DOUBLE_EQ(thirds[17].center_hz, 1000.0);
+  // Adjacent bands share their edges.
+  for (std::size_t b = 1; b < thirds.size(); ++b) EXPECT_NEAR(thirds[b].lower_hz, thirds[b - 1].upper_hz, 1e-9);
+}
+
+TEST(BandFilterBank, ResponsesArePowerComplementaryInsideTheRange) {
+  for (auto resolution : {BandResolution::kOctave, BandResolution::kThirdOctave}) {
+    const BandFilterBank bank(standardBands(resolution), 48000.0);
+    const auto& bands = bank.bands();
+    for (double f = bands.front().center_hz; f <= bands.back().center_hz; f *= 1.01) {
+      double power = 0.0;
+      for (std::size_t b = 0; b < bands.size(); ++b) power += bank.gain(b, f) * bank.gain(b, f);
+      ASSERT_NEAR(power, 1.0, 1e-9) << f;
+    }
+    for (std::size_t b = 0; b < bands.size(); ++b) {
+      EXPECT_NEAR(bank.gain(b, bands[b].center_hz), 1.0, 1e-12);
+      EXPECT_NEAR(20 * std::log10(bank.gain(b, bands[b].upper_hz)), -3.01, 0.01);  // IEC: -3 dB at the edges
+      if (b + 1 < bands.size()) {
+        EXPECT_LT(bank.gain(b, bands[b + 1].center_hz), 1e-12);
+      }
+    }
+  }
+}
+
+TEST(BandFilterBank, BandEnergiesSumToBroadbandWithinHalfADecibel) {
+  // An impulse (flat spectrum) and white noise, octave and third-octave, at 48 kHz and
+  // at 44.1 kHz where the top band reaches past Nyquist.
+  for (double fs : {48000.0, 44100.0}) {
+    for (auto resolution : {BandResolution::kOctave, BandResolution::kThirdOctave}) {
+      const BandFilterBank bank(standardBands(resolution), fs);
+      std::vector<float> impulse(static_cast<std::size_t>(fs), 0.0f);
+      impulse[impulse.size() / 2] = 1.0f;
+      const double ratio_impulse = sumOfBandEnergies(bank, impulse) / energy(impulse);
+      EXPECT_LT(std::abs(10 * std::log10(ratio_impulse)), 0.5) << fs << " " << toString(resolution);
+      const std::vector<float> noise = room_reverb::test::whiteNoise(static_cast<std::size_t>(fs), 9);
+      const double ratio_noise = sumOfBandEnergies(bank, noise) / energy(noise);
+      EXPECT_LT(std::abs(10 * std::log10(ratio_noise)), 0.5) << fs << " " << toString(resolution);
+    }
+  }
+}
+
+TEST(BandFilterBank, SineLandsInItsBandOnly) {
+  const BandFilterBank bank(standardBands(BandResolution::kOctave), 48000.0);
+  std::vector<float> sine(48000);
+  for (std::size_t n = 0; n < sine.size(); ++n) sine[n] = static_cast<float>(std::sin(2 * M_PI * 1000.0 * n / 48000.0));
+  const auto bands = bank.split(sine);
+  const double total = energy(sine);
+  EXPECT_NEAR(energy(bands[4]) / total, 1.0, 0.01);
+  for (std::size_t b = 0; b < bands.size(); ++b) {
+    if (b != 4) {
+      EXPECT_LT(energy(bands[b]) / total, 1e-4) << b;
+    }
+  }
+}
+
+TEST(BandFilterBank, BandsAboveNyquistAreSilent) {
+  const BandFilterBank bank(standardBands(BandResolution::kOctave), 22050.0);
+  EXPECT_FALSE(bank.bandBelowNyquist(8));  // 16 kHz at 22.05 kHz sampling
+  const auto bands = bank.split(room_reverb::test::whiteNoise(2205, 2));
+  EXPECT_EQ(energy(bands[8]), 0.0);
+}

@@ -1,0 +1,73 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+#include <thread>
+
+#include "room_reverb/audio/convolution.h"
+#include "room_reverb/audio/fft.h"
+#include "synthetic_rir.h"
+
+using namespace room_reverb::core;
+
+TEST(Fft, NextFastSizeHasOnlySmallFactors) {
+  EXPECT_EQ(nextFastFftSize(1), 1u);
+  EXPECT_EQ(nextFastFftSize(1000), 1000u);
+  EXPECT_EQ(nextFastFftSize(1009), 1024u);  // 1009 is prime
+  EXPECT_EQ(nextFastFftSize(11), 12u);
+}
+
+TEST(Fft, ForwardMatchesDirectDft) {
+  for (std::size_t n : {1u, 7u, 64u, 100u}) {
+    const std::vector<float> x = room_reverb::test::whiteNoise(n, 3);
+    RealFft fft(n);
+    const auto spectrum = fft.forward(x);
+    for (std::size_t k = 0; k < fft.spectrumSize(); ++k) {
+      std::complex<double> sum = 0.0;
+      for (std::size_t t = 0; t < n; ++t) sum += static_cast<double>(x[t]) * std::polar(1.0, -2 * M_PI * k * t / n);
+      EXPECT_NEAR(spectrum[k].real(), sum.real(), 1e-4 * std::sqrt(n)) << n << " " << k;
+      EXPECT_NEAR(spectrum[k].imag(), sum.imag(), 1e-4 * std::sqrt(n)) << n << " " << k;
+    }
+  }
+}
+
+TEST(Fft, InverseUndoesForward) {
+  const std::vector<float> x = room_reverb::test::whiteNoise(960, 4);
+  RealFft fft(960);
+  const auto back = fft.inverse(fft.forward(x));
+  for (std::size_t t = 0; t < x.size(); ++t) EXPECT_NEAR(back[t], x[t], 1e-5);
+}
+
+TEST(Fft, PlansAreSharedAcrossThreads) {
+  // Many transforms of one size on several threads give the same answer as one.
+  const std::vector<float> x = room_reverb::test::whiteNoise(4096, 5);
+  RealFft reference(4096);
+  const auto expected = reference.forward(x);
+  std::vector<std::thread> threads;
+  std::vector<int> mismatches(4, 0);
+  for (int t = 0; t < 4; ++t) {
+    threads.emplace_back([&, t] {
+      for (int i = 0; i < 50; ++i) {
+        RealFft fft(4096);
+        if (fft.forward(x) != expected) ++mismatches[t];
+      }
+    });
+  }
+  for (auto& thread : threads) thread.join();
+  for (int m : mismatches) EXPECT_EQ(m, 0);
+}
+
+TEST(Convolution, MatchesDirectConvolution) {
+  const std::vector<float> a = room_reverb::test::whiteNoise(300, 6);
+  const std::vector<float> b = room_reverb::test::whiteNoise(77, 7);
+  const std::vector<float> y = fftConvolve(a, b);
+  ASSERT_EQ(y.size(), a.size() + b.size() - 1);
+  for (std::size_t n = 0; n < y.size(); ++n) {
+    double direct = 0.0;
+    for (std::size_t k = 0; k < b.size(); ++k) {
+      if (n >= k && n - k < a.size()) direct += static_cast<double>(a[n - k]) * b[k];
+    }
+    EXPECT_NEAR(y[n], direct, 1e-4);
+  }
+  EXPECT_TRUE(fftConvolve({}, b).empty());
+}
