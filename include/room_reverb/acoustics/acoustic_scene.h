@@ -1,0 +1,70 @@
+#pragma once
+// Geometry plus physics: a mesh in an Embree BVH, each triangle's material resolved from a
+// library (with the per-material absorption and scattering overrides the model allows),
+// and the room's volume and surface.
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "room_reverb/acoustics/embree_scene.h"
+#include "room_reverb/acoustics/material.h"
+
+namespace room_reverb::core {
+
+struct MaterialOverrides {
+  // Replaces the absorption of the named material (by its name in the mesh).
+  std::map<std::string, OctaveBandValues> absorption;
+  // Replaces the scattering of the named material.
+  std::map<std::string, OctaveBandValues> scattering;
+  // One scattering coefficient for every surface and band (e.g. 0 to turn scattering off).
+  std::optional<double> global_scattering;
+};
+
+struct ScenePlane {
+  Eigen::Vector3d normal;  // unit
+  double offset = 0.0;     // plane: normal . x = offset
+  std::vector<std::size_t> triangles;
+};
+
+class AcousticScene {
+ public:
+  // Throws InputError for an invalid mesh, an unknown material name, or an override out
+  // of [0, 1]. `closed`: the room should hold every ray (rays that leave are leaks).
+  AcousticScene(TriangleMesh mesh, const MaterialLibrary& library,
+                const MaterialOverrides& overrides = {}, bool closed = true);
+
+  const EmbreeScene& geometry() const { return *geometry_; }
+  const TriangleMesh& mesh() const { return geometry_->mesh(); }
+  const AcousticMaterial& material(std::size_t triangle) const {
+    return materials_[static_cast<std::size_t>(mesh().triangle_material[triangle])];
+  }
+  const std::vector<AcousticMaterial>& materials() const { return materials_; }
+  // Coplanar triangles grouped (normals within 1e-4, offsets within 1 mm).
+  const std::vector<ScenePlane>& planes() const { return planes_; }
+  std::size_t planeOf(std::size_t triangle) const { return triangle_plane_[triangle]; }
+  bool closed() const { return closed_; }
+
+  // Enclosed volume by the divergence theorem (absolute value; meaningful for closed
+  // meshes) and total surface area.
+  double volumeM3() const { return volume_m3_; }
+  double surfaceM2() const { return surface_m2_; }
+  // Area-weighted mean absorption per band.
+  OctaveBandValues meanAbsorption() const;
+
+  // InputError unless `point` is inside the room (crossing parity along several rays),
+  // outside every object and at least `clearance_m` from every surface.
+  void requireInside(const Eigen::Vector3d& point, const std::string& what, double clearance_m = 0.01) const;
+
+ private:
+  std::unique_ptr<EmbreeScene> geometry_;
+  std::vector<AcousticMaterial> materials_;
+  std::vector<ScenePlane> planes_;
+  std::vector<std::size_t> triangle_plane_;
+  bool closed_;
+  double volume_m3_ = 0.0;
+  double surface_m2_ = 0.0;
+};
+
+}  // namespace room_reverb::core

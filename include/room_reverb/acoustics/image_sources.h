@@ -1,0 +1,36 @@
+#pragma once
+// The image-source method for any polygonal room (Allen & Berkley 1979 for the idea;
+// Borish 1984 for arbitrary polyhedra): mirror the source in every plane up to a maximum
+// order, and keep an image only if the path it stands for is real: each reflection point
+// lies on a triangle of its plane and nothing blocks any leg (checked with Embree rays).
+#include <Eigen/Core>
+#include <vector>
+
+#include "room_reverb/acoustics/acoustic_scene.h"
+#include "room_reverb/acoustics/propagation.h"
+
+namespace room_reverb::core {
+
+struct ImageSourceOptions {
+  int max_order = 3;
+  // Scale each reflection by the specular share sqrt(1 - s) of the surface's scattering;
+  // the scattered share is the ray tracer's (no energy is counted twice).
+  bool specular_share_only = true;
+};
+
+struct SpecularPath {
+  int order = 0;                        // 0: the direct sound
+  Eigen::Vector3d image_position = Eigen::Vector3d::Zero();     // m, room frame
+  double distance_m = 0.0;              // unfolded path length
+  double delay_s = 0.0;                 // distance / c
+  OctaveBandValues pressure_gain{};     // per band: directivity, reflections, 1/r, air
+  Eigen::Vector3d arrival_direction = Eigen::Vector3d::UnitX();  // unit, from the listener towards where it comes from
+  std::vector<std::size_t> triangles;   // hit triangle of each reflection, source side first
+};
+
+// Pressure gains are relative to the direct sound of an omni source at 1 m (gain 1).
+std::vector<SpecularPath> computeImageSources(const AcousticScene& scene, const Eigen::Vector3d& source,
+                                              const Eigen::Vector3d& listener, const PropagationModel& model,
+                                              const ImageSourceOptions& options = {});
+
+}  // namespace room_reverb::core

@@ -1,0 +1,37 @@
+#pragma once
+// Turning simulation results into a sampled impulse response (ACN/SN3D ambisonics; order
+// 0 is omni).
+//
+// Early part: each image-source path as a band-shaped, fractional-delay tap: a short
+// zero-phase FIR whose magnitude interpolates the path's octave gains in energy, delayed
+// by the exact (non-integer) number of samples, weighted by the harmonics of its
+// direction.
+// Late part: a Poisson process of signed impulses whose rate grows as 4 pi c^3 t^2 / V (the
+// density of reflections in a room; Kuttruff), filtered into octave bands and scaled in
+// every histogram bin to the bin's energy; its direction follows the bin's intensity
+// vector, the rest of the energy spread as a diffuse field (SN3D: 1 / (2l + 1) per channel).
+#include <cstdint>
+#include <vector>
+
+#include "room_reverb/acoustics/energy_histogram.h"
+#include "room_reverb/acoustics/image_sources.h"
+#include "room_reverb/audio/audio_buffer.h"
+
+namespace room_reverb::core {
+
+struct SynthesisOptions {
+  double sample_rate_hz = kInternalSampleRateHz;
+  double duration_s = 2.0;
+  int ambisonic_order = 1;
+  double room_volume_m3 = 100.0;     // sets the growth of the reflection density
+  double speed_of_sound_m_s = 343.2;
+  double max_event_rate_per_s = 12000.0;
+  std::uint32_t seed = 1;
+};
+
+// Histogram energies are per unit area for 1 J emitted; the output is scaled so that the
+// direct sound of an omni source at 1 m has unit energy (4 pi per J/m^2).
+AudioBuffer synthesizeImpulseResponse(const std::vector<SpecularPath>& paths, const EnergyHistogram* late,
+                                      const SynthesisOptions& options);
+
+}  // namespace room_reverb::core

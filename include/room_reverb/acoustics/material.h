@@ -1,0 +1,50 @@
+#pragma once
+// Acoustic materials: octave-band random-incidence absorption and scattering coefficients
+// (63 Hz .. 16 kHz, the bands of audio/frequency_bands.h), and the library of named
+// materials in config/materials.yaml.
+#include <array>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "room_reverb/audio/frequency_bands.h"
+
+namespace room_reverb::core {
+
+using OctaveBandValues = std::array<double, kOctaveBandCount>;
+
+struct AcousticMaterial {
+  std::string name;
+  OctaveBandValues absorption{};  // energy absorption coefficient per octave, in [0, 1]
+  OctaveBandValues scattering{};  // scattering coefficient (ISO 17497-1) per octave, in [0, 1]
+  std::string source;             // where the numbers come from
+};
+
+// Throws InputError naming the material unless every coefficient is finite and in [0, 1].
+void validateMaterial(const AcousticMaterial& material);
+
+class MaterialLibrary {
+ public:
+  // Reads a library in the format of config/materials.yaml (materials: and aliases:).
+  // Throws InputError for a missing or malformed file or an invalid material.
+  static MaterialLibrary load(const std::string& path);
+  // The project's library: $ROOM_REVERB_MATERIALS if set, else config/materials.yaml of
+  // the source tree this library was built from.
+  static MaterialLibrary loadDefault();
+  static std::string defaultPath();
+
+  // Adds or replaces a material (validated).
+  void add(const AcousticMaterial& material);
+  void addAlias(const std::string& alias, const std::string& target);
+  bool contains(const std::string& name) const;
+  // Resolves aliases. Unknown names are an InputError that names up to five close matches.
+  const AcousticMaterial& get(const std::string& name) const;
+  std::vector<std::string> names() const;  // material keys, sorted (aliases not included)
+  std::size_t size() const { return materials_.size(); }
+
+ private:
+  std::map<std::string, AcousticMaterial> materials_;
+  std::map<std::string, std::string> aliases_;
+};
+
+}  // namespace room_reverb::core

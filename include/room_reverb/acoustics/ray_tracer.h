@@ -1,0 +1,59 @@
+#pragma once
+// Stochastic ray tracing for the late part (Krokstad et al. 1968; Vorländer 2008 ch. 11).
+//
+// Rays leave the source uniformly (weighted by its directivity) each carrying 1/N of a
+// joule per band. At a wall a ray loses the absorbed share, then reflects specularly or
+// diffusely (Lambert) with the probability given by the scattering coefficient: one or
+// the other, never a blend of the two directions (a blend shortens the mean free path and
+// the decay). Bands share one ray geometry: the choice is made with the bands' mean
+// scattering p and each band is reweighted by s/p or (1-s)/(1-p), which keeps every
+// band's expectation exact.
+//
+// Receiver: the scattered share of each reflection goes to the receiver as "diffuse rain"
+// (Schröder 2011): E (1 - alpha) s cos(theta) / (pi d^2) per unit area when the receiver is
+// visible. Rays whose last reflection was specular are detected when they cross a sphere
+// around the receiver (E / (pi r^2)); purely specular paths up to the image-source order
+// are left out, since the image sources carry them.
+#include <cstdint>
+
+#include "room_reverb/acoustics/acoustic_scene.h"
+#include "room_reverb/acoustics/energy_histogram.h"
+#include "room_reverb/acoustics/propagation.h"
+
+namespace room_reverb::core {
+
+struct RayTracingOptions {
+  std::size_t ray_count = 100000;
+  double max_time_s = 2.0;          // rays stop here (and the histogram ends)
+  double bin_s = 0.001;             // histogram resolution
+  double receiver_radius_m = 0.3;   // detection sphere of specular arrivals
+  double energy_floor_db = -90.0;   // a ray stops once every band is this far below its start
+  int image_source_order = 3;       // specular-only paths up to this order are not counted (-1: count all)
+  bool diffuse_rain = true;
+  std::uint32_t seed = 1;
+  int threads = 0;                  // 0: all hardware threads
+};
+
+struct RayTracingStats {
+  std::size_t rays = 0;
+  std::size_t reflections = 0;
+  std::size_t leaked_rays = 0;      // left a closed room: a hole in the mesh
+  std::size_t escaped_rays = 0;     // left an open room (no ceiling): expected
+  std::size_t stopped_by_time = 0;
+  std::size_t stopped_by_energy = 0;
+  std::size_t sphere_detections = 0;
+  // Energy (J, per band) still carried by rays when they reached max_time_s, over the
+  // energy emitted: 1 in a lossless closed room.
+  OctaveBandValues energy_left_at_time_limit{};
+};
+
+struct RayTracingResult {
+  EnergyHistogram histogram;
+  RayTracingStats stats;
+};
+
+RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& source,
+                           const Eigen::Vector3d& listener, const PropagationModel& model,
+                           const RayTracingOptions& options = {});
+
+}  // namespace room_reverb::core

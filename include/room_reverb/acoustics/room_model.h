@@ -1,0 +1,63 @@
+#pragma once
+// The room model of DESIGN.md (room.yaml; the RoomModel message): a room box whose inside
+// faces are floor, ceiling and walls, labelled cuboid objects, materials and the rig pose.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "room_reverb/acoustics/air_absorption.h"
+#include "room_reverb/acoustics/material.h"
+#include "room_reverb/acoustics/triangle_mesh.h"
+
+namespace room_reverb::core {
+
+struct SurfaceAssignment {
+  std::string material;
+  double confidence = 1.0;
+};
+
+struct CuboidObject {
+  std::string label;
+  std::string material;
+  Eigen::Vector3d center_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d size_m = Eigen::Vector3d::Zero();  // extent along its own x, y, z
+  double yaw_rad = 0.0;                              // rotation about z
+  double confidence = 1.0;
+};
+
+// Names of the six box faces, as in room.yaml.
+extern const std::array<const char*, 6> kRoomSurfaceNames;  // floor, ceiling, wall_x_min, wall_x_max, wall_y_min, wall_y_max
+
+struct RoomModel {
+  std::string frame = "room";
+  Eigen::Vector3d size_m = Eigen::Vector3d::Zero();  // inner extent; box spans [0, size]
+  bool has_ceiling = true;
+  std::map<std::string, SurfaceAssignment> surfaces;  // keyed by kRoomSurfaceNames
+  std::vector<CuboidObject> objects;
+  std::vector<AcousticMaterial> inline_materials;
+  Eigen::Vector3d rig_position_m = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond rig_rotation = Eigen::Quaterniond::Identity();
+  AirConditions air;
+};
+
+// Parse / write room.yaml. Throws InputError (with the key at fault) for missing or
+// malformed keys, non-positive sizes, non-finite numbers, a surface without a material.
+RoomModel loadRoomModel(const std::string& path);
+RoomModel parseRoomModel(const std::string& yaml_text);
+std::string roomModelToYaml(const RoomModel& model);
+void saveRoomModel(const std::string& path, const RoomModel& model);
+
+// The room as triangles: the box's faces with normals pointing into the room (the ceiling
+// left out when has_ceiling is false), each object as a closed cuboid with outward
+// normals, rotated by its yaw about its centre. Triangle materials are the assigned
+// material names.
+TriangleMesh roomModelToMesh(const RoomModel& model);
+
+// The library extended by the model's inline materials; throws InputError if a surface or
+// object names a material neither defines.
+MaterialLibrary materialsFor(const RoomModel& model, const MaterialLibrary& library);
+
+}  // namespace room_reverb::core

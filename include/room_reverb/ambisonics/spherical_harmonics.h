@@ -1,0 +1,16 @@
+#pragma once
+// Real spherical harmonics in the AmbiX convention: ACN order (index l^2 + l + m), SN3D
+// normalisation, no Condon-Shortley phase.
+#include <Eigen/Core>
+#include <vector>
+
+namespace room_reverb::core {
+
+constexpr int kMaxAmbisonicOrder = 3;
+
+inline int ambisonicChannelCount(int order) { return (order + 1) * (order + 1); }
+
+// The (order+1)^2 harmonics of a direction (unit vector, room or head frame). Order 0..3.
+std::vector<double> sn3dHarmonics(int order, const Eigen::Vector3d& direction);
+
+}  // namespace room_reverb::core

@@ -1,0 +1,132 @@
+#include "room_reverb/acoustics/acoustic_scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "room_reverb/common/error.h"
+
+namespace room_reverb::core {
+namespace {
+
+constexpr double kPlaneNormalTolerance = 1e-4;
+constexpr double kPlaneOffsetTolerance_m = 1e-3;
+
+void checkCoefficients(const OctaveBandValues& values, const std::string& what) {
+  for (double v : values) {
+    if (!std::isfinite(v) || v < 0.0 || v > 1.0) {
+      std::ostringstream os;
+      os << what << ": coefficient " << v << " is outside [0, 1]";
+      throw InputError(os.str());
+    }
+  }
+}
+
+}  // namespace
+
+AcousticScene::AcousticScene(TriangleMesh mesh, const MaterialLibrary& library,
+                             const MaterialOverrides& overrides, bool closed)
+    : closed_(closed) {
+  validateMesh(mesh, "room mesh");
+  for (const auto& name : mesh.material_names) {
+    AcousticMaterial material = library.get(name);
+    material.name = name;
+    if (auto it = overrides.absorption.find(name); it != overrides.absorption.end()) {
+      checkCoefficients(it->second, "absorption override of '" + name + "'");
+      material.absorption = it->second;
+    }
+    if (auto it = overrides.scattering.find(name); it != overrides.scattering.end()) {
+      checkCoefficients(it->second, "scattering override of '" + name + "'");
+      material.scattering = it->second;
+    }
+    if (overrides.global_scattering) {
+      const double s = *overrides.global_scattering;
+      if (!std::isfinite(s) || s < 0.0 || s > 1.0) throw InputError("global scattering must be in [0, 1]");
+      material.scattering.fill(s);
+    }
+    materials_.push_back(material);
+  }
+  for (const auto& name : overrides.absorption) {
+    if (library.contains(name.first) || std::find(mesh.material_names.begin(), mesh.material_names.end(), name.first) != mesh.material_names.end()) continue;
+    throw InputError("absorption override names '" + name.first + "', which no surface uses");
+  }
+
+  // Volume (divergence theorem) and area.
+  for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    const Eigen::Vector3d& a = mesh.vertices[tri[0]];
+    const Eigen::Vector3d& b = mesh.vertices[tri[1]];
+    const Eigen::Vector3d& c = mesh.vertices[tri[2]];
+    volume_m3_ += a.dot(b.cross(c)) / 6.0;
+    surface_m2_ += mesh.area(t);
+  }
+  volume_m3_ = std::abs(volume_m3_);
+
+  // Group coplanar triangles: image sources reflect in planes, not in triangles.
+  triangle_plane_.resize(mesh.triangleCount());
+  for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+    const Eigen::Vector3d n = mesh.normal(t);
+    const double d = n.dot(mesh.vertices[mesh.triangles[t][0]]);
+    std::size_t found = planes_.size();
+    for (std::size_t p = 0; p < planes_.size(); ++p) {
+      if ((planes_[p].normal - n).norm() < kPlaneNormalTolerance && std::abs(planes_[p].offset - d) < kPlaneOffsetTolerance_m) {
+        found = p;
+        break;
+      }
+    }
+    if (found == planes_.size()) planes_.push_back({n, d, {}});
+    planes_[found].triangles.push_back(t);
+    triangle_plane_[t] = found;
+  }
+  geometry_ = std::make_unique<EmbreeScene>(std::move(mesh));
+}
+
+OctaveBandValues AcousticScene::meanAbsorption() const {
+  OctaveBandValues mean{};
+  for (std::size_t t = 0; t < mesh().triangleCount(); ++t) {
+    const double area = mesh().area(t);
+    for (int b = 0; b < kOctaveBandCount; ++b) mean[b] += area * material(t).absorption[b];
+  }
+  for (double& v : mean) v /= surface_m2_;
+  return mean;
+}
+
+void AcousticScene::requireInside(const Eigen::Vector3d& point, const std::string& what, double clearance_m) const {
+  std::ostringstream where;
+  where << what << " (" << point.x() << ", " << point.y() << ", " << point.z() << ") m";
+  if (!point.allFinite()) throw InputError(where.str() + " is not a finite position");
+  // Crossing parity along directions that avoid the axes (and so the room's edges): odd
+  // means inside the room and outside every closed object. Horizontal rays only in a room
+  // without a ceiling.
+  const Eigen::Vector3d directions[] = {Eigen::Vector3d(0.8017, 0.5345, 0.2673).normalized(),
+                                        Eigen::Vector3d(-0.6139, 0.7675, -0.1842).normalized(),
+                                        Eigen::Vector3d(0.2182, -0.8729, 0.4364).normalized(),
+                                        Eigen::Vector3d(0.7071, 0.7071, 0.0),
+                                        Eigen::Vector3d(-0.9487, -0.3162, 0.0)};
+  int inside_votes = 0, votes = 0;
+  for (const auto& direction : directions) {
+    if (!closed_ && direction.z() != 0.0) continue;
+    int crossings = 0;
+    double t = 0.0;
+    for (int guard = 0; guard < 1000; ++guard) {
+      const RayHit hit = geometry_->intersect(point, direction, t + 1e-6);
+      if (!hit.hit) break;
+      ++crossings;
+      t = hit.distance_m;
+    }
+    ++votes;
+    if (crossings % 2 == 1) ++inside_votes;
+  }
+  if (2 * inside_votes <= votes) {
+    throw InputError(where.str() + " is outside the room or inside an object or wall");
+  }
+  // Clearance: no surface closer than clearance_m along a spread of directions.
+  for (int i = 0; i < 27; ++i) {
+    const Eigen::Vector3d d(i % 3 - 1, (i / 3) % 3 - 1, (i / 9) % 3 - 1);
+    if (d.isZero()) continue;
+    const RayHit hit = geometry_->intersect(point, d.normalized(), 0.0, clearance_m);
+    if (hit.hit) throw InputError(where.str() + " is closer than " + std::to_string(clearance_m) + " m to a surface");
+  }
+}
+
+}  // namespace room_reverb::core

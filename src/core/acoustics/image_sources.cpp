@@ -1,0 +1,115 @@
+#include "room_reverb/acoustics/image_sources.h"
+
+#include <cmath>
+
+#include "room_reverb/common/error.h"
+
+namespace room_reverb::core {
+namespace {
+
+struct Search {
+  const AcousticScene& scene;
+  const Eigen::Vector3d& source;
+  const Eigen::Vector3d& listener;
+  const PropagationModel& model;
+  const ImageSourceOptions& options;
+  std::vector<SpecularPath> paths;
+  // Image chain: images[k] is the source mirrored in planes[0..k].
+  std::vector<Eigen::Vector3d> images;
+  std::vector<std::size_t> planes;
+};
+
+Eigen::Vector3d mirror(const Eigen::Vector3d& point, const ScenePlane& plane) {
+  return point - 2.0 * (plane.normal.dot(point) - plane.offset) * plane.normal;
+}
+
+double signedDistance(const Eigen::Vector3d& point, const ScenePlane& plane) {
+  return plane.normal.dot(point) - plane.offset;
+}
+
+// Walks the path back from the listener to the source through the chain of planes and
+// returns the hit triangles (source side first), or false if any leg is blocked or a
+// reflection point misses its plane's triangles.
+bool validatePath(const Search& s, std::vector<std::size_t>& triangles, Eigen::Vector3d& first_leg_direction) {
+  const std::size_t order = s.planes.size();
+  triangles.assign(order, 0);
+  Eigen::Vector3d from = s.listener;
+  for (std::size_t k = order; k-- > 0;) {
+    const Eigen::Vector3d target = s.images[k];
+    const Eigen::Vector3d direction = (target - from).normalized();
+    const ScenePlane& plane = s.scene.planes()[s.planes[k]];
+    // Distance along the ray to the plane; the first thing hit must be a triangle of it.
+    const double denominator = plane.normal.dot(direction);
+    if (std::abs(denominator) < 1e-12) return false;
+    const double t_plane = (plane.offset - plane.normal.dot(from)) / denominator;
+    if (t_plane <= 1e-6) return false;
+    const RayHit hit = s.scene.geometry().intersect(from, direction, 1e-6);
+    if (!hit.hit || s.scene.planeOf(hit.triangle) != s.planes[k]) return false;
+    if (std::abs(hit.distance_m - t_plane) > 1e-3) return false;
+    triangles[k] = hit.triangle;
+    from = from + t_plane * direction;
+  }
+  // Last leg: from the first reflection point (or the listener) to the source.
+  if (s.scene.geometry().occluded(from, s.source, 1e-4)) return false;
+  first_leg_direction = (from - s.source).normalized();
+  return true;
+}
+
+void addPath(Search& s) {
+  std::vector<std::size_t> triangles;
+  Eigen::Vector3d leaving;
+  if (!validatePath(s, triangles, leaving)) return;
+  SpecularPath path;
+  path.order = static_cast<int>(s.planes.size());
+  path.image_position = s.planes.empty() ? s.source : s.images.back();
+  const Eigen::Vector3d to_image = path.image_position - s.listener;
+  path.distance_m = to_image.norm();
+  path.delay_s = path.distance_m / s.model.speed_of_sound_m_s;
+  path.arrival_direction = to_image / path.distance_m;
+  path.triangles = triangles;
+  const double directivity = s.model.directivity.pressureGain(leaving);
+  for (int b = 0; b < kOctaveBandCount; ++b) {
+    double gain = directivity / path.distance_m;
+    for (std::size_t triangle : triangles) {
+      const AcousticMaterial& material = s.scene.material(triangle);
+      gain *= std::sqrt(1.0 - material.absorption[b]);
+      if (s.options.specular_share_only) gain *= std::sqrt(1.0 - material.scattering[b]);
+    }
+    // Air absorbs energy as exp(-m d): pressure as exp(-m d / 2).
+    gain *= std::exp(-0.5 * s.model.air_attenuation_per_m[b] * path.distance_m);
+    path.pressure_gain[b] = gain;
+  }
+  s.paths.push_back(std::move(path));
+}
+
+void expand(Search& s) {
+  addPath(s);
+  if (static_cast<int>(s.planes.size()) >= s.options.max_order) return;
+  const Eigen::Vector3d current = s.images.empty() ? s.source : s.images.back();
+  const auto& planes = s.scene.planes();
+  for (std::size_t p = 0; p < planes.size(); ++p) {
+    if (!s.planes.empty() && s.planes.back() == p) continue;  // mirroring twice undoes itself
+    // A reflection in p needs the (image) source and the listener on the same side of it.
+    const double source_side = signedDistance(current, planes[p]);
+    const double listener_side = signedDistance(s.listener, planes[p]);
+    if (source_side * listener_side <= 0.0) continue;
+    s.images.push_back(mirror(current, planes[p]));
+    s.planes.push_back(p);
+    expand(s);
+    s.images.pop_back();
+    s.planes.pop_back();
+  }
+}
+
+}  // namespace
+
+std::vector<SpecularPath> computeImageSources(const AcousticScene& scene, const Eigen::Vector3d& source,
+                                              const Eigen::Vector3d& listener, const PropagationModel& model,
+                                              const ImageSourceOptions& options) {
+  if (options.max_order < 0) throw InputError("image-source order must be 0 or more");
+  Search search{scene, source, listener, model, options, {}, {}, {}};
+  expand(search);
+  return search.paths;
+}
+
+}  // namespace room_reverb::core

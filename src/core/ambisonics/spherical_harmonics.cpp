@@ -1,0 +1,53 @@
+#include "room_reverb/ambisonics/spherical_harmonics.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "room_reverb/common/error.h"
+
+namespace room_reverb::core {
+namespace {
+
+double factorial(int n) {
+  double f = 1.0;
+  for (int i = 2; i <= n; ++i) f *= i;
+  return f;
+}
+
+// Associated Legendre function P_l^m(x) without the Condon-Shortley phase.
+double legendre(int l, int m, double x) {
+  double pmm = 1.0;
+  const double somx2 = std::sqrt(std::max(0.0, 1.0 - x * x));
+  for (int i = 1; i <= m; ++i) pmm *= (2.0 * i - 1.0) * somx2;
+  if (l == m) return pmm;
+  double pmmp1 = x * (2.0 * m + 1.0) * pmm;
+  if (l == m + 1) return pmmp1;
+  double pll = 0.0;
+  for (int ll = m + 2; ll <= l; ++ll) {
+    pll = ((2.0 * ll - 1.0) * x * pmmp1 - (ll + m - 1.0) * pmm) / (ll - m);
+    pmm = pmmp1;
+    pmmp1 = pll;
+  }
+  return pll;
+}
+
+}  // namespace
+
+std::vector<double> sn3dHarmonics(int order, const Eigen::Vector3d& direction) {
+  if (order < 0 || order > kMaxAmbisonicOrder) throw InputError("ambisonic order must be 0 to 3");
+  const Eigen::Vector3d d = direction.normalized();
+  const double azimuth = std::atan2(d.y(), d.x());
+  const double sin_elevation = std::clamp(d.z(), -1.0, 1.0);
+  std::vector<double> y(static_cast<std::size_t>(ambisonicChannelCount(order)));
+  for (int l = 0; l <= order; ++l) {
+    for (int m = -l; m <= l; ++m) {
+      const int am = std::abs(m);
+      const double norm = std::sqrt((m == 0 ? 1.0 : 2.0) * factorial(l - am) / factorial(l + am));
+      const double angular = m >= 0 ? std::cos(am * azimuth) : std::sin(am * azimuth);
+      y[static_cast<std::size_t>(l * l + l + m)] = norm * legendre(l, am, sin_elevation) * angular;
+    }
+  }
+  return y;
+}
+
+}  // namespace room_reverb::core

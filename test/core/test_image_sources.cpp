@@ -1,0 +1,126 @@
+// Image sources in a shoebox against the analytic image lattice (Allen & Berkley 1979).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+
+#include "room_reverb/acoustics/acoustic_scene.h"
+#include "room_reverb/acoustics/image_sources.h"
+#include "room_reverb/acoustics/impulse_response_synthesis.h"
+#include "room_reverb/audio/fft.h"
+#include "shoebox.h"
+
+using namespace room_reverb::core;
+
+namespace {
+
+struct AnalyticImage {
+  Eigen::Vector3d position;
+  int order;
+};
+
+std::vector<AnalyticImage> shoeboxImages(const Eigen::Vector3d& size, const Eigen::Vector3d& source, int max_order) {
+  std::vector<AnalyticImage> images;
+  for (int nx = -2; nx <= 2; ++nx) for (int ny = -2; ny <= 2; ++ny) for (int nz = -2; nz <= 2; ++nz)
+    for (int px = 0; px < 2; ++px) for (int py = 0; py < 2; ++py) for (int pz = 0; pz < 2; ++pz) {
+      const int order = std::abs(2 * nx - px) + std::abs(2 * ny - py) + std::abs(2 * nz - pz);
+      if (order > max_order) continue;
+      const Eigen::Vector3d p((1 - 2 * px) * source.x() + 2 * nx * size.x(),
+                              (1 - 2 * py) * source.y() + 2 * ny * size.y(),
+                              (1 - 2 * pz) * source.z() + 2 * nz * size.z());
+      images.push_back({p, order});
+    }
+  return images;
+}
+
+}  // namespace
+
+TEST(ImageSources, ShoeboxMatchesTheAnalyticLatticeToOrderThree) {
+  const Eigen::Vector3d size(6.2, 4.3, 2.9);
+  const Eigen::Vector3d source(1.7, 1.1, 1.3), listener(4.4, 3.05, 1.6);
+  const double alpha = 0.2;
+  const AcousticScene scene(room_reverb::test::shoeboxMesh(size), room_reverb::test::uniformLibrary(alpha, 0.0));
+  AirConditions no_air;
+  no_air.enabled = false;
+  const PropagationModel model = PropagationModel::from(no_air, {});
+  const auto paths = computeImageSources(scene, source, listener, model);
+  const auto expected = shoeboxImages(size, source, 3);
+  ASSERT_EQ(expected.size(), 63u);  // 1 + 6 + 18 + 38
+  EXPECT_EQ(paths.size(), expected.size());
+  const double sample_s = 1.0 / 48000.0;
+  for (const auto& image : expected) {
+    const double distance = (image.position - listener).norm();
+    const double delay = distance / model.speed_of_sound_m_s;
+    const double amplitude = std::pow(1.0 - alpha, 0.5 * image.order) / distance;
+    const SpecularPath* match = nullptr;
+    for (const auto& path : paths) {
+      if ((path.image_position - image.position).norm() < 1e-6) match = &path;
+    }
+    ASSERT_NE(match, nullptr) << "missing image of order " << image.order << " at " << image.position.transpose();
+    EXPECT_EQ(match->order, image.order);
+    EXPECT_LT(std::abs(match->delay_s - delay), 0.1 * sample_s);
+    for (int b = 0; b < kOctaveBandCount; ++b) EXPECT_NEAR(match->pressure_gain[b] / amplitude, 1.0, 0.01);
+    EXPECT_NEAR((match->arrival_direction - (image.position - listener).normalized()).norm(), 0.0, 1e-9);
+  }
+}
+
+TEST(ImageSources, SpecularShareAndAirAreApplied) {
+  const Eigen::Vector3d size(5, 4, 3);
+  const AcousticScene scene(room_reverb::test::shoeboxMesh(size), room_reverb::test::uniformLibrary(0.1, 0.36));
+  AirConditions air;  // 20 C, 50 %
+  const PropagationModel model = PropagationModel::from(air, {});
+  const auto paths = computeImageSources(scene, {1, 1, 1}, {3, 2.5, 1.5}, model, {1, true});
+  for (const auto& path : paths) {
+    for (int b = 0; b < kOctaveBandCount; ++b) {
+      const double expected = std::pow(std::sqrt(0.9 * 0.64), path.order) / path.distance_m *
+                              std::exp(-0.5 * model.air_attenuation_per_m[b] * path.distance_m);
+      EXPECT_NEAR(path.pressure_gain[b] / expected, 1.0, 1e-9);
+    }
+  }
+}
+
+TEST(ImageSources, AnObstacleBlocksTheDirectSound) {
+  auto mesh = room_reverb::test::shoeboxMesh({6, 4, 3});
+  // A free-standing panel (two triangles) across the line of sight at x = 3.
+  const int base = static_cast<int>(mesh.vertices.size());
+  for (const auto& v : {Eigen::Vector3d(3, 1, 0.5), Eigen::Vector3d(3, 3, 0.5), Eigen::Vector3d(3, 3, 2.5), Eigen::Vector3d(3, 1, 2.5)}) mesh.vertices.push_back(v);
+  mesh.triangles.push_back({base, base + 1, base + 2});
+  mesh.triangles.push_back({base, base + 2, base + 3});
+  mesh.triangle_material.push_back(0);
+  mesh.triangle_material.push_back(0);
+  const AcousticScene scene(mesh, room_reverb::test::uniformLibrary(0.2, 0.0), {}, false);
+  const PropagationModel model = PropagationModel::from(AirConditions{}, {});
+  const auto paths = computeImageSources(scene, {1, 2, 1.5}, {5, 2, 1.5}, model, {1, true});
+  for (const auto& path : paths) EXPECT_NE(path.order, 0);
+  EXPECT_FALSE(paths.empty());  // floor and ceiling reflections pass under and over it
+}
+
+TEST(ImageSources, RenderedTapSitsAtTheFractionalDelay) {
+  // One path of 40.1234 ms (later than the tap's 21 ms half-length, so none of the
+  // zero-phase tap is cut off at t = 0): its group delay is the path's delay.
+  SpecularPath path;
+  path.delay_s = 0.0401234;
+  path.pressure_gain.fill(0.5);
+  path.arrival_direction = Eigen::Vector3d::UnitX();
+  SynthesisOptions options;
+  options.duration_s = 0.2;
+  options.ambisonic_order = 1;
+  const AudioBuffer ir = synthesizeImpulseResponse({path}, nullptr, options);
+  double e = 0.0;
+  for (float v : ir.channels[0]) e += static_cast<double>(v) * v;
+  // Delay from the phase slope of the tap's spectrum (group delay) at 0.5, 1, 4 and 10 kHz.
+  RealFft fft(ir.frameCount());
+  const auto spectrum = fft.forward(ir.channels[0]);
+  const double bin_hz = 48000.0 / ir.frameCount();
+  for (double f : {500.0, 1000.0, 4000.0, 10000.0}) {
+    const auto k = static_cast<std::size_t>(f / bin_hz);
+    const double phase_step = std::arg(spectrum[k + 1] * std::conj(spectrum[k]));
+    const double delay_samples = -phase_step / (2 * M_PI * bin_hz) * 48000.0;
+    EXPECT_NEAR(delay_samples, path.delay_s * 48000.0, 0.1) << f << " Hz";
+  }
+  // Flat gain 0.5 over the bank's 37 Hz - 22 kHz: energy 0.25 less the 6-7 % above and below.
+  EXPECT_NEAR(e, 0.25 * 0.935, 0.25 * 0.03);
+  // First-order harmonics of +x: X (ACN 3) equals W, Y and Z vanish.
+  EXPECT_NEAR(ir.channels[3][1926], ir.channels[0][1926], 1e-6);
+  EXPECT_NEAR(ir.channels[1][1926], 0.0, 1e-6);
+}
