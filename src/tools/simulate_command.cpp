@@ -46,7 +46,8 @@ writes it as AmbiX (ACN/SN3D) at 48 kHz, 32-bit float; --ambisonic-order 0 write
 Prints a summary (paths, rays, leaks, Eyring T60 per band). Exit 2 for bad input.
 )";
 
-Eigen::Vector3d vectorArgument(const std::vector<std::string>& args, const std::string& name) {
+// Takes "--name X Y Z" out of `args` and returns the three numbers.
+Eigen::Vector3d takeVector(std::vector<std::string>& args, const std::string& name) {
   for (std::size_t i = 0; i < args.size(); ++i) {
     if (args[i] != "--" + name) continue;
     if (i + 3 >= args.size()) throw UsageError("--" + name + " needs three numbers X Y Z");
@@ -57,27 +58,17 @@ Eigen::Vector3d vectorArgument(const std::vector<std::string>& args, const std::
       v[k] = std::strtod(text.c_str(), &end);
       if (text.empty() || *end != '\0') throw UsageError("--" + name + " needs three numbers, got '" + text + "'");
     }
+    args.erase(args.begin() + static_cast<long>(i), args.begin() + static_cast<long>(i) + 4);
     return v;
   }
   throw UsageError("--" + name + " X Y Z is required");
 }
 
-// Removes "--name X Y Z" so the remaining arguments parse as plain options.
-std::vector<std::string> withoutVector(std::vector<std::string> args, const std::string& name) {
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "--" + name) {
-      if (i + 3 >= args.size()) throw UsageError("--" + name + " needs three numbers X Y Z");
-      args.erase(args.begin() + static_cast<long>(i), args.begin() + static_cast<long>(i) + 4);
-      break;
-    }
-  }
-  return args;
-}
-
 int runSimulate(const std::vector<std::string>& raw) {
-  const Eigen::Vector3d source = vectorArgument(withoutVector(raw, "listener"), "source");
-  const Eigen::Vector3d listener = vectorArgument(withoutVector(raw, "source"), "listener");
-  const Arguments args(withoutVector(withoutVector(raw, "source"), "listener"),
+  std::vector<std::string> rest = raw;
+  const Eigen::Vector3d source = takeVector(rest, "source");
+  const Eigen::Vector3d listener = takeVector(rest, "listener");
+  const Arguments args(rest,
                        {"room", "mesh", "out", "mode", "order", "rays", "seed", "threads", "ambisonic-order",
                         "duration", "materials", "temperature", "humidity", "scattering", "receiver-radius"},
                        {"y-up", "open", "no-air"});

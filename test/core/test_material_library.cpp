@@ -12,6 +12,7 @@
 #include <unistd.h>
 #include <vector>
 
+#include "test_files.h"
 #include "room_reverb/acoustics/material.h"
 #include "room_reverb/common/error.h"
 
@@ -20,14 +21,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kLibraryPath = std::string(ROOM_REVERB_SOURCE_DIR) + "/config/materials.yaml";
+using room_reverb::test::expectInputError;
+using room_reverb::test::tempPath;
+using room_reverb::test::writeFile;
 
-fs::path tempPath(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("room_reverb_test_materials_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir / name;
-}
+const std::string kLibraryPath = std::string(ROOM_REVERB_SOURCE_DIR) + "/config/materials.yaml";
 
 const char* const kBands = "bands_hz: [63, 125, 250, 500, 1000, 2000, 4000, 8000, 16000]\n";
 
@@ -51,25 +49,6 @@ std::string smallLibrary(
          "    scattering: [0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1]\n"
          "    source: \"unit test\"\n" +
          extra;
-}
-
-std::string writeFile(const std::string& name, const std::string& text) {
-  const fs::path path = tempPath(name);
-  std::ofstream(path) << text;
-  return path.string();
-}
-
-void expectInputError(const std::function<void()>& call,
-                      const std::vector<std::string>& fragments) {
-  try {
-    call();
-    FAIL() << "expected InputError";
-  } catch (const InputError& e) {
-    for (const std::string& fragment : fragments) {
-      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos)
-          << "'" << fragment << "' not in: " << e.what();
-    }
-  }
 }
 
 void expectLoadError(const std::string& name, const std::string& text,

@@ -11,6 +11,7 @@
 #include <map>
 #include <unistd.h>
 
+#include "test_files.h"
 #include "room_reverb/acoustics/triangle_mesh.h"
 #include "room_reverb/common/error.h"
 
@@ -19,29 +20,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path tempPath(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("room_reverb_test_mesh_io_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir / name;
-}
-
-std::string writeFile(const std::string& name, const std::string& contents) {
-  const fs::path path = tempPath(name);
-  std::ofstream out(path, std::ios::binary);
-  out << contents;
-  return path.string();
-}
-
-void expectThrowsMentioning(const std::function<void()>& call, const std::vector<std::string>& fragments) {
-  try {
-    call();
-    FAIL() << "expected InputError mentioning '" << fragments.front() << "'";
-  } catch (const InputError& e) {
-    for (const auto& fragment : fragments) {
-      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what() << " lacks " << fragment;
-    }
-  }
-}
+using room_reverb::test::expectInputError;
+using room_reverb::test::tempPath;
+using room_reverb::test::writeFile;
 
 // Signed enclosed volume by the divergence theorem: positive when normals point outward.
 double signedVolume(const TriangleMesh& mesh) {
@@ -149,23 +130,23 @@ TEST(TriangleMesh, ValidateDropsDegenerateTrianglesAndRejectsBadMeshes) {
   EXPECT_EQ(mesh.triangle_material.size(), 1u);
 
   TriangleMesh empty;
-  expectThrowsMentioning([&] { validateMesh(empty, "test mesh"); }, {"test mesh", "empty"});
+  expectInputError([&] { validateMesh(empty, "test mesh"); }, {"test mesh", "empty"});
 
   TriangleMesh nan_vertex = mesh;
   nan_vertex.vertices[2].y() = std::numeric_limits<double>::quiet_NaN();
-  expectThrowsMentioning([&] { validateMesh(nan_vertex, "test mesh"); }, {"test mesh", "vertex 2", "not finite"});
+  expectInputError([&] { validateMesh(nan_vertex, "test mesh"); }, {"test mesh", "vertex 2", "not finite"});
 
   TriangleMesh bad_index = mesh;
   bad_index.triangles[0][2] = 7;
-  expectThrowsMentioning([&] { validateMesh(bad_index, "test mesh"); }, {"test mesh", "vertex 7"});
+  expectInputError([&] { validateMesh(bad_index, "test mesh"); }, {"test mesh", "vertex 7"});
 
   TriangleMesh bad_material = mesh;
   bad_material.triangle_material[0] = 1;
-  expectThrowsMentioning([&] { validateMesh(bad_material, "test mesh"); }, {"material index 1"});
+  expectInputError([&] { validateMesh(bad_material, "test mesh"); }, {"material index 1"});
 
   TriangleMesh all_degenerate = mesh;
   all_degenerate.triangles = {{0, 1, 3}};
-  expectThrowsMentioning([&] { validateMesh(all_degenerate, "test mesh"); }, {"zero area"});
+  expectInputError([&] { validateMesh(all_degenerate, "test mesh"); }, {"zero area"});
 }
 
 TEST(MeshIo, ObjCube) {
@@ -312,7 +293,7 @@ TEST(MeshIo, PlyBinaryLittleEndianCube) {
   EXPECT_NEAR(areas.at("floor_mat"), 4.0, 1e-12);
   EXPECT_NEAR(areas.at("material_4"), 20.0, 1e-12);
 
-  expectThrowsMentioning([&] { loadMesh(writeFile("cube_truncated.ply", binaryCubePly(true))); },
+  expectInputError([&] { loadMesh(writeFile("cube_truncated.ply", binaryCubePly(true))); },
                          {"cube_truncated.ply", "face 5", "ends"});
 }
 
@@ -424,47 +405,47 @@ TEST(MeshIo, Ac3dWithoutMaterialLinesIsDefault) {
 }
 
 TEST(MeshIo, ErrorsNameTheFileAndLine) {
-  expectThrowsMentioning([] { loadMesh(tempPath("missing.obj").string()); }, {"missing.obj", "no such file"});
-  expectThrowsMentioning([] { loadMesh(writeFile("mesh.stl", "solid x\n")); }, {"mesh.stl", "unknown mesh format"});
+  expectInputError([] { loadMesh(tempPath("missing.obj").string()); }, {"missing.obj", "no such file"});
+  expectInputError([] { loadMesh(writeFile("mesh.stl", "solid x\n")); }, {"mesh.stl", "unknown mesh format"});
 
   // OBJ: a coordinate that is no number, NaN, an index past the end, index 0, no faces.
-  expectThrowsMentioning([] { loadMesh(writeFile("word.obj", "v 0 0 0\nv 1 zero 0\n")); },
+  expectInputError([] { loadMesh(writeFile("word.obj", "v 0 0 0\nv 1 zero 0\n")); },
                          {"word.obj:2:", "'zero' is not a number"});
-  expectThrowsMentioning([] { loadMesh(writeFile("nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n")); },
+  expectInputError([] { loadMesh(writeFile("nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n")); },
                          {"nan.obj:3:", "not finite"});
-  expectThrowsMentioning([] { loadMesh(writeFile("index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n")); },
+  expectInputError([] { loadMesh(writeFile("index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n")); },
                          {"index.obj:4:", "out of range"});
-  expectThrowsMentioning([] { loadMesh(writeFile("zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n")); },
+  expectInputError([] { loadMesh(writeFile("zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n")); },
                          {"zero.obj:4:", "out of range"});
-  expectThrowsMentioning([] { loadMesh(writeFile("empty.obj", "# nothing\nv 0 0 0\n")); }, {"empty.obj", "empty"});
-  expectThrowsMentioning([] { loadMesh(writeFile("two.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n")); },
+  expectInputError([] { loadMesh(writeFile("empty.obj", "# nothing\nv 0 0 0\n")); }, {"empty.obj", "empty"});
+  expectInputError([] { loadMesh(writeFile("two.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n")); },
                          {"two.obj:3:", "at least three"});
 
   // AC3D: a reference past the object's vertices, a count the file does not hold, a bad
   // material index, not AC3D at all.
   const std::string ac_head = "AC3Db\nMATERIAL \"m\" rgb 1 1 1\nOBJECT poly\nnumvert 3\n0 0 0\n1 0 0\n0 1 0\n";
-  expectThrowsMentioning([&] { loadMesh(writeFile("ref.ac", ac_head + "numsurf 1\nSURF 0x10\nmat 0\nrefs 3\n0 0 0\n1 0 0\n3 0 0\nkids 0\n")); },
+  expectInputError([&] { loadMesh(writeFile("ref.ac", ac_head + "numsurf 1\nSURF 0x10\nmat 0\nrefs 3\n0 0 0\n1 0 0\n3 0 0\nkids 0\n")); },
                          {"ref.ac:14:", "vertex index 3", "out of range"});
-  expectThrowsMentioning([&] { loadMesh(writeFile("short.ac", "AC3Db\nOBJECT poly\nnumvert 8\n0 0 0\n1 0 0\n")); },
+  expectInputError([&] { loadMesh(writeFile("short.ac", "AC3Db\nOBJECT poly\nnumvert 8\n0 0 0\n1 0 0\n")); },
                          {"short.ac", "file ends", "vertex 3 of 8"});
-  expectThrowsMentioning([&] { loadMesh(writeFile("count.ac", "AC3Db\nOBJECT poly\nnumvert -2\nkids 0\n")); },
+  expectInputError([&] { loadMesh(writeFile("count.ac", "AC3Db\nOBJECT poly\nnumvert -2\nkids 0\n")); },
                          {"count.ac:3:", "negative"});
-  expectThrowsMentioning([&] { loadMesh(writeFile("mat.ac", ac_head + "numsurf 1\nSURF 0x10\nmat 4\nrefs 3\n0 0 0\n1 0 0\n2 0 0\nkids 0\n")); },
+  expectInputError([&] { loadMesh(writeFile("mat.ac", ac_head + "numsurf 1\nSURF 0x10\nmat 4\nrefs 3\n0 0 0\n1 0 0\n2 0 0\nkids 0\n")); },
                          {"mat.ac:10:", "material index 4"});
-  expectThrowsMentioning([&] { loadMesh(writeFile("nan.ac", "AC3Db\nOBJECT poly\nnumvert 1\n0 inf 0\nkids 0\n")); },
+  expectInputError([&] { loadMesh(writeFile("nan.ac", "AC3Db\nOBJECT poly\nnumvert 1\n0 inf 0\nkids 0\n")); },
                          {"nan.ac:4:", "not finite"});
-  expectThrowsMentioning([&] { loadMesh(writeFile("type.ac", ac_head + "numsurf 1\nSURF 0x14\nmat 0\nrefs 3\n0 0 0\n1 0 0\n2 0 0\nkids 0\n")); },
+  expectInputError([&] { loadMesh(writeFile("type.ac", ac_head + "numsurf 1\nSURF 0x14\nmat 0\nrefs 3\n0 0 0\n1 0 0\n2 0 0\nkids 0\n")); },
                          {"type.ac:9:", "unsupported SURF type 4"});
-  expectThrowsMentioning([&] { loadMesh(writeFile("notac.ac", "hello\n")); }, {"notac.ac:1:", "not an AC3D file"});
-  expectThrowsMentioning([&] { loadMesh(writeFile("stray.ac", "AC3Db\nOBJECT poly\nnumvert 1\n0 0 0\n1 1 1\nkids 0\n")); },
+  expectInputError([&] { loadMesh(writeFile("notac.ac", "hello\n")); }, {"notac.ac:1:", "not an AC3D file"});
+  expectInputError([&] { loadMesh(writeFile("stray.ac", "AC3Db\nOBJECT poly\nnumvert 1\n0 0 0\n1 1 1\nkids 0\n")); },
                          {"stray.ac:5:", "unexpected '1'"});
-  expectThrowsMentioning([&] { loadMesh(writeFile("emptyac.ac", "AC3Db\nOBJECT world\nkids 0\n")); },
+  expectInputError([&] { loadMesh(writeFile("emptyac.ac", "AC3Db\nOBJECT world\nkids 0\n")); },
                          {"emptyac.ac", "empty"});
 
   // PLY: unsupported byte order, index out of range (with its line), missing coordinates.
-  expectThrowsMentioning([] { loadMesh(writeFile("big.ply", "ply\nformat binary_big_endian 1.0\nend_header\n")); },
+  expectInputError([] { loadMesh(writeFile("big.ply", "ply\nformat binary_big_endian 1.0\nend_header\n")); },
                          {"big.ply:2:", "binary_big_endian"});
-  expectThrowsMentioning(
+  expectInputError(
       [] {
         loadMesh(writeFile("range.ply",
                            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
@@ -472,7 +453,7 @@ TEST(MeshIo, ErrorsNameTheFileAndLine) {
                            "0 0 0\n1 0 0\n0 1 0\n3 0 1 9\n"));
       },
       {"range.ply:13", "vertex index 9"});
-  expectThrowsMentioning(
+  expectInputError(
       [] {
         loadMesh(writeFile("noz.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n0 0\n"));
       },

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "test_files.h"
 #include "room_reverb/audio/audio_file.h"
 #include "synthetic_rir.h"
 
@@ -21,6 +22,12 @@ using namespace room_reverb::core;
 namespace fs = std::filesystem;
 
 namespace {
+
+using room_reverb::test::expectInputError;
+using room_reverb::test::tempPath;
+using room_reverb::test::writeFile;
+
+std::string tempPathString(const std::string& name) { return tempPath(name).string(); }
 
 struct ToolRun {
   int exit_code = -1;
@@ -45,18 +52,12 @@ ToolRun runTool(const std::string& args) {
   return run;
 }
 
-std::string tempFile(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("room_reverb_tool_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return (dir / name).string();
-}
-
 std::string writeRir(const std::string& name, std::vector<float> samples, double rate = 48000.0,
                      SampleEncoding encoding = SampleEncoding::kFloat32) {
   AudioBuffer buffer;
   buffer.sample_rate_hz = rate;
   buffer.channels.push_back(std::move(samples));
-  const std::string path = tempFile(name);
+  const std::string path = tempPathString(name);
   writeAudioFile(path, buffer, encoding);
   return path;
 }
@@ -129,13 +130,13 @@ TEST(MetricsTool, EverySubcommandHasHelp) {
 TEST(MetricsTool, MissingFile) { expectOneLineError(runTool("metrics /nonexistent/rir.wav"), "no such file"); }
 
 TEST(MetricsTool, FileThatIsNotAudio) {
-  const std::string path = tempFile("notes.wav");
+  const std::string path = tempPathString("notes.wav");
   std::ofstream(path) << "not audio\n";
   expectOneLineError(runTool("metrics " + path), "not a readable audio file");
 }
 
 TEST(MetricsTool, EmptyFile) {
-  const std::string path = tempFile("empty.wav");
+  const std::string path = tempPathString("empty.wav");
   std::ofstream(path).close();
   expectOneLineError(runTool("metrics " + path), "empty.wav");
 }
@@ -161,7 +162,7 @@ TEST(MetricsTool, AllZeroRir) {
 TEST(MetricsTool, AbsurdSampleRates) {
   // libsndfile refuses to write such files, so the headers are written by hand.
   for (std::uint32_t rate : {0u, 2000u, 5000000u}) {
-    const std::string path = tempFile("rate_" + std::to_string(rate) + ".wav");
+    const std::string path = tempPathString("rate_" + std::to_string(rate) + ".wav");
     writePcm16Wav(path, rate, room_reverb::test::exponentialDecayNoise(4800, 0.3, 10, 45));
     const ToolRun run = runTool("metrics " + path);
     EXPECT_EQ(run.exit_code, 2) << rate;

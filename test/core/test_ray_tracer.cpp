@@ -123,5 +123,11 @@ TEST(RoomSimulation, BadPositionsAndSettingsAreClearErrors) {
   settings.ambisonic_order = 5;
   EXPECT_THROW(simulateRoom(scene, {1, 1, 1}, inside, settings), InputError);
   EXPECT_THROW(room_reverb::test::uniformLibrary(1.5, 0.2), InputError);
+  MaterialOverrides typo;
+  typo.absorption["test_wal"].fill(0.3);
+  EXPECT_THROW(AcousticScene(room_reverb::test::shoeboxMesh({5, 4, 3}), room_reverb::test::uniformLibrary(0.2, 0.2), typo), InputError);
+  MaterialOverrides out_of_range;
+  out_of_range.scattering["test_wall"].fill(1.2);
+  EXPECT_THROW(AcousticScene(room_reverb::test::shoeboxMesh({5, 4, 3}), room_reverb::test::uniformLibrary(0.2, 0.2), out_of_range), InputError);
   EXPECT_THROW(parseSimulationMode("exact"), InputError);
 }

@@ -8,6 +8,7 @@
 #include <map>
 #include <unistd.h>
 
+#include "test_files.h"
 #include "room_reverb/acoustics/room_model.h"
 #include "room_reverb/common/error.h"
 
@@ -15,6 +16,10 @@ using namespace room_reverb::core;
 namespace fs = std::filesystem;
 
 namespace {
+
+using room_reverb::test::expectInputError;
+using room_reverb::test::tempPath;
+using room_reverb::test::writeFile;
 
 // The example of DESIGN.md ("File formats shared by the tools"), verbatim.
 const char* kDesignExample = R"(frame: room                      # origin at a floor corner, x and y along the walls, z up
@@ -46,23 +51,6 @@ surfaces:
   wall_y_min: {material: y0}
   wall_y_max: {material: y1}
 )";
-
-fs::path tempPath(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("room_reverb_test_room_model_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir / name;
-}
-
-void expectThrowsMentioning(const std::function<void()>& call, const std::vector<std::string>& fragments) {
-  try {
-    call();
-    FAIL() << "expected InputError mentioning '" << fragments.front() << "'";
-  } catch (const InputError& e) {
-    for (const auto& fragment : fragments) {
-      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what() << " lacks " << fragment;
-    }
-  }
-}
 
 // kMinimal with one line replaced (the replacement must occur exactly once).
 std::string minimalWith(const std::string& from, const std::string& to) {
@@ -303,10 +291,10 @@ TEST(RoomModel, MaterialsForAddsInlineMaterialsAndRejectsUnknownNames) {
 
   RoomModel unknown_surface = model;
   unknown_surface.surfaces["floor"].material = "lava";
-  expectThrowsMentioning([&] { materialsFor(unknown_surface, library); }, {"surfaces.floor.material", "lava"});
+  expectInputError([&] { materialsFor(unknown_surface, library); }, {"surfaces.floor.material", "lava"});
   RoomModel unknown_object = model;
   unknown_object.objects[0].material = "marble";
-  expectThrowsMentioning([&] { materialsFor(unknown_object, library); }, {"objects[0] (table).material", "marble"});
+  expectInputError([&] { materialsFor(unknown_object, library); }, {"objects[0] (table).material", "marble"});
   // A courtyard's ceiling material is never used, so it need not exist.
   RoomModel courtyard = model;
   courtyard.has_ceiling = false;
@@ -315,58 +303,58 @@ TEST(RoomModel, MaterialsForAddsInlineMaterialsAndRejectsUnknownNames) {
 }
 
 TEST(RoomModel, BadInputNamesTheKeyAtFault) {
-  expectThrowsMentioning([] { loadRoomModel(tempPath("absent.yaml").string()); }, {"absent.yaml", "no such file"});
-  expectThrowsMentioning([] { parseRoomModel("room_box: {size_m: [1, 2, 3]\nsurfaces: [\n"); }, {"not valid YAML"});
-  expectThrowsMentioning([] { parseRoomModel("- just\n- a list\n"); }, {"not a room model"});
-  expectThrowsMentioning([] { parseRoomModel(minimalWith("[4, 3, 2.5]", "[4, -3, 2.5]")); },
+  expectInputError([] { loadRoomModel(tempPath("absent.yaml").string()); }, {"absent.yaml", "no such file"});
+  expectInputError([] { parseRoomModel("room_box: {size_m: [1, 2, 3]\nsurfaces: [\n"); }, {"not valid YAML"});
+  expectInputError([] { parseRoomModel("- just\n- a list\n"); }, {"not a room model"});
+  expectInputError([] { parseRoomModel(minimalWith("[4, 3, 2.5]", "[4, -3, 2.5]")); },
                          {"room_box.size_m", "positive"});
-  expectThrowsMentioning([] { parseRoomModel(minimalWith("[4, 3, 2.5]", "[4, .nan, 2.5]")); },
+  expectInputError([] { parseRoomModel(minimalWith("[4, 3, 2.5]", "[4, .nan, 2.5]")); },
                          {"room_box.size_m[1]", "finite"});
-  expectThrowsMentioning([] { parseRoomModel(minimalWith("[4, 3, 2.5]", "[4, 3]")); }, {"room_box.size_m", "3 numbers"});
-  expectThrowsMentioning([] { parseRoomModel(minimalWith("[4, 3, 2.5]", "[4, three, 2.5]")); },
+  expectInputError([] { parseRoomModel(minimalWith("[4, 3, 2.5]", "[4, 3]")); }, {"room_box.size_m", "3 numbers"});
+  expectInputError([] { parseRoomModel(minimalWith("[4, 3, 2.5]", "[4, three, 2.5]")); },
                          {"room_box.size_m[1]", "'three' is not a number"});
-  expectThrowsMentioning([] { parseRoomModel(minimalWith("room_box: {size_m: [4, 3, 2.5]}", "room_box: {}")); },
+  expectInputError([] { parseRoomModel(minimalWith("room_box: {size_m: [4, 3, 2.5]}", "room_box: {}")); },
                          {"room_box.size_m", "missing"});
-  expectThrowsMentioning([] { parseRoomModel(minimalWith("floor: {material: f}", "floor: {confidence: 0.5}")); },
+  expectInputError([] { parseRoomModel(minimalWith("floor: {material: f}", "floor: {confidence: 0.5}")); },
                          {"surfaces.floor.material", "missing"});
-  expectThrowsMentioning([] { parseRoomModel(minimalWith("  ceiling: {material: c}\n", "")); },
+  expectInputError([] { parseRoomModel(minimalWith("  ceiling: {material: c}\n", "")); },
                          {"surfaces.ceiling", "has_ceiling: false"});
-  expectThrowsMentioning([] { parseRoomModel(minimalWith("wall_y_max:", "wall_north:")); }, {"surfaces.wall_north", "unknown surface"});
-  expectThrowsMentioning([] { parseRoomModel(minimalWith("floor: {material: f}", "floor: {material: f, confidence: 1.5}")); },
+  expectInputError([] { parseRoomModel(minimalWith("wall_y_max:", "wall_north:")); }, {"surfaces.wall_north", "unknown surface"});
+  expectInputError([] { parseRoomModel(minimalWith("floor: {material: f}", "floor: {material: f, confidence: 1.5}")); },
                          {"surfaces.floor.confidence", "[0, 1]"});
-  expectThrowsMentioning(
+  expectInputError(
       [] { parseRoomModel(std::string(kMinimal) + "objects:\n  - {label: box, material: f, center_m: [1, 1, 1], size_m: [1, 0, 1]}\n"); },
       {"objects[0] (box).size_m", "positive"});
-  expectThrowsMentioning(
+  expectInputError(
       [] { parseRoomModel(std::string(kMinimal) + "objects:\n  - {label: box, center_m: [1, 1, 1], size_m: [1, 1, 1]}\n"); },
       {"objects[0] (box).material", "missing"});
-  expectThrowsMentioning(
+  expectInputError(
       [] { parseRoomModel(std::string(kMinimal) + "materials:\n  m: {absorption: [0, 0, 0, 0, 0, 0, 0, 0, 1.2], scattering: [0, 0, 0, 0, 0, 0, 0, 0, 0]}\n"); },
       {"materials.m.absorption[8]", "outside [0, 1]"});
-  expectThrowsMentioning(
+  expectInputError(
       [] { parseRoomModel(std::string(kMinimal) + "materials:\n  m: {absorption: [0.1, 0.2], scattering: [0, 0, 0, 0, 0, 0, 0, 0, 0]}\n"); },
       {"materials.m.absorption", "9 numbers"});
-  expectThrowsMentioning([] { parseRoomModel(std::string(kMinimal) + "rig_in_room: {rotation_xyzw: [1, 0, 0, 1]}\n"); },
+  expectInputError([] { parseRoomModel(std::string(kMinimal) + "rig_in_room: {rotation_xyzw: [1, 0, 0, 1]}\n"); },
                          {"rig_in_room.rotation_xyzw", "unit quaternion"});
-  expectThrowsMentioning([] { parseRoomModel(std::string(kMinimal) + "air: {humidity_percent: 120}\n"); },
+  expectInputError([] { parseRoomModel(std::string(kMinimal) + "air: {humidity_percent: 120}\n"); },
                          {"air.humidity_percent", "[0, 100]"});
-  expectThrowsMentioning([] { parseRoomModel(std::string(kMinimal) + "air: {enabled: maybe}\n"); },
+  expectInputError([] { parseRoomModel(std::string(kMinimal) + "air: {enabled: maybe}\n"); },
                          {"air.enabled", "true or false"});
   // The line of the fault is given where YAML knows it.
-  expectThrowsMentioning([] { parseRoomModel(minimalWith("floor: {material: f}", "floor: {material: f, confidence: -1}")); },
+  expectInputError([] { parseRoomModel(minimalWith("floor: {material: f}", "floor: {material: f, confidence: -1}")); },
                          {"room model:3:"});
 
   // Models built in code are checked before they are meshed or written.
   RoomModel no_floor = parseRoomModel(kMinimal);
   no_floor.surfaces.erase("floor");
-  expectThrowsMentioning([&] { roomModelToMesh(no_floor); }, {"surfaces.floor.material"});
-  expectThrowsMentioning([&] { roomModelToYaml(no_floor); }, {"surfaces.floor.material"});
+  expectInputError([&] { roomModelToMesh(no_floor); }, {"surfaces.floor.material"});
+  expectInputError([&] { roomModelToYaml(no_floor); }, {"surfaces.floor.material"});
   RoomModel bad_confidence = parseRoomModel(kMinimal);
   bad_confidence.surfaces["wall_x_min"].confidence = 2.0;
-  expectThrowsMentioning([&] { roomModelToYaml(bad_confidence); }, {"surfaces.wall_x_min.confidence"});
+  expectInputError([&] { roomModelToYaml(bad_confidence); }, {"surfaces.wall_x_min.confidence"});
   RoomModel nan_size = parseRoomModel(kMinimal);
   nan_size.size_m.z() = std::nan("");
-  expectThrowsMentioning([&] { roomModelToMesh(nan_size); }, {"room_box.size_m"});
-  expectThrowsMentioning([&] { saveRoomModel(tempPath("no_dir/room.yaml").string(), parseRoomModel(kMinimal)); },
+  expectInputError([&] { roomModelToMesh(nan_size); }, {"room_box.size_m"});
+  expectInputError([&] { saveRoomModel(tempPath("no_dir/room.yaml").string(), parseRoomModel(kMinimal)); },
                          {"room.yaml", "cannot open"});
 }

@@ -28,10 +28,6 @@ class EnergyDecay {
   // Energy-weighted mean arrival time (centre time Ts), seconds from the onset.
   double centreTimeS() const;
 
-  // Samples of the compensated curve in dB, one per sample from the onset to the end of
-  // the analysed signal.
-  std::vector<double> curveDb() const;
-
   // Reverberation time from a least-squares line through the curve between `start_db`
   // and `end_db` (e.g. -5 and -25 for T20), scaled to 60 dB. Negative if the curve never
   // reaches `end_db`.

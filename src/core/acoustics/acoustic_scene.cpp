@@ -46,10 +46,16 @@ AcousticScene::AcousticScene(TriangleMesh mesh, const MaterialLibrary& library,
     }
     materials_.push_back(material);
   }
-  for (const auto& name : overrides.absorption) {
-    if (library.contains(name.first) || std::find(mesh.material_names.begin(), mesh.material_names.end(), name.first) != mesh.material_names.end()) continue;
-    throw InputError("absorption override names '" + name.first + "', which no surface uses");
-  }
+  // An override for a material no surface uses is a typo, not a no-op.
+  auto requireUsed = [&](const std::map<std::string, OctaveBandValues>& map, const char* kind) {
+    for (const auto& entry : map) {
+      if (std::find(mesh.material_names.begin(), mesh.material_names.end(), entry.first) == mesh.material_names.end()) {
+        throw InputError(std::string(kind) + " override names '" + entry.first + "', which no surface uses");
+      }
+    }
+  };
+  requireUsed(overrides.absorption, "absorption");
+  requireUsed(overrides.scattering, "scattering");
 
   // Volume (divergence theorem) and area.
   for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {

@@ -70,7 +70,7 @@ RayHit EmbreeScene::intersect(const Eigen::Vector3d& origin, const Eigen::Vector
   RayHit hit;
   if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID) return hit;
   hit.hit = true;
-  hit.distance_m = query.ray.tfar * 1.0;
+  hit.distance_m = query.ray.tfar;
   hit.triangle = query.hit.primID;
   hit.normal = normals_[hit.triangle];
   return hit;

@@ -62,15 +62,6 @@ double EnergyDecay::centreTimeS() const {
   return moment / energyAfter(0.0);
 }
 
-std::vector<double> EnergyDecay::curveDb() const {
-  std::vector<double> curve;
-  if (!valid()) return curve;
-  const std::size_t length = backward_.size() - 1;
-  curve.reserve(length);
-  for (std::size_t n = 0; n < length; ++n) curve.push_back(levelDb(n / fs_));
-  return curve;
-}
-
 double EnergyDecay::decayTimeS(double start_db, double end_db) const {
   if (!valid()) return -1.0;
   const double total = energyAfter(0.0);

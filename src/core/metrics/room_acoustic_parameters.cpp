@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "room_reverb/audio/audio_buffer.h"
 #include "room_reverb/audio/band_filter_bank.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/metrics/energy_decay.h"
@@ -124,9 +125,9 @@ AcousticParameters analyseSignal(const std::vector<float>& signal, const std::ve
 
 MetricsReport computeRoomAcousticParameters(const std::vector<float>& rir, double fs,
                                             const MetricsOptions& options) {
-  if (!(fs >= 8000.0 && fs <= 768000.0)) {
+  if (!(fs >= kMinSampleRateHz && fs <= kMaxSampleRateHz)) {
     std::ostringstream os;
-    os << "sample rate " << fs << " Hz is outside the accepted 8000-768000 Hz";
+    os << "sample rate " << fs << " Hz is outside the accepted " << kMinSampleRateHz << "-" << kMaxSampleRateHz << " Hz";
     throw InputError(os.str());
   }
   const auto min_length = static_cast<std::size_t>(std::ceil(0.010 * fs));
