@@ -90,3 +90,42 @@ TEST(BandFilterBank, BandsAboveNyquistAreSilent) {
   const auto bands = bank.split(room_reverb::test::whiteNoise(2205, 2));
   EXPECT_EQ(energy(bands[8]), 0.0);
 }
+
+TEST(BandFilterBank, MixedWidthsStayComplementaryInBothSenses) {
+  // Octaves up to 500 Hz, then thirds: at the shared 707 Hz edge the narrower band sets
+  // the crossover. A power bank's |H|^2 and an amplitude bank's H must both sum to one
+  // everywhere between the first band's centre and the last band's centre.
+  std::vector<FrequencyBand> bands;
+  for (const FrequencyBand& b : standardBands(BandResolution::kOctave)) {
+    if (b.nominal_hz <= 500.0) bands.push_back(b);
+  }
+  const double edge = bands.back().upper_hz;
+  for (const FrequencyBand& b : standardBands(BandResolution::kThirdOctave)) {
+    if (b.center_hz > edge && b.center_hz < 17000.0) bands.push_back(b);
+  }
+  const BandFilterBank power(bands, 48000.0, 0.5, Complementarity::kPower);
+  const BandFilterBank amplitude(bands, 48000.0, 0.5, Complementarity::kAmplitude);
+  double worst_power = 0.0, worst_amplitude = 0.0;
+  for (double f = bands.front().center_hz; f < bands.back().center_hz; f *= 1.003) {
+    double sum_power = 0.0, sum_amplitude = 0.0;
+    for (std::size_t b = 0; b < bands.size(); ++b) {
+      sum_power += power.gain(b, f) * power.gain(b, f);
+      sum_amplitude += amplitude.gain(b, f);
+    }
+    worst_power = std::max(worst_power, std::abs(sum_power - 1.0));
+    worst_amplitude = std::max(worst_amplitude, std::abs(sum_amplitude - 1.0));
+  }
+  EXPECT_LT(worst_power, 1e-9);
+  EXPECT_LT(worst_amplitude, 1e-9);
+  // The amplitude bank rebuilds a signal from its bands.
+  const std::vector<float> noise = room_reverb::test::whiteNoise(4800, 3);
+  const auto parts = amplitude.split(noise);
+  std::vector<float> rebuilt(noise.size(), 0.0f);
+  for (const auto& part : parts) {
+    for (std::size_t n = 0; n < noise.size(); ++n) rebuilt[n] += part[n];
+  }
+  // Compare the 1-10 kHz content only (the bank covers 63 Hz .. 16 kHz).
+  const BandFilterBank probe({FrequencyBand{3000.0, 3000.0, 1000.0, 9000.0}}, 48000.0);
+  const double error = energy(probe.split(noise)[0]) - energy(probe.split(rebuilt)[0]);
+  EXPECT_LT(std::abs(error) / energy(probe.split(noise)[0]), 1e-3);
+}

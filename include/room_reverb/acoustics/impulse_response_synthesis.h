@@ -7,8 +7,9 @@
 // by the exact (non-integer) number of samples, weighted by the harmonics of its
 // direction.
 // Late part: a Poisson process of signed impulses whose rate grows as 4 pi c^3 t^2 / V (the
-// density of reflections in a room; Kuttruff), filtered into octave bands and scaled in
-// every histogram bin to the bin's energy; its direction follows the bin's intensity
+// density of reflections in a room; Kuttruff), filtered into octave (below 1 kHz) and third-octave bands and scaled
+// in every histogram bin to the bin's energy (octave energies interpolated across the
+// spectrum, so the decay rate changes smoothly with frequency); its direction follows the bin's intensity
 // vector, the rest of the energy spread as a diffuse field (SN3D: 1 / (2l + 1) per channel).
 #include <cstdint>
 #include <vector>
@@ -30,7 +31,8 @@ struct SynthesisOptions {
 };
 
 // Histogram energies are per unit area for 1 J emitted; the output is scaled so that the
-// direct sound of an omni source at 1 m has unit energy (4 pi per J/m^2).
+// direct sound of an omni source at 1 m has unit energy (4 pi per J/m^2), and each band of the
+// late field carries the share of the histogram energy that a white source puts in that band.
 AudioBuffer synthesizeImpulseResponse(const std::vector<SpecularPath>& paths, const EnergyHistogram* late,
                                       const SynthesisOptions& options);
 

@@ -9,6 +9,7 @@
 // (energy is kept exactly, by Parseval), each band is -3 dB at its edges as IEC 61260
 // asks, and is exactly zero one band away. The filters are zero-phase: no group delay
 // shifts a band's decay against another's.
+#include <complex>
 #include <cstddef>
 #include <vector>
 
@@ -16,13 +17,21 @@
 
 namespace room_reverb::core {
 
+// How neighbouring bands share a crossover. kPower (cos/sin amplitudes): |H|^2 sums to one,
+// so band energies of one signal add up to its energy (analysis). kAmplitude (cos^2/sin^2):
+// H sums to one, so band signals of one signal add up to the signal again, and bands of
+// one noise scaled by smoothly varying gains sum to noise with a smoothly varying spectrum
+// (synthesis; with kPower the crossovers would carry up to twice the energy).
+enum class Complementarity { kPower, kAmplitude };
+
 class BandFilterBank {
  public:
   // `crossover_fraction`: width of each crossover on the log2 axis, centred on the band
   // edge, as a fraction of the band width (in (0, 1]). The default, one half, leaves the
-  // central half of each band flat.
+  // central half of each band flat. Bands need not be of one width (octaves may be
+  // followed by thirds); at a shared edge the narrower band sets the crossover.
   BandFilterBank(std::vector<FrequencyBand> bands, double sample_rate_hz,
-                 double crossover_fraction = 0.5);
+                 double crossover_fraction = 0.5, Complementarity complementarity = Complementarity::kPower);
 
   const std::vector<FrequencyBand>& bands() const { return bands_; }
   double sampleRateHz() const { return sample_rate_hz_; }
@@ -36,10 +45,22 @@ class BandFilterBank {
   // zero-padded to twice its length so the filters' two-sided responses do not wrap around.
   std::vector<std::vector<float>> split(const std::vector<float>& signal) const;
 
+  // The same split one band at a time, for when all bands of many signals would not fit in
+  // memory together: analyse() once, then extract() each band that is needed.
+  struct PaddedSpectrum {
+    std::size_t signal_length = 0;
+    std::size_t fft_size = 0;
+    std::vector<std::complex<float>> bins;
+  };
+  PaddedSpectrum analyse(const std::vector<float>& signal) const;
+  std::vector<float> extract(const PaddedSpectrum& spectrum, std::size_t band) const;
+
  private:
   std::vector<FrequencyBand> bands_;
   double sample_rate_hz_;
-  double crossover_octaves_;
+  Complementarity complementarity_;
+  std::vector<double> lower_crossover_octaves_;  // per band, on the log2 axis
+  std::vector<double> upper_crossover_octaves_;
 };
 
 }  // namespace room_reverb::core

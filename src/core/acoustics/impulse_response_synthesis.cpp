@@ -1,5 +1,7 @@
 #include "room_reverb/acoustics/impulse_response_synthesis.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
 #include <random>
@@ -105,44 +107,138 @@ double interpolatedTarget(const std::vector<double>& per_bin, double position_in
   return (1.0 - f) * per_bin[i] + f * per_bin[i + 1];
 }
 
-void addLateField(const EnergyHistogram& late, const BandFilterBank& bank, const SynthesisOptions& o, AudioBuffer& out) {
+// The highest octave synthesised as a whole (nominal centre); thirds above it.
+constexpr double kLastWholeOctaveHz = 500.0;
+
+// The bands the late noise is synthesised in: the histogram's octaves up to 500 Hz, their
+// thirds from the 1 kHz octave up.
+//
+// Why thirds: a band's noise reaches into its neighbours' crossovers, so with octave-wide
+// synthesis bands a slowly decaying octave leaks its decay into the next octave's analysis
+// (a 16 kHz band that should fall 160 dB/s is buried under the 8 kHz band's 65 dB/s after
+// 0.1 s: T20 came out twice too long in the BRAS CR2 room). In a real room the decay rate
+// changes smoothly with frequency; thirds with the spectral density interpolated between
+// octave centres restore that. Why not thirds all the way down: a low third is so narrow
+// that its noise's level wanders over hundreds of milliseconds, which scatters the low
+// bands' C80 and D50 by several dB from one seed to the next, while there air absorption
+// is negligible and neighbouring octaves decay at similar rates.
+std::vector<FrequencyBand> lateSynthesisBands() {
+  std::vector<FrequencyBand> bands;
+  for (const FrequencyBand& octave : standardBands(BandResolution::kOctave)) {
+    if (octave.nominal_hz <= kLastWholeOctaveHz) bands.push_back(octave);
+  }
+  const double first_third_hz = bands.empty() ? 0.0 : bands.back().upper_hz;
+  for (const FrequencyBand& third : standardBands(BandResolution::kThirdOctave)) {
+    if (third.center_hz > first_third_hz) bands.push_back(third);
+  }
+  return bands;
+}
+
+// Effective noise bandwidth of each band, the integral of |H|^2 (Hz).
+std::vector<double> noiseBandwidthsHz(const BandFilterBank& bank) {
+  constexpr int kSteps = 1 << 16;
+  const double step_hz = 0.5 * bank.sampleRateHz() / kSteps;
+  std::vector<double> out(bank.bands().size(), 0.0);
+  for (std::size_t b = 0; b < out.size(); ++b) {
+    for (int k = 0; k < kSteps; ++k) {
+      const double g = bank.gain(b, (k + 0.5) * step_hz);
+      out[b] += g * g * step_hz;
+    }
+  }
+  return out;
+}
+
+// Per histogram bin, the late field's power spectral density (energy per sample per Hz) at
+// each synthesis band: a histogram band's energy is what an impulsive, white source
+// delivers in that band, so its density is the energy over the whole spectrum (fs / 2),
+// interpolated between octave centres as log density over log frequency. `owner` gets
+// each band's octave (-1 for bands below the octaves' range, which get nothing).
+std::vector<std::vector<double>> synthesisBandDensities(const std::vector<std::array<double, kOctaveBandCount>>& octave_density,
+                                                        const std::vector<FrequencyBand>& octaves,
+                                                        const std::vector<FrequencyBand>& bands, std::vector<int>& owner) {
+  owner.assign(bands.size(), -1);
+  for (std::size_t t = 0; t < bands.size(); ++t) {
+    for (std::size_t o = 0; o < octaves.size(); ++o) {
+      if (bands[t].center_hz >= octaves[o].lower_hz && bands[t].center_hz < octaves[o].upper_hz) owner[t] = static_cast<int>(o);
+    }
+  }
+  std::vector<std::vector<double>> density(bands.size(), std::vector<double>(octave_density.size(), 0.0));
+  for (std::size_t t = 0; t < bands.size(); ++t) {
+    if (owner[t] < 0) continue;
+    const double x = std::clamp(std::log2(bands[t].center_hz / octaves.front().center_hz), 0.0,
+                                static_cast<double>(octaves.size() - 1));
+    const std::size_t i = std::min(static_cast<std::size_t>(x), octaves.size() - 2);
+    const double f = x - static_cast<double>(i);
+    for (std::size_t bin = 0; bin < octave_density.size(); ++bin) {
+      const double d0 = octave_density[bin][i];
+      const double d1 = octave_density[bin][i + 1];
+      density[t][bin] = (d0 > 0.0 && d1 > 0.0) ? std::exp((1.0 - f) * std::log(d0) + f * std::log(d1)) : (1.0 - f) * d0 + f * d1;
+    }
+  }
+  return density;
+}
+
+void addLateField(const EnergyHistogram& late, const SynthesisOptions& o, AudioBuffer& out) {
   std::mt19937_64 rng(o.seed);
   const std::size_t frames = out.frameCount();
   const std::size_t channels = out.channelCount();
   const int order = static_cast<int>(std::lround(std::sqrt(static_cast<double>(channels)))) - 1;
   const double bin_frames = late.binS() * o.sample_rate_hz;
   const double to_pressure = 4.0 * kPi;  // J/m^2 per emitted J -> energy re the direct sound at 1 m
+  const std::vector<FrequencyBand> octaves = standardBands(BandResolution::kOctave);
+  // Amplitude-complementary bands: bands of one noise, scaled by gains that vary smoothly
+  // across the spectrum, sum to noise whose spectrum follows those gains.
+  const BandFilterBank bank(lateSynthesisBands(), o.sample_rate_hz, 0.5, Complementarity::kAmplitude);
+  const std::vector<double> bandwidth_hz = noiseBandwidthsHz(bank);
+
+  // Per bin and octave: power spectral density per sample, directional fraction and the
+  // direction's harmonics (flat: [bin][band][channel]).
+  std::vector<std::array<double, kOctaveBandCount>> density(late.bins());
+  std::vector<std::array<double, kOctaveBandCount>> directional(late.bins());
+  std::vector<double> harmonics(late.bins() * kOctaveBandCount * channels);
+  const double per_hz = 1.0 / (0.5 * o.sample_rate_hz);
+  for (std::size_t bin = 0; bin < late.bins(); ++bin) {
+    for (int b = 0; b < kOctaveBandCount; ++b) {
+      const double energy = to_pressure * late.energy(bin, b) / bin_frames;
+      density[bin][b] = energy * per_hz;
+      const Eigen::Vector3d flux = to_pressure * late.flux(bin, b) / bin_frames;
+      directional[bin][b] = energy > 0.0 ? std::min(1.0, flux.norm() / energy) : 0.0;
+      const std::vector<double> y = sn3dHarmonics(order, flux.norm() > 0.0 ? Eigen::Vector3d(flux.normalized()) : Eigen::Vector3d::UnitX());
+      std::copy(y.begin(), y.end(), harmonics.begin() + static_cast<long>((bin * kOctaveBandCount + b) * channels));
+    }
+  }
+  std::vector<int> owner;
+  const std::vector<std::vector<double>> targets = synthesisBandDensities(density, octaves, bank.bands(), owner);
+
   // One independent sequence per channel: channel 0 carries the whole energy and the
   // directional part, the others add the diffuse part.
-  std::vector<std::vector<std::vector<float>>> bands(channels);
-  for (std::size_t c = 0; c < channels; ++c) bands[c] = bank.split(poissonSequence(frames, o, rng));
+  std::vector<BandFilterBank::PaddedSpectrum> spectra(channels);
+  for (std::size_t c = 0; c < channels; ++c) spectra[c] = bank.analyse(poissonSequence(frames, o, rng));
 
-  for (int b = 0; b < kOctaveBandCount; ++b) {
-    const FrequencyBand& band = bank.bands()[static_cast<std::size_t>(b)];
+  for (std::size_t t = 0; t < bank.bands().size(); ++t) {
+    if (owner[t] < 0 || !bank.bandBelowNyquist(t)) continue;
+    const auto b = static_cast<std::size_t>(owner[t]);
+    const FrequencyBand& band = bank.bands()[t];
     const auto window = static_cast<std::size_t>(std::max(5.0 * bin_frames, 4.0 * o.sample_rate_hz / (band.upper_hz - band.lower_hz)));
+    std::vector<std::vector<float>> noise(channels);
     std::vector<std::vector<double>> realised(channels);
-    for (std::size_t c = 0; c < channels; ++c) realised[c] = smoothedEnergy(bands[c][static_cast<std::size_t>(b)], window);
-    // Per bin: energy per sample, directional fraction and the direction's harmonics.
-    std::vector<double> energy(late.bins()), directional(late.bins());
-    std::vector<std::vector<double>> harmonics(late.bins());
-    for (std::size_t bin = 0; bin < late.bins(); ++bin) {
-      energy[bin] = to_pressure * late.energy(bin, b) / bin_frames;
-      const Eigen::Vector3d flux = to_pressure * late.flux(bin, b) / bin_frames;
-      directional[bin] = energy[bin] > 0.0 ? std::min(1.0, flux.norm() / energy[bin]) : 0.0;
-      harmonics[bin] = sn3dHarmonics(order, flux.norm() > 0.0 ? Eigen::Vector3d(flux.normalized()) : Eigen::Vector3d::UnitX());
+    for (std::size_t c = 0; c < channels; ++c) {
+      noise[c] = bank.extract(spectra[c], t);
+      realised[c] = smoothedEnergy(noise[c], window);
     }
     for (std::size_t n = 0; n < frames; ++n) {
       const double position = n / bin_frames;
-      const double target = interpolatedTarget(energy, position);
+      // The band's noise has density realised / bandwidth; scaled to the target density.
+      const double target = interpolatedTarget(targets[t], position) * bandwidth_hz[t];
       if (target <= 0.0 || realised[0][n] <= 0.0) continue;
       const auto bin = std::min(late.bins() - 1, static_cast<std::size_t>(position));
-      const double main = std::sqrt(target / realised[0][n]) * bands[0][static_cast<std::size_t>(b)][n];
+      const double main = std::sqrt(target / realised[0][n]) * noise[0][n];
       out.channels[0][n] += static_cast<float>(main);
       for (std::size_t c = 1; c < channels; ++c) {
-        double v = main * harmonics[bin][c] * std::sqrt(directional[bin]);
+        double v = main * harmonics[(bin * kOctaveBandCount + b) * channels + c] * std::sqrt(directional[bin][b]);
         if (realised[c][n] > 0.0) {
-          const double diffuse = target * (1.0 - directional[bin]) / (2.0 * orderOfChannel(c) + 1.0);
-          v += std::sqrt(diffuse / realised[c][n]) * bands[c][static_cast<std::size_t>(b)][n];
+          const double diffuse = target * (1.0 - directional[bin][b]) / (2.0 * orderOfChannel(c) + 1.0);
+          v += std::sqrt(diffuse / realised[c][n]) * noise[c][n];
         }
         out.channels[c][n] += static_cast<float>(v);
       }
@@ -164,7 +260,7 @@ AudioBuffer synthesizeImpulseResponse(const std::vector<SpecularPath>& paths, co
                                      options.sample_rate_hz);
   const BandFilterBank bank(standardBands(BandResolution::kOctave), options.sample_rate_hz);
   addEarlyPaths(paths, bank, options.ambisonic_order, out);
-  if (late) addLateField(*late, bank, options, out);
+  if (late) addLateField(*late, options, out);
   return out;
 }
 

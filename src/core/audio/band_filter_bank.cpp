@@ -21,14 +21,29 @@ double crossoverPosition(double f_log2, double edge_log2, double width) {
 }  // namespace
 
 BandFilterBank::BandFilterBank(std::vector<FrequencyBand> bands, double sample_rate_hz,
-                               double crossover_fraction)
-    : bands_(std::move(bands)), sample_rate_hz_(sample_rate_hz) {
+                               double crossover_fraction, Complementarity complementarity)
+    : bands_(std::move(bands)), sample_rate_hz_(sample_rate_hz), complementarity_(complementarity) {
   if (bands_.empty()) throw std::invalid_argument("BandFilterBank needs at least one band");
   if (!(crossover_fraction > 0.0 && crossover_fraction <= 1.0)) {
     throw std::invalid_argument("BandFilterBank crossover fraction must be in (0, 1]");
   }
-  const double band_octaves = std::log2(bands_.front().upper_hz / bands_.front().lower_hz);
-  crossover_octaves_ = crossover_fraction * band_octaves;
+  // Each edge's crossover width: a fraction of the band's width, and at an edge shared by
+  // two bands of different widths (octaves next to thirds) of the narrower one, the same
+  // from both sides so the pair stays power complementary.
+  const std::size_t count = bands_.size();
+  lower_crossover_octaves_.resize(count);
+  upper_crossover_octaves_.resize(count);
+  for (std::size_t b = 0; b < count; ++b) {
+    const double width = std::log2(bands_[b].upper_hz / bands_[b].lower_hz);
+    lower_crossover_octaves_[b] = crossover_fraction * width;
+    upper_crossover_octaves_[b] = crossover_fraction * width;
+  }
+  for (std::size_t b = 0; b + 1 < count; ++b) {
+    if (std::abs(std::log2(bands_[b].upper_hz / bands_[b + 1].lower_hz)) > 1e-9) continue;
+    const double shared = std::min(upper_crossover_octaves_[b], lower_crossover_octaves_[b + 1]);
+    upper_crossover_octaves_[b] = shared;
+    lower_crossover_octaves_[b + 1] = shared;
+  }
 }
 
 bool BandFilterBank::bandBelowNyquist(std::size_t band) const {
@@ -41,39 +56,47 @@ double BandFilterBank::gain(std::size_t band, double frequency_hz) const {
   const double f = std::log2(frequency_hz);
   // Rising (sin) crossover at the lower edge, falling (cos) one at the upper edge: the
   // upper band's sin and this band's cos at a shared edge are power complementary.
-  const double rise = std::sin(kHalfPi * crossoverPosition(f, std::log2(b.lower_hz), crossover_octaves_));
-  const double fall = std::cos(kHalfPi * crossoverPosition(f, std::log2(b.upper_hz), crossover_octaves_));
-  return rise * fall;
+  const double rise = std::sin(kHalfPi * crossoverPosition(f, std::log2(b.lower_hz), lower_crossover_octaves_[band]));
+  const double fall = std::cos(kHalfPi * crossoverPosition(f, std::log2(b.upper_hz), upper_crossover_octaves_[band]));
+  const double amplitude = rise * fall;
+  return complementarity_ == Complementarity::kPower ? amplitude : amplitude * amplitude;
 }
 
-std::vector<std::vector<float>> BandFilterBank::split(const std::vector<float>& signal) const {
-  std::vector<std::vector<float>> out(bands_.size());
+BandFilterBank::PaddedSpectrum BandFilterBank::analyse(const std::vector<float>& signal) const {
+  PaddedSpectrum out;
+  out.signal_length = signal.size();
   if (signal.empty()) return out;
   RealFft fft(nextFastFftSize(2 * signal.size()));
   std::vector<float> padded(fft.size(), 0.0f);
   std::copy(signal.begin(), signal.end(), padded.begin());
-  const std::vector<std::complex<float>> spectrum = fft.forward(padded);
+  out.fft_size = fft.size();
+  out.bins = fft.forward(padded);
+  return out;
+}
 
-  std::vector<std::complex<float>> band_spectrum(spectrum.size());
+std::vector<float> BandFilterBank::extract(const PaddedSpectrum& spectrum, std::size_t band) const {
+  if (spectrum.signal_length == 0) return {};
+  if (!bandBelowNyquist(band)) return std::vector<float>(spectrum.signal_length, 0.0f);
+  RealFft fft(spectrum.fft_size);
   const double bin_hz = sample_rate_hz_ / static_cast<double>(fft.size());
-  for (std::size_t b = 0; b < bands_.size(); ++b) {
-    if (!bandBelowNyquist(b)) {
-      out[b].assign(signal.size(), 0.0f);
-      continue;
-    }
-    // Only bins inside the band's support need work; the rest are zero.
-    const double low = bands_[b].lower_hz * std::pow(2.0, -0.5 * crossover_octaves_);
-    const double high = bands_[b].upper_hz * std::pow(2.0, 0.5 * crossover_octaves_);
-    std::fill(band_spectrum.begin(), band_spectrum.end(), std::complex<float>(0.0f, 0.0f));
-    const auto first = static_cast<std::size_t>(std::floor(low / bin_hz));
-    const auto last = std::min(spectrum.size() - 1, static_cast<std::size_t>(std::ceil(high / bin_hz)));
-    for (std::size_t k = first; k <= last; ++k) {
-      band_spectrum[k] = spectrum[k] * static_cast<float>(gain(b, k * bin_hz));
-    }
-    std::vector<float> band_signal = fft.inverse(band_spectrum);
-    band_signal.resize(signal.size());
-    out[b] = std::move(band_signal);
+  // Only bins inside the band's support need work; the rest are zero.
+  const double low = bands_[band].lower_hz * std::pow(2.0, -0.5 * lower_crossover_octaves_[band]);
+  const double high = bands_[band].upper_hz * std::pow(2.0, 0.5 * upper_crossover_octaves_[band]);
+  std::vector<std::complex<float>> band_spectrum(spectrum.bins.size(), std::complex<float>(0.0f, 0.0f));
+  const auto first = static_cast<std::size_t>(std::floor(low / bin_hz));
+  const auto last = std::min(spectrum.bins.size() - 1, static_cast<std::size_t>(std::ceil(high / bin_hz)));
+  for (std::size_t k = first; k <= last; ++k) {
+    band_spectrum[k] = spectrum.bins[k] * static_cast<float>(gain(band, k * bin_hz));
   }
+  std::vector<float> band_signal = fft.inverse(band_spectrum);
+  band_signal.resize(spectrum.signal_length);
+  return band_signal;
+}
+
+std::vector<std::vector<float>> BandFilterBank::split(const std::vector<float>& signal) const {
+  const PaddedSpectrum spectrum = analyse(signal);
+  std::vector<std::vector<float>> out(bands_.size());
+  for (std::size_t b = 0; b < bands_.size(); ++b) out[b] = extract(spectrum, b);
   return out;
 }
 

@@ -35,7 +35,7 @@ std::string rangeReason(const char* quantity, double needed_db, double have_db) 
 }
 
 // The direct sound: from the onset (or 2.5 ms before the peak, if earlier) to 2.5 ms after
-// the peak.
+// the peak, the largest sample in the 2.5 ms after the onset.
 struct DirectWindow {
   std::size_t first = 0;
   std::size_t last = 0;  // one past
@@ -43,11 +43,13 @@ struct DirectWindow {
 
 DirectWindow directWindow(const std::vector<float>& rir, std::size_t onset, double fs,
                           double half_window_s) {
+  // The direct sound's peak follows the onset within the half window; a later, stronger
+  // peak (a focused reflection, or a loudspeaker pointing away) is not the direct sound.
+  const auto half = static_cast<std::size_t>(std::lround(half_window_s * fs));
   std::size_t peak = onset;
-  for (std::size_t n = onset; n < rir.size(); ++n) {
+  for (std::size_t n = onset; n < std::min(rir.size(), onset + half + 1); ++n) {
     if (std::abs(rir[n]) > std::abs(rir[peak])) peak = n;
   }
-  const auto half = static_cast<std::size_t>(std::lround(half_window_s * fs));
   DirectWindow w;
   w.first = std::min(onset, peak > half ? peak - half : 0);
   w.last = std::min(rir.size(), peak + half + 1);

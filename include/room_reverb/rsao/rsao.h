@@ -1,0 +1,61 @@
+#pragma once
+// The reverberant spatial audio object (RSAO) of Remaggi et al. / Coleman et al. (S3A):
+// a direct sound and early reflections, each a delayed, filtered, directional tap, and a
+// late reverb described per octave band by a level, an onset ramp and an exponential decay.
+// This header holds only the data; estimation, resynthesis and file formats live in their
+// own headers of the rsao module.
+#include <array>
+#include <string>
+#include <vector>
+
+#include "room_reverb/audio/frequency_bands.h"
+
+namespace room_reverb::core {
+
+// One second-order section, normalised so that a0 = 1:
+// H(z) = (b0 + b1 z^-1 + b2 z^-2) / (1 + a1 z^-1 + a2 z^-2).
+struct BiquadSection {
+  double b0 = 1.0, b1 = 0.0, b2 = 0.0;
+  double a1 = 0.0, a2 = 0.0;
+};
+
+// The direct sound (index 0 of Rsao::reflections) or one early reflection.
+struct EarlyReflection {
+  double time_of_arrival_s = 0.0;  // from the first sample of the RIR (48 kHz time base)
+  double level = 0.0;              // A_k = sqrt(E_k) of the W channel over the analysis window (linear)
+  double azimuth_rad = 0.0;        // DESIGN.md: counter-clockwise from +x, [-pi, pi)
+  double elevation_rad = 0.0;      // up from the horizontal plane, [-pi/2, pi/2]
+  double distance_m = 0.0;         // c * time of flight, where the direct sound's flight is known; else c * toa
+  // All-pole spectral shape 1 / A(z) of the reflection, A(z) = 1 + sum_{i>=1} lpc[i] z^-i
+  // (lpc[0] == 1), fitted by Levinson-Durbin; lpc_gain is the prediction-error gain.
+  std::vector<double> lpc;
+  double lpc_gain = 1.0;
+  std::vector<BiquadSection> sos;  // the same filter (gain included) as cascaded sections
+};
+
+// Late reverberation in one octave band.
+struct LateReverbBand {
+  double center_hz = 0.0;
+  double decay_constant_per_s = 0.0;  // energy envelope ~ exp(-2 * decay_constant * t): amplitude ~ exp(-decay_constant * t)
+  double t60_s = 0.0;                 // 3 ln(10) / decay_constant
+  double level = 0.0;                 // RMS amplitude of the band's W channel at the mixing time (linear)
+  bool reliable = true;
+  std::string reason;                 // why not reliable ("" when reliable)
+};
+
+struct LateReverb {
+  double mixing_time_s = 0.0;  // from the first sample of the RIR
+  double onset_s = 0.0;        // where the ramp starts (the first reflection)
+  double attack_time_s = 0.0;  // ramp length: mixing_time_s - onset_s
+  std::vector<LateReverbBand> bands;  // the nine octave bands 63 Hz..16 kHz
+};
+
+struct Rsao {
+  double sample_rate_hz = 48000.0;
+  double duration_s = 0.0;                   // length of the analysed RIR
+  std::vector<EarlyReflection> reflections;  // [0] is the direct sound, then by time of arrival
+  LateReverb late;
+  std::vector<std::string> warnings;         // problems found that did not stop the estimate
+};
+
+}  // namespace room_reverb::core
