@@ -10,6 +10,7 @@
 #include <sys/stat.h>
 
 #include "room_reverb/common/error.h"
+#include "room_reverb/common/yaml_reader.h"
 
 namespace room_reverb::core {
 
@@ -122,73 +123,9 @@ void checkModel(const RoomModel& model, const std::string& source) {
 // Reading: each accessor names the key it reads, and the line when yaml-cpp knows it.
 // ---------------------------------------------------------------------------------------
 
-class Reader {
+class Reader : public YamlReader {
  public:
-  explicit Reader(std::string source) : source_(std::move(source)) {}
-
-  [[noreturn]] void fail(const YAML::Node& node, const std::string& key, const std::string& message) const {
-    std::string where = source_;
-    if (node.IsDefined() && node.Mark().line >= 0) where += ":" + std::to_string(node.Mark().line + 1);
-    throw InputError(where + ": " + key + ": " + message);
-  }
-
-  YAML::Node require(const YAML::Node& parent, const std::string& name, const std::string& key,
-                     const std::string& why = "missing") const {
-    const YAML::Node node = parent[name];
-    if (!node.IsDefined() || node.IsNull()) fail(parent, key, why);
-    return node;
-  }
-
-  void requireMap(const YAML::Node& node, const std::string& key) const {
-    if (!node.IsMap()) fail(node, key, "must be a map of keys to values");
-  }
-
-  std::string text(const YAML::Node& node, const std::string& key) const {
-    if (!node.IsScalar() || node.Scalar().empty()) fail(node, key, "must be a non-empty name");
-    return node.Scalar();
-  }
-
-  double number(const YAML::Node& node, const std::string& key) const {
-    if (!node.IsScalar()) fail(node, key, "must be a number");
-    double value = 0.0;
-    try {
-      value = node.as<double>();
-    } catch (const YAML::Exception&) {
-      fail(node, key, "'" + node.Scalar() + "' is not a number");
-    }
-    if (!std::isfinite(value)) fail(node, key, "must be finite (got " + node.Scalar() + ")");
-    return value;
-  }
-
-  double numberOr(const YAML::Node& parent, const std::string& name, const std::string& key,
-                  double fallback) const {
-    const YAML::Node node = parent[name];
-    return node.IsDefined() && !node.IsNull() ? number(node, key) : fallback;
-  }
-
-  bool flagOr(const YAML::Node& parent, const std::string& name, const std::string& key, bool fallback) const {
-    const YAML::Node node = parent[name];
-    if (!node.IsDefined() || node.IsNull()) return fallback;
-    try {
-      if (node.IsScalar()) return node.as<bool>();
-    } catch (const YAML::Exception&) {
-    }
-    fail(node, key, "must be true or false");
-  }
-
-  std::vector<double> numbers(const YAML::Node& node, const std::string& key, std::size_t count) const {
-    if (!node.IsSequence() || node.size() != count) {
-      fail(node, key, "must be a list of " + std::to_string(count) + " numbers");
-    }
-    std::vector<double> values;
-    for (std::size_t i = 0; i < count; ++i) values.push_back(number(node[i], key + "[" + std::to_string(i) + "]"));
-    return values;
-  }
-
-  Eigen::Vector3d vector3(const YAML::Node& node, const std::string& key) const {
-    const auto v = numbers(node, key, 3);
-    return {v[0], v[1], v[2]};
-  }
+  using YamlReader::YamlReader;
 
   Eigen::Vector3d positiveSize(const YAML::Node& node, const std::string& key) const {
     const Eigen::Vector3d size = vector3(node, key);
@@ -224,19 +161,13 @@ class Reader {
     } catch (const YAML::Exception& e) {
       // Accessors above turn expected faults into InputError; this catches the rest (a
       // map used as a key, say) so that no yaml-cpp exception leaves the core.
-      throw InputError(source_ + ":" + std::to_string(e.mark.line + 1) + ": malformed room model (" + e.msg + ")");
+      throw InputError(source() + ":" + std::to_string(e.mark.line + 1) + ": malformed room model (" + e.msg + ")");
     }
   }
 
  private:
   RoomModel parseUnguarded(const std::string& yaml_text) const {
-    YAML::Node root;
-    try {
-      root = YAML::Load(yaml_text);
-    } catch (const YAML::ParserException& e) {
-      throw InputError(source_ + ":" + std::to_string(e.mark.line + 1) + ": not valid YAML (" + e.msg + ")");
-    }
-    if (!root.IsMap()) throw InputError(source_ + ": not a room model (expected a YAML map with room_box and surfaces)");
+    const YAML::Node root = loadMap(yaml_text, "a room model with room_box and surfaces");
 
     RoomModel model;
     if (root["frame"].IsDefined()) model.frame = text(root["frame"], "frame");
@@ -338,11 +269,9 @@ class Reader {
       if (model.air.pressure_kpa <= 0.0) fail(air["pressure_kpa"], "air.pressure_kpa", "must be positive");
     }
 
-    checkModel(model, source_);
+    checkModel(model, source());
     return model;
   }
-
-  std::string source_;
 };
 
 // ---------------------------------------------------------------------------------------

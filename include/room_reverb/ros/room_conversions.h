@@ -1,0 +1,15 @@
+#pragma once
+// Conversions between the RoomModel message and the core's room model.
+#include <room_reverb/RoomModel.h>
+
+#include "room_reverb/acoustics/room_model.h"
+
+namespace room_reverb::ros_bridge {
+
+// Throws core::InputError for a message the core cannot use (wrong number of band values,
+// a missing face material, a wrong frame, surface_confidence of the wrong length); the
+// core's own checks (sizes, coefficient ranges) apply on top when the model is used.
+core::RoomModel fromMessage(const room_reverb::RoomModel& msg);
+room_reverb::RoomModel toMessage(const core::RoomModel& model);
+
+}  // namespace room_reverb::ros_bridge

@@ -1,0 +1,174 @@
+#include "room_reverb/evaluation/parameter_comparison.h"
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace room_reverb::core {
+namespace {
+
+std::size_t indexOf(ComparedParameter p) { return static_cast<std::size_t>(p); }
+
+std::optional<double> simulatedValue(const AcousticParameters& band, ComparedParameter p) {
+  switch (p) {
+    case ComparedParameter::kT20: return band.t20_s;
+    case ComparedParameter::kEdt: return band.edt_s;
+    case ComparedParameter::kC80: return band.c80_db;
+    case ComparedParameter::kD50: return band.d50;
+  }
+  return std::nullopt;
+}
+
+const std::vector<double>& measuredRow(const MeasuredParameters& m, ComparedParameter p) {
+  switch (p) {
+    case ComparedParameter::kT20: return m.t20_s;
+    case ComparedParameter::kEdt: return m.edt_s;
+    case ComparedParameter::kC80: return m.c80_db;
+    case ComparedParameter::kD50: return m.d50;
+  }
+  return m.t20_s;
+}
+
+int thirdCount(const std::vector<BandComparison>& thirds, const FrequencyBand& octave) {
+  int n = 0;
+  for (const BandComparison& t : thirds) n += (t.nominal_hz >= octave.lower_hz && t.nominal_hz < octave.upper_hz) ? 1 : 0;
+  return n;
+}
+
+bool sameBand(double a_hz, double b_hz) { return std::abs(std::log2(a_hz / b_hz)) < 1.0 / 6.0; }
+
+void setErrors(BandComparison& row) {
+  for (ComparedParameter p : kComparedParameters) {
+    const std::size_t i = indexOf(p);
+    row.error_jnd[i].reset();
+    if (row.simulated[i] && row.measured[i]) row.error_jnd[i] = errorInJnd(p, *row.simulated[i], *row.measured[i]);
+  }
+}
+
+}  // namespace
+
+std::string toString(ComparedParameter parameter) {
+  switch (parameter) {
+    case ComparedParameter::kT20: return "T20";
+    case ComparedParameter::kEdt: return "EDT";
+    case ComparedParameter::kC80: return "C80";
+    case ComparedParameter::kD50: return "D50";
+  }
+  return "?";
+}
+
+double justNoticeableDifference(ComparedParameter parameter) {
+  switch (parameter) {
+    case ComparedParameter::kT20:
+    case ComparedParameter::kEdt: return 0.05;  // relative
+    case ComparedParameter::kC80: return 1.0;   // dB
+    case ComparedParameter::kD50: return 0.05;  // absolute fraction
+  }
+  return 1.0;
+}
+
+double errorInJnd(ComparedParameter parameter, double simulated, double measured) {
+  const double jnd = justNoticeableDifference(parameter);
+  if (parameter == ComparedParameter::kT20 || parameter == ComparedParameter::kEdt) {
+    return (simulated - measured) / measured / jnd;
+  }
+  return (simulated - measured) / jnd;
+}
+
+std::vector<BandComparison> compareWithMeasured(const std::vector<MetricsReport>& simulated_per_pair,
+                                                const MeasuredParameters& measured) {
+  std::vector<BandComparison> rows;
+  for (std::size_t m = 0; m < measured.bands_hz.size(); ++m) {
+    BandComparison row;
+    row.nominal_hz = measured.bands_hz[m];
+    for (ComparedParameter p : kComparedParameters) {
+      const std::vector<double>& values = measuredRow(measured, p);
+      if (!values.empty()) row.measured[indexOf(p)] = values[m];
+      double sum = 0.0;
+      int count = 0;
+      for (const MetricsReport& report : simulated_per_pair) {
+        for (const AcousticParameters& band : report.bands) {
+          if (!sameBand(band.nominal_hz, row.nominal_hz)) continue;
+          if (const auto v = simulatedValue(band, p)) {
+            sum += *v;
+            ++count;
+          }
+        }
+      }
+      if (count > 0) row.simulated[indexOf(p)] = sum / count;
+      if (p == ComparedParameter::kT20) row.simulated_count = count;
+    }
+    setErrors(row);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+std::vector<BandComparison> thirdsToOctaves(const std::vector<BandComparison>& thirds) {
+  std::vector<BandComparison> octaves;
+  for (const FrequencyBand& octave : standardBands(BandResolution::kOctave)) {
+    BandComparison row;
+    row.nominal_hz = octave.nominal_hz;
+    bool any = false;
+    for (ComparedParameter p : kComparedParameters) {
+      const std::size_t i = indexOf(p);
+      double sim = 0.0, meas = 0.0;
+      int sim_n = 0, meas_n = 0;
+      for (const BandComparison& t : thirds) {
+        // A third belongs to the octave whose edges hold its centre.
+        const double centre = t.nominal_hz;
+        if (!(centre >= octave.lower_hz && centre < octave.upper_hz)) continue;
+        any = true;
+        if (t.simulated[i]) { sim += *t.simulated[i]; ++sim_n; }
+        if (t.measured[i]) { meas += *t.measured[i]; ++meas_n; }
+        if (p == ComparedParameter::kT20) row.simulated_count = std::max(row.simulated_count, t.simulated_count);
+      }
+      if (sim_n > 0) row.simulated[i] = sim / sim_n;
+      if (meas_n > 0) row.measured[i] = meas / meas_n;
+    }
+    // An octave needs at least two of its thirds in the table to stand for it.
+    if (!any || thirdCount(thirds, octave) < 2) continue;
+    setErrors(row);
+    octaves.push_back(row);
+  }
+  return octaves;
+}
+
+std::string comparisonToMarkdown(const std::vector<BandComparison>& rows) {
+  std::ostringstream os;
+  os << "| band Hz |";
+  for (ComparedParameter p : kComparedParameters) {
+    const std::string unit = p == ComparedParameter::kC80 ? " dB" : (p == ComparedParameter::kD50 ? "" : " s");
+    os << " " << toString(p) << " sim" << unit << " | " << toString(p) << " meas" << unit << " | " << toString(p) << " err JND |";
+  }
+  os << "\n|---:|";
+  for (std::size_t i = 0; i < kComparedParameters.size(); ++i) os << "---:|---:|---:|";
+  os << "\n";
+  const auto cell = [&os](const std::optional<double>& v, int precision) {
+    if (v) {
+      os << " " << std::fixed << std::setprecision(precision) << *v << " |";
+    } else {
+      os << " – |";
+    }
+  };
+  for (const BandComparison& row : rows) {
+    os << "| " << std::fixed << std::setprecision(0) << row.nominal_hz << " |";
+    for (ComparedParameter p : kComparedParameters) {
+      const std::size_t i = indexOf(p);
+      const int precision = p == ComparedParameter::kC80 ? 2 : (p == ComparedParameter::kD50 ? 3 : 3);
+      cell(row.simulated[i], precision);
+      cell(row.measured[i], precision);
+      if (row.error_jnd[i]) {
+        const bool within = std::abs(*row.error_jnd[i]) <= 1.0;
+        os << " " << (within ? "" : "**") << std::showpos << std::fixed << std::setprecision(1) << *row.error_jnd[i]
+           << std::noshowpos << (within ? "" : "**") << " |";
+      } else {
+        os << " – |";
+      }
+    }
+    os << "\n";
+  }
+  return os.str();
+}
+
+}  // namespace room_reverb::core

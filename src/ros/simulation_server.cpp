@@ -1,0 +1,95 @@
+#include "room_reverb/ros/simulation_server.h"
+
+#include <limits>
+
+#include "room_reverb/common/error.h"
+#include "room_reverb/metrics/impulse_response_metrics.h"
+#include "room_reverb/ros/audio_conversions.h"
+#include "room_reverb/ros/room_conversions.h"
+
+namespace room_reverb::ros_bridge {
+namespace {
+
+int positiveParam(::ros::NodeHandle& nh, const std::string& name, int fallback) {
+  int value = fallback;
+  nh.param(name, value, fallback);
+  if (value <= 0) throw core::InputError("parameter ~" + name + " must be positive (got " + std::to_string(value) + ")");
+  return value;
+}
+
+}  // namespace
+
+SimulationServer::SimulationServer(::ros::NodeHandle& private_nh) {
+  std::string mode, materials_file;
+  private_nh.param<std::string>("default_mode", mode, "accurate");
+  defaults_.mode = core::parseSimulationMode(mode);
+  defaults_.image_source_order = positiveParam(private_nh, "image_source_order", 3);
+  defaults_.rays.ray_count = static_cast<std::size_t>(positiveParam(private_nh, "rays", 100000));
+  defaults_.rays.seed = static_cast<std::uint32_t>(positiveParam(private_nh, "seed", 1));
+  private_nh.param("threads", defaults_.rays.threads, 0);
+  private_nh.param("ambisonic_order", defaults_.ambisonic_order, 1);
+  if (defaults_.ambisonic_order < 0 || defaults_.ambisonic_order > 3) throw core::InputError("parameter ~ambisonic_order must be 0 to 3");
+  private_nh.param("duration_s", defaults_.duration_s, 2.0);
+  if (!(defaults_.duration_s > 0.0)) throw core::InputError("parameter ~duration_s must be positive");
+  private_nh.param("receiver_radius_m", defaults_.rays.receiver_radius_m, 0.3);
+  private_nh.param<std::string>("materials_file", materials_file, "");
+  library_ = materials_file.empty() ? core::MaterialLibrary::loadDefault() : core::MaterialLibrary::load(materials_file);
+  server_ = private_nh.advertiseService("simulate", &SimulationServer::simulate, this);
+}
+
+bool SimulationServer::simulate(room_reverb::SimulateRoom::Request& request,
+                                room_reverb::SimulateRoom::Response& response) {
+  try {
+    core::SimulationSettings settings = defaults_;
+    if (!request.mode.empty()) settings.mode = core::parseSimulationMode(request.mode);
+    if (request.image_source_order < 0 || request.rays < 0 || request.ambisonic_order < 0 || request.duration_s < 0.0) {
+      throw core::InputError("image_source_order, rays, ambisonic_order and duration_s must not be negative (0: the node's default)");
+    }
+    if (request.image_source_order > 0) settings.image_source_order = request.image_source_order;
+    if (request.rays > 0) settings.rays.ray_count = static_cast<std::size_t>(request.rays);
+    if (request.seed > 0) settings.rays.seed = static_cast<std::uint32_t>(request.seed);
+    if (request.ambisonic_order > 0) settings.ambisonic_order = request.ambisonic_order;
+    if (request.duration_s > 0.0) settings.duration_s = request.duration_s;
+
+    core::TriangleMesh mesh;
+    core::MaterialLibrary library = library_;
+    bool closed = true;
+    if (!request.mesh_file.empty()) {
+      mesh = core::loadMesh(request.mesh_file, request.mesh_y_up ? core::UpAxis::kY : core::UpAxis::kZ);
+    } else {
+      const core::RoomModel room = fromMessage(request.room);
+      mesh = core::roomModelToMesh(room);
+      library = core::materialsFor(room, library_);
+      settings.air = room.air;
+      closed = room.has_ceiling;
+    }
+    core::MaterialOverrides overrides;
+    if (request.global_scattering >= 0.0) overrides.global_scattering = request.global_scattering;
+    const core::AcousticScene scene(std::move(mesh), library, overrides, closed);
+    const Eigen::Vector3d source(request.source.x, request.source.y, request.source.z);
+    const Eigen::Vector3d listener(request.listener.x, request.listener.y, request.listener.z);
+    const core::SimulationResult result = core::simulateRoom(scene, source, listener, settings);
+
+    response.impulse_response.audio = toMessage(result.impulse_response, settings.ambisonic_order == 0 ? "mono" : "ambix");
+    response.impulse_response.audio.header.frame_id = "room";
+    response.impulse_response.audio.header.stamp = ::ros::Time::now();
+    response.impulse_response.source_position = request.source;
+    response.impulse_response.receiver_position = request.listener;
+    response.impulse_response.positions_known = true;
+    const core::MetricsReport metrics = core::analyseImpulseResponse(result.impulse_response, 0);
+    for (const auto& band : metrics.bands) {
+      response.t30_s.push_back(band.t30_s ? *band.t30_s : std::numeric_limits<double>::quiet_NaN());
+    }
+    response.eyring_t60_s.assign(result.eyring_t60_s.begin(), result.eyring_t60_s.end());
+    response.leaked_rays = result.stats.leaked_rays;
+    response.rays_traced = result.stats.rays;
+    response.success = true;
+  } catch (const std::exception& e) {
+    response = room_reverb::SimulateRoom::Response();
+    response.success = false;
+    response.message = e.what();
+  }
+  return true;
+}
+
+}  // namespace room_reverb::ros_bridge

@@ -1,0 +1,71 @@
+#include "simulation_arguments.h"
+
+#include "room_reverb/acoustics/room_model.h"
+#include "room_reverb/common/error.h"
+
+namespace room_reverb::tool {
+
+using namespace room_reverb::core;
+
+const char* const kSimulationOptionsHelp = R"(  --mode MODE          accurate (image sources + ray tracing, default) or fast
+                       (image sources + Eyring tail)
+  --order N            image-source order (default 3)
+  --rays N             rays (default 100000)
+  --seed N             random seed (default 1); same seed and threads, same output
+  --threads N          worker threads (default: all cores)
+  --ambisonic-order N  0 to 3 (default 1)
+  --duration S         response length in seconds (default 2)
+  --materials FILE     material library (default config/materials.yaml)
+  --no-air             no air absorption (default: ISO 9613-1 at the room's air conditions,
+                       20 C and 50 % unless the input files or the options say otherwise)
+  --temperature C, --humidity PCT   air conditions
+  --scattering S       one scattering coefficient for every surface (default: materials')
+  --receiver-radius M  detection sphere for specular rays (default 0.3)
+)";
+
+std::set<std::string> simulationValueOptions() {
+  return {"mode", "order", "rays", "seed", "threads", "ambisonic-order", "duration", "materials", "temperature",
+          "humidity", "scattering", "receiver-radius"};
+}
+
+std::set<std::string> simulationFlags() { return {"no-air"}; }
+
+SimulationSettings simulationSettingsFrom(const Arguments& args) {
+  SimulationSettings settings;
+  settings.mode = parseSimulationMode(args.value("mode", "accurate"));
+  settings.image_source_order = args.intValue("order", 3);
+  const int rays = args.intValue("rays", 100000);
+  if (rays <= 0) throw InputError("--rays must be at least 1");
+  settings.rays.ray_count = static_cast<std::size_t>(rays);
+  settings.rays.seed = static_cast<std::uint32_t>(args.intValue("seed", 1));
+  settings.rays.threads = args.intValue("threads", 0);
+  settings.rays.receiver_radius_m = args.doubleValue("receiver-radius", 0.3);
+  settings.ambisonic_order = args.intValue("ambisonic-order", 1);
+  settings.duration_s = args.doubleValue("duration", 2.0);
+  return settings;
+}
+
+AcousticScene sceneFrom(const SceneFiles& files, const Arguments& args, AirConditions& air) {
+  const MaterialLibrary base = args.has("materials") ? MaterialLibrary::load(args.value("materials", ""))
+                                                     : MaterialLibrary::loadDefault();
+  TriangleMesh mesh;
+  MaterialLibrary library = base;
+  bool closed = !files.open;
+  if (!files.room_file.empty()) {
+    const RoomModel room = loadRoomModel(files.room_file);
+    mesh = roomModelToMesh(room);
+    library = materialsFor(room, base);
+    air = room.air;
+    closed = room.has_ceiling;
+  } else {
+    mesh = loadMesh(files.mesh_file, files.mesh_up_axis);
+  }
+  air.temperature_c = args.doubleValue("temperature", air.temperature_c);
+  air.humidity_percent = args.doubleValue("humidity", air.humidity_percent);
+  if (args.has("no-air")) air.enabled = false;
+  MaterialOverrides overrides;
+  if (args.has("scattering")) overrides.global_scattering = args.doubleValue("scattering", 0.0);
+  return AcousticScene(std::move(mesh), library, overrides, closed);
+}
+
+}  // namespace room_reverb::tool
