@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "test_files.h"
+#include "tool_run.h"
 #include "room_reverb/audio/audio_file.h"
 #include "synthetic_rir.h"
 
@@ -29,28 +30,8 @@ using room_reverb::test::writeFile;
 
 std::string tempPathString(const std::string& name) { return tempPath(name).string(); }
 
-struct ToolRun {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
-
-ToolRun runTool(const std::string& args) {
-  const fs::path dir = fs::temp_directory_path() / ("room_reverb_tool_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  const std::string out_file = (dir / "out.txt").string();
-  const std::string err_file = (dir / "err.txt").string();
-  const std::string command = std::string(ROOM_REVERB_TOOL) + " " + args + " >" + out_file + " 2>" + err_file;
-  const int status = std::system(command.c_str());
-  ToolRun run;
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::stringstream out, err;
-  out << std::ifstream(out_file).rdbuf();
-  err << std::ifstream(err_file).rdbuf();
-  run.out = out.str();
-  run.err = err.str();
-  return run;
-}
+using room_reverb::test::runTool;
+using room_reverb::test::ToolRun;
 
 std::string writeRir(const std::string& name, std::vector<float> samples, double rate = 48000.0,
                      SampleEncoding encoding = SampleEncoding::kFloat32) {

@@ -41,7 +41,7 @@ AcousticScene::AcousticScene(TriangleMesh mesh, const MaterialLibrary& library,
     }
     if (overrides.global_scattering) {
       const double s = *overrides.global_scattering;
-      if (!std::isfinite(s) || s < 0.0 || s > 1.0) throw InputError("global scattering must be in [0, 1]");
+      if (!std::isfinite(s) || s < 0.0 || s > 1.0) throw InputError("global scattering must be in [0, 1] (got " + std::to_string(s) + ")");
       material.scattering.fill(s);
     }
     materials_.push_back(material);

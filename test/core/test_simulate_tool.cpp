@@ -1,0 +1,99 @@
+// room_reverb simulate and compare on bad input: exit 2 with one line on stderr that says
+// what is wrong, never a crash.
+#include <gtest/gtest.h>
+
+#include "room_reverb/audio/audio_file.h"
+#include "test_files.h"
+#include "tool_run.h"
+
+namespace {
+
+using room_reverb::test::runTool;
+using room_reverb::test::ToolRun;
+using room_reverb::test::writeFile;
+
+const char* kCube = R"(o box
+v 0 0 0
+v 4 0 0
+v 4 3 0
+v 0 3 0
+v 0 0 2.5
+v 4 0 2.5
+v 4 3 2.5
+v 0 3 2.5
+usemtl MATERIAL
+f 1 2 3
+f 1 3 4
+f 5 7 6
+f 5 8 7
+f 1 6 2
+f 1 5 6
+f 2 7 3
+f 2 6 7
+f 3 8 4
+f 3 7 8
+f 4 5 1
+f 4 8 5
+)";
+
+std::string cube(const std::string& name, const std::string& material) {
+  std::string text = kCube;
+  text.replace(text.find("MATERIAL"), 8, material);
+  return writeFile(name, text);
+}
+
+void expectExit2(const std::string& args, const std::string& fragment) {
+  const ToolRun run = runTool(args);
+  EXPECT_EQ(run.exit_code, 2) << args << "\n" << run.err;
+  EXPECT_NE(run.err.find(fragment), std::string::npos) << run.err;
+  EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+}
+
+const std::string kInside = " --source 1 1 1.2 --listener 3 2 1.5 --rays 200 --duration 0.3";
+
+TEST(SimulateTool, WritesAnAmbisonicResponse) {
+  const std::string out = room_reverb::test::tempPath("sim_ok.wav").string();
+  const ToolRun run = runTool("simulate --mesh " + cube("ok.obj", "concrete") + kInside + " --out " + out);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto ir = room_reverb::core::readAudioFile(out);
+  EXPECT_EQ(ir.channelCount(), 4u);
+  EXPECT_EQ(ir.frameCount(), 14400u);
+}
+
+TEST(SimulateTool, BadInputExitsTwoWithAReason) {
+  const std::string out = " --out " + room_reverb::test::tempPath("sim_bad.wav").string();
+  expectExit2("simulate --mesh " + writeFile("garbage.obj", "v 1 2\nf 1 2 3 4 5\n") + kInside + out, "garbage.obj");
+  expectExit2("simulate --mesh " + writeFile("empty.obj", "# nothing\n") + kInside + out, "empty.obj");
+  std::string nan_mesh = kCube;
+  nan_mesh.replace(nan_mesh.find("v 4 0 0"), 7, "v nan 0 0");
+  nan_mesh.replace(nan_mesh.find("MATERIAL"), 8, "concrete");
+  expectExit2("simulate --mesh " + writeFile("nan.obj", nan_mesh) + kInside + out, "finite");
+  expectExit2("simulate --mesh " + cube("unknown.obj", "marshmallow") + kInside + out, "marshmallow");
+  const std::string good = cube("good.obj", "concrete");
+  expectExit2("simulate --mesh " + good + " --source 9 1 1 --listener 3 2 1.5 --rays 200" + out, "outside");
+  expectExit2("simulate --mesh " + good + " --source 1 1 0.0 --listener 3 2 1.5 --rays 200" + out, "source");
+  expectExit2("simulate --mesh " + good + kInside + " --rays 0" + out, "--rays");
+  expectExit2("simulate --mesh " + good + kInside + " --scattering 1.5" + out, "scattering");
+  expectExit2("simulate --mesh /nonexistent/room.obj" + kInside + out, "/nonexistent/room.obj");
+  const std::string bad_library = writeFile("bad_materials.yaml", R"(bands_hz: [63, 125, 250, 500, 1000, 2000, 4000, 8000, 16000]
+materials:
+  hot_panel:
+    description: "a panel that absorbs more than arrives"
+    absorption: [0.1, 0.1, 0.1, 0.1, 1.4, 0.1, 0.1, 0.1, 0.1]
+    scattering: [0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1]
+    source: "test"
+)");
+  expectExit2("simulate --mesh " + cube("hot.obj", "hot_panel") + kInside + " --materials " + bad_library + out, "hot_panel");
+  expectExit2("simulate --mesh " + good + kInside + " --mode quantum" + out, "quantum");
+  expectExit2("simulate --mesh " + good + " --source 1 1 --listener 3 2 1.5" + out, "--source");
+}
+
+TEST(CompareTool, BadInputExitsTwoWithAReason) {
+  expectExit2("compare --measurements /nonexistent/measurements.yaml", "/nonexistent/measurements.yaml");
+  const std::string no_room = writeFile("no_room.yaml", "pairs:\n  - {source_m: [1, 1, 1], receiver_m: [2, 2, 1]}\n"
+                                                        "parameters: {bands_hz: [1000], t20_s: [1.0]}\n");
+  expectExit2("compare --measurements " + no_room, "no room");
+  expectExit2("compare", "--measurements");
+}
+
+}  // namespace

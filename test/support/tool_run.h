@@ -1,0 +1,41 @@
+#pragma once
+// Running the room_reverb command-line tool from a test, as a user would, and capturing
+// its exit code and output. Header-only: ROOM_REVERB_TOOL (the tool's path) is a compile
+// definition of the test executables.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace room_reverb::test {
+
+struct ToolRun {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+// `args` is appended to the tool's path as a shell command line.
+inline ToolRun runTool(const std::string& args) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("room_reverb_tool_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string out_file = (dir / "out.txt").string();
+  const std::string err_file = (dir / "err.txt").string();
+  const std::string command = std::string(ROOM_REVERB_TOOL) + " " + args + " >" + out_file + " 2>" + err_file;
+  const int status = std::system(command.c_str());
+  ToolRun run;
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::stringstream out, err;
+  out << std::ifstream(out_file).rdbuf();
+  err << std::ifstream(err_file).rdbuf();
+  run.out = out.str();
+  run.err = err.str();
+  return run;
+}
+
+}  // namespace room_reverb::test
