@@ -1,0 +1,240 @@
+#include "room_reverb/rsao/late_reverb.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "room_reverb/audio/audio_buffer.h"
+#include "room_reverb/audio/band_filter_bank.h"
+#include "room_reverb/common/error.h"
+#include "room_reverb/metrics/energy_decay.h"
+
+namespace room_reverb::core {
+namespace {
+
+const double kLn10 = std::log(10.0);
+constexpr double kMinAnalysisS = 0.1;
+
+std::string text(const char* format, double value) {
+  char buffer[48];
+  std::snprintf(buffer, sizeof buffer, format, value);
+  return buffer;
+}
+
+// Schroeder line: level(t) = intercept_db + slope_db_per_s * t, t from the mixing time.
+struct DecayLine {
+  bool valid = false;
+  double slope_db_per_s = 0.0;
+  double intercept_db = 0.0;  // re the total (compensated) energy after the mixing time
+};
+
+// Least-squares line through the compensated Schroeder curve between two levels. The walk
+// past Lundeby's crosspoint follows the analytic tail, so it always ends.
+DecayLine fitDecayLine(const EnergyDecay& decay, double start_db, double end_db) {
+  DecayLine line;
+  const double total = decay.energyAfter(0.0);
+  if (!(total > 0.0)) return line;
+  const double start_energy = total * std::pow(10.0, start_db / 10.0);
+  const double end_energy = total * std::pow(10.0, end_db / 10.0);
+  const double fs = decay.sampleRateHz();
+  const double slope_guess = decay.lundeby().slope_db_per_s;  // negative
+  const double last_s = decay.lundeby().crosspoint / fs + (end_db - 10.0) / slope_guess;
+  double st = 0, sl = 0, stt = 0, stl = 0;
+  std::size_t count = 0;
+  for (std::size_t n = 0;; ++n) {
+    const double t = static_cast<double>(n) / fs;
+    if (t > last_s) break;
+    const double remaining = decay.energyAfter(t);
+    if (remaining > start_energy) continue;
+    if (remaining < end_energy) break;
+    const double level = 10.0 * std::log10(remaining / total);
+    st += t; sl += level; stt += t * t; stl += t * level;
+    ++count;
+  }
+  if (count < 2) return line;
+  const double n = static_cast<double>(count);
+  const double denominator = n * stt - st * st;
+  if (denominator <= 0.0) return line;
+  line.slope_db_per_s = (n * stl - st * sl) / denominator;
+  line.intercept_db = (sl - line.slope_db_per_s * st) / n;
+  line.valid = line.slope_db_per_s < 0.0;
+  return line;
+}
+
+// First sample (at or after `from`) of a run of `run` or more samples at the signal's peak
+// magnitude: the flat top clipping leaves. A smooth waveform's samples near its crest differ
+// in the 5th digit even at 63 Hz, so the relative tolerance is far tighter than that.
+std::size_t findClippedRun(const std::vector<float>& x, std::size_t from, int run) {
+  float peak = 0.0f;
+  for (float v : x) peak = std::max(peak, std::abs(v));
+  if (peak <= 0.0f || run < 2) return x.size();
+  const float level = peak * (1.0f - 1e-6f);
+  int length = 0;
+  for (std::size_t n = 0; n < x.size(); ++n) {
+    length = std::abs(x[n]) >= level ? length + 1 : 0;
+    const std::size_t start = n + 1 - static_cast<std::size_t>(std::max(length, 1));
+    if (length >= run && start >= from) return start;
+  }
+  return x.size();
+}
+
+struct BandMeasurement {
+  bool measured = false;       // a plausible decay was fitted
+  double delta = 0.0;          // per second
+  double remaining_energy = 0.0;  // E_b from the fitted line
+  std::string problem;         // first failed reliability check ("" if none)
+};
+
+BandMeasurement measureBand(const std::vector<float>& band, std::size_t mix, double fs,
+                            const LateReverbOptions& o) {
+  BandMeasurement m;
+  const EnergyDecay decay(band, mix, fs);
+  if (!decay.valid()) {
+    m.problem = "noise-dominated: " + decay.lundeby().failure;
+    return m;
+  }
+  const double range = decay.decayRangeDb();
+  const double needed = std::abs(o.fit_end_db - o.fit_start_db) + o.noise_margin_db;
+  if (range < o.noise_dominated_below_db) {
+    m.problem = "noise-dominated: the band rises only " + text("%.1f", range) + " dB above its noise floor";
+  } else if (range < needed) {
+    m.problem = "too little decay range: " + text("%.1f", range) + " dB above the noise, the " +
+                text("%.0f", std::abs(o.fit_end_db - o.fit_start_db)) + " dB fit needs " + text("%.0f", needed);
+  }
+  const DecayLine line = fitDecayLine(decay, o.fit_start_db, o.fit_end_db);
+  if (!line.valid) {
+    if (m.problem.empty()) m.problem = "no decay of " + text("%.0f", -o.fit_end_db) + " dB found after the mixing time";
+    return m;
+  }
+  const double t60 = -60.0 / line.slope_db_per_s;
+  if (t60 < o.min_plausible_t60_s || t60 > o.max_plausible_t60_s) {
+    if (m.problem.empty()) {
+      m.problem = "implausible T60 of " + text("%.3g", t60) + " s (plausible " + text("%g", o.min_plausible_t60_s) +
+                  "-" + text("%g", o.max_plausible_t60_s) + " s): the band holds little but noise";
+    }
+    return m;
+  }
+  m.measured = true;
+  m.delta = -line.slope_db_per_s * kLn10 / 20.0;
+  m.remaining_energy = decay.energyAfter(0.0) * std::pow(10.0, line.intercept_db / 10.0);
+  return m;
+}
+
+// Decay constant for a band without a measured one: linear in log2 frequency between the
+// nearest measured bands below and above, the nearest one beyond the ends; `fallback_delta`
+// (and `used_fallback` set) when no band was measured.
+double substituteDelta(const std::vector<BandMeasurement>& m, const std::vector<FrequencyBand>& bands,
+                       std::size_t b, double fallback_delta, bool& used_fallback) {
+  int below = -1, above = -1;
+  for (int i = static_cast<int>(b) - 1; i >= 0 && below < 0; --i) {
+    if (m[static_cast<std::size_t>(i)].measured) below = i;
+  }
+  for (std::size_t i = b + 1; i < m.size() && above < 0; ++i) {
+    if (m[i].measured) above = static_cast<int>(i);
+  }
+  used_fallback = below < 0 && above < 0;
+  if (used_fallback) return fallback_delta;
+  if (below < 0) return m[static_cast<std::size_t>(above)].delta;
+  if (above < 0) return m[static_cast<std::size_t>(below)].delta;
+  const auto lo = static_cast<std::size_t>(below), hi = static_cast<std::size_t>(above);
+  const double x = std::log2(bands[b].center_hz), x0 = std::log2(bands[lo].center_hz),
+               x1 = std::log2(bands[hi].center_hz);
+  return m[lo].delta + (m[hi].delta - m[lo].delta) * (x - x0) / (x1 - x0);
+}
+
+double rmsOver(const std::vector<float>& x, std::size_t first, std::size_t count) {
+  const std::size_t last = std::min(x.size(), first + std::max<std::size_t>(1, count));
+  double sum = 0.0;
+  for (std::size_t n = first; n < last; ++n) sum += static_cast<double>(x[n]) * x[n];
+  return last > first ? std::sqrt(sum / static_cast<double>(last - first)) : 0.0;
+}
+
+void checkOptions(const LateReverbOptions& o) {
+  if (!(o.fit_end_db < o.fit_start_db && o.fit_start_db <= 0.0)) {
+    throw InputError("late reverb: the fit range needs fit_end_db < fit_start_db <= 0 (the paper: 0 and -20)");
+  }
+  if (!(o.min_plausible_t60_s > 0.0 && o.max_plausible_t60_s > o.min_plausible_t60_s)) {
+    throw InputError("late reverb: the plausible T60 range must be positive and not empty");
+  }
+  if (!(o.fallback_t60_s > 0.0)) throw InputError("late reverb: fallback_t60_s must be positive");
+  if (!(o.substitute_level_window_s > 0.0)) throw InputError("late reverb: substitute_level_window_s must be positive");
+}
+
+void checkInput(const std::vector<float>& w, double first_reflection_s, double mixing_time_s) {
+  if (w.empty()) throw InputError("late reverb: the W channel is empty");
+  for (float v : w) {
+    if (!std::isfinite(v)) throw InputError("late reverb: the W channel holds a non-finite sample");
+  }
+  if (!(first_reflection_s >= 0.0)) throw InputError("late reverb: the first reflection time must be >= 0");
+  if (!(mixing_time_s >= first_reflection_s)) {
+    throw InputError("late reverb: the mixing time (" + text("%.4f", mixing_time_s) +
+                     " s) comes before the first reflection (" + text("%.4f", first_reflection_s) + " s)");
+  }
+  const double duration = static_cast<double>(w.size()) / kInternalSampleRateHz;
+  if (mixing_time_s + kMinAnalysisS > duration) {
+    throw InputError("late reverb: the RIR (" + text("%.3f", duration) + " s) ends less than " +
+                     text("%.1f", kMinAnalysisS) + " s after the mixing time (" + text("%.3f", mixing_time_s) +
+                     " s); pass the whole response, not a truncated one");
+  }
+}
+
+}  // namespace
+
+LateReverb estimateLateReverb(const std::vector<float>& w, double first_reflection_s, double mixing_time_s,
+                              const LateReverbOptions& o) {
+  checkOptions(o);
+  checkInput(w, first_reflection_s, mixing_time_s);
+  const double fs = kInternalSampleRateHz;
+  const std::vector<FrequencyBand> bands = standardBands(BandResolution::kOctave);
+  const BandFilterBank bank(bands, fs);
+  const std::vector<std::vector<float>> split = bank.split(w);
+  const auto mix = static_cast<std::size_t>(std::lround(mixing_time_s * fs));
+
+  LateReverb late;
+  late.mixing_time_s = mixing_time_s;
+  late.onset_s = first_reflection_s;
+  late.attack_time_s = mixing_time_s - first_reflection_s;
+
+  const auto first = static_cast<std::size_t>(std::lround(first_reflection_s * fs));
+  const std::size_t clipped_at = findClippedRun(w, first, o.clip_run_samples);
+  const std::string clipped =
+      clipped_at < w.size()
+          ? "clipped input: a flat top of full-peak samples at " + text("%.4f", clipped_at / fs) +
+                " s, after the first reflection; re-measure with less gain"
+          : "";
+
+  std::vector<BandMeasurement> measured;
+  for (std::size_t b = 0; b < bands.size(); ++b) measured.push_back(measureBand(split[b], mix, fs, o));
+
+  const double fallback_delta = 3.0 * kLn10 / o.fallback_t60_s;
+  const auto level_window = static_cast<std::size_t>(std::lround(o.substitute_level_window_s * fs));
+  for (std::size_t b = 0; b < bands.size(); ++b) {
+    const BandMeasurement& m = measured[b];
+    LateReverbBand band;
+    band.center_hz = bands[b].center_hz;
+    bool used_fallback = false;
+    if (m.measured) {
+      band.decay_constant_per_s = m.delta;
+      band.level = std::sqrt(2.0 * m.delta * m.remaining_energy);
+    } else {
+      band.decay_constant_per_s = substituteDelta(measured, bands, b, fallback_delta, used_fallback);
+      band.level = rmsOver(split[b], mix, level_window);
+    }
+    band.t60_s = 3.0 * kLn10 / band.decay_constant_per_s;
+    std::string reason = !clipped.empty() ? clipped : m.problem;
+    if (!m.measured) {
+      reason += used_fallback ? "; no band has a measured decay, the fallback T60 of " +
+                                    text("%g", o.fallback_t60_s) + " s substituted"
+                              : "; decay substituted from the neighbouring bands";
+      reason += ", level is the RMS of the " + text("%.0f", 1000.0 * o.substitute_level_window_s) +
+                " ms after the mixing time";
+    }
+    band.reliable = reason.empty();
+    band.reason = reason;
+    late.bands.push_back(band);
+  }
+  return late;
+}
+
+}  // namespace room_reverb::core
