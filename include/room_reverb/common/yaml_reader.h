@@ -31,10 +31,22 @@ class YamlReader {
   std::vector<double> numberList(const YAML::Node& node, const std::string& key) const;
   Eigen::Vector3d vector3(const YAML::Node& node, const std::string& key) const;
 
+  // Runs `parse`, turning any yaml-cpp exception the accessors did not anticipate (a map
+  // used as a key, say) into an InputError naming `what`, so none leaves the core.
+  template <class Parse>
+  auto guarded(const std::string& what, Parse&& parse) const -> decltype(parse()) {
+    try {
+      return parse();
+    } catch (const YAML::Exception& e) {
+      throwMalformed(what, e);
+    }
+  }
+
   // Parses `yaml_text` (InputError with the line when it is not YAML) and requires a map.
   YAML::Node loadMap(const std::string& yaml_text, const std::string& what) const;
 
  private:
+  [[noreturn]] void throwMalformed(const std::string& what, const YAML::Exception& e) const;
   std::string source_;
 };
 

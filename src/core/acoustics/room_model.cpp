@@ -156,13 +156,7 @@ class Reader : public YamlReader {
   }
 
   RoomModel parse(const std::string& yaml_text) const {
-    try {
-      return parseUnguarded(yaml_text);
-    } catch (const YAML::Exception& e) {
-      // Accessors above turn expected faults into InputError; this catches the rest (a
-      // map used as a key, say) so that no yaml-cpp exception leaves the core.
-      throw InputError(source() + ":" + std::to_string(e.mark.line + 1) + ": malformed room model (" + e.msg + ")");
-    }
+    return guarded("room model", [&] { return parseUnguarded(yaml_text); });
   }
 
  private:

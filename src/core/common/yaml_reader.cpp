@@ -81,6 +81,10 @@ Eigen::Vector3d YamlReader::vector3(const YAML::Node& node, const std::string& k
   return {v[0], v[1], v[2]};
 }
 
+void YamlReader::throwMalformed(const std::string& what, const YAML::Exception& e) const {
+  throw InputError(source_ + ":" + std::to_string(e.mark.line + 1) + ": malformed " + what + " (" + e.msg + ")");
+}
+
 YAML::Node YamlReader::loadMap(const std::string& yaml_text, const std::string& what) const {
   YAML::Node root;
   try {

@@ -19,11 +19,7 @@ class MeasurementsReader : public YamlReader {
   MeasurementsReader(std::string source, std::string base) : YamlReader(std::move(source)), base_(std::move(base)) {}
 
   Measurements parse(const std::string& yaml_text) const {
-    try {
-      return parseUnguarded(yaml_text);
-    } catch (const YAML::Exception& e) {
-      throw InputError(source() + ":" + std::to_string(e.mark.line + 1) + ": malformed measurements (" + e.msg + ")");
-    }
+    return guarded("measurements", [&] { return parseUnguarded(yaml_text); });
   }
 
  private:

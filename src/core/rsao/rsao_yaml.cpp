@@ -91,13 +91,7 @@ class Reader {
   explicit Reader(std::string source) : yaml_(std::move(source)) {}
 
   Rsao parse(const std::string& text) const {
-    try {
-      return parseUnguarded(text);
-    } catch (const YAML::Exception& e) {
-      // The accessors turn expected faults into InputError; this catches the rest so that
-      // no yaml-cpp exception leaves the core.
-      throw InputError(yaml_.source() + ":" + std::to_string(e.mark.line + 1) + ": malformed RSAO file (" + e.msg + ")");
-    }
+    return yaml_.guarded("RSAO file", [&] { return parseUnguarded(text); });
   }
 
  private:
