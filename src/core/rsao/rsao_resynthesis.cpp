@@ -13,6 +13,7 @@
 #include "room_reverb/audio/band_filter_bank.h"
 #include "room_reverb/audio/fft.h"
 #include "room_reverb/common/error.h"
+#include "room_reverb/rsao/lpc.h"
 
 namespace room_reverb::core {
 namespace {
@@ -21,34 +22,6 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kFs = kInternalSampleRateHz;
 constexpr int kKernelHalfLength = 16;  // fractional-delay taps either side of the arrival
 constexpr double kMaxDurationS = 60.0;
-
-// ---------------------------------------------------------------------------------------
-// Reflection filters. Stand-ins, to be swapped for the early-part estimator's filter code
-// (lpc.h) once it exists; both filter in place.
-// ---------------------------------------------------------------------------------------
-
-// Cascaded second-order sections, each in transposed direct form II.
-void filterSecondOrderSections(const std::vector<BiquadSection>& sections, std::vector<double>& x) {
-  for (const BiquadSection& s : sections) {
-    double z1 = 0.0, z2 = 0.0;
-    for (double& v : x) {
-      const double in = v;
-      const double out = s.b0 * in + z1;
-      z1 = s.b1 * in - s.a1 * out + z2;
-      z2 = s.b2 * in - s.a2 * out;
-      v = out;
-    }
-  }
-}
-
-// All-pole gain / A(z), A(z) = 1 + sum_{i>=1} lpc[i] z^-i (lpc[0] is 1).
-void filterAllPole(const std::vector<double>& lpc, double gain, std::vector<double>& x) {
-  for (std::size_t n = 0; n < x.size(); ++n) {
-    double acc = gain * x[n];
-    for (std::size_t i = 1; i < lpc.size() && i <= n; ++i) acc -= lpc[i] * x[n - i];
-    x[n] = acc;
-  }
-}
 
 // A section's poles lie inside the unit circle iff (a1, a2) is inside the stability
 // triangle |a2| < 1, |a1| < 1 + a2.
@@ -93,9 +66,9 @@ void addReflection(const EarlyReflection& r, std::size_t k, const ResynthesisOpt
   tap.resize(tap.size() + static_cast<std::size_t>(std::lround(o.reflection_response_s * kFs)), 0.0);
   if (!r.sos.empty()) {
     if (!sectionsStable(r.sos)) throw InputError("resynthesis: " + reflectionName(k) + " has an unstable second-order section");
-    filterSecondOrderSections(r.sos, tap);
+    tap = filterSections(r.sos, tap);
   } else if (r.lpc.size() > 1) {
-    filterAllPole(r.lpc, r.lpc_gain, tap);
+    tap = filterAllPole(r.lpc, r.lpc_gain, tap);
     const std::size_t eighth = tap.size() / 8;
     double head = 0.0, tail = 0.0;
     for (std::size_t i = 0; i < eighth; ++i) {
