@@ -40,7 +40,7 @@ TEST(BrasValidation, TwoPairsAgreeWithTheMeasuredRoom) {
   std::vector<MetricsReport> reports;
   for (const SimulatedPair& p : simulatePairs(scene, pairs, settings, BandResolution::kThirdOctave)) {
     reports.push_back(p.metrics);
-    EXPECT_LT(p.stats.leaked_rays, p.stats.rays / 20);  // the mesh's cracks: about 4 %
+    EXPECT_LT(p.stats.leaked_rays, p.stats.rays / 1000);  // 2 in 100 000 since legs restart on the wall's plane
   }
   const auto octaves = thirdsToOctaves(compareWithMeasured(reports, m.parameters));
   ASSERT_EQ(octaves.size(), 8u);  // 125 Hz .. 16 kHz
