@@ -8,15 +8,11 @@
 namespace room_reverb::ros_bridge {
 namespace {
 
-// The message's face fields in the order of core::kRoomSurfaceNames.
-std::array<const std::string*, 6> faceMaterials(const room_reverb::RoomModel& msg) {
-  return {&msg.floor_material, &msg.ceiling_material, &msg.wall_x_min_material,
-          &msg.wall_x_max_material, &msg.wall_y_min_material, &msg.wall_y_max_material};
-}
-
-std::array<std::string*, 6> faceMaterials(room_reverb::RoomModel& msg) {
-  return {&msg.floor_material, &msg.ceiling_material, &msg.wall_x_min_material,
-          &msg.wall_x_max_material, &msg.wall_y_min_material, &msg.wall_y_max_material};
+// The message's face fields in the order of core::kRoomSurfaceNames (const or not).
+template <class Message>
+auto faceMaterials(Message& msg) {
+  return std::array{&msg.floor_material, &msg.ceiling_material, &msg.wall_x_min_material,
+                    &msg.wall_x_max_material, &msg.wall_y_min_material, &msg.wall_y_max_material};
 }
 
 core::OctaveBandValues bandValues(const std::vector<double>& values, const std::string& key) {

@@ -1,6 +1,7 @@
 #include "room_reverb/ros/simulation_server.h"
 
 #include <limits>
+#include <optional>
 
 #include "room_reverb/common/error.h"
 #include "room_reverb/metrics/impulse_response_metrics.h"
@@ -51,24 +52,20 @@ bool SimulationServer::simulate(room_reverb::SimulateRoom::Request& request,
     if (request.ambisonic_order > 0) settings.ambisonic_order = request.ambisonic_order;
     if (request.duration_s > 0.0) settings.duration_s = request.duration_s;
 
-    core::TriangleMesh mesh;
-    core::MaterialLibrary library = library_;
-    bool closed = true;
-    if (!request.mesh_file.empty()) {
-      mesh = core::loadMesh(request.mesh_file, request.mesh_y_up ? core::UpAxis::kY : core::UpAxis::kZ);
-    } else {
-      const core::RoomModel room = fromMessage(request.room);
-      mesh = core::roomModelToMesh(room);
-      library = core::materialsFor(room, library_);
-      settings.air = room.air;
-      closed = room.has_ceiling;
-    }
     core::MaterialOverrides overrides;
     if (request.global_scattering >= 0.0) overrides.global_scattering = request.global_scattering;
-    const core::AcousticScene scene(std::move(mesh), library, overrides, closed);
+    std::optional<core::AcousticScene> scene;
+    if (!request.mesh_file.empty()) {
+      scene.emplace(core::loadMesh(request.mesh_file, request.mesh_y_up ? core::UpAxis::kY : core::UpAxis::kZ), library_,
+                    overrides);
+    } else {
+      const core::RoomModel room = fromMessage(request.room);
+      scene.emplace(core::roomModelToScene(room, library_, overrides));
+      settings.air = room.air;
+    }
     const Eigen::Vector3d source(request.source.x, request.source.y, request.source.z);
     const Eigen::Vector3d listener(request.listener.x, request.listener.y, request.listener.z);
-    const core::SimulationResult result = core::simulateRoom(scene, source, listener, settings);
+    const core::SimulationResult result = core::simulateRoom(*scene, source, listener, settings);
 
     response.impulse_response.audio = toMessage(result.impulse_response, settings.ambisonic_order == 0 ? "mono" : "ambix");
     response.impulse_response.audio.header.frame_id = "room";

@@ -1,5 +1,7 @@
 #include "simulation_arguments.h"
 
+#include <optional>
+
 #include "room_reverb/acoustics/room_model.h"
 #include "room_reverb/common/error.h"
 
@@ -48,24 +50,20 @@ SimulationSettings simulationSettingsFrom(const Arguments& args) {
 AcousticScene sceneFrom(const SceneFiles& files, const Arguments& args, AirConditions& air) {
   const MaterialLibrary base = args.has("materials") ? MaterialLibrary::load(args.value("materials", ""))
                                                      : MaterialLibrary::loadDefault();
-  TriangleMesh mesh;
-  MaterialLibrary library = base;
-  bool closed = !files.open;
+  MaterialOverrides overrides;
+  if (args.has("scattering")) overrides.global_scattering = args.doubleValue("scattering", 0.0);
+  std::optional<AcousticScene> scene;
   if (!files.room_file.empty()) {
     const RoomModel room = loadRoomModel(files.room_file);
-    mesh = roomModelToMesh(room);
-    library = materialsFor(room, base);
+    scene.emplace(roomModelToScene(room, base, overrides));
     air = room.air;
-    closed = room.has_ceiling;
   } else {
-    mesh = loadMesh(files.mesh_file, files.mesh_up_axis);
+    scene.emplace(loadMesh(files.mesh_file, files.mesh_up_axis), base, overrides, !files.open);
   }
   air.temperature_c = args.doubleValue("temperature", air.temperature_c);
   air.humidity_percent = args.doubleValue("humidity", air.humidity_percent);
   if (args.has("no-air")) air.enabled = false;
-  MaterialOverrides overrides;
-  if (args.has("scattering")) overrides.global_scattering = args.doubleValue("scattering", 0.0);
-  return AcousticScene(std::move(mesh), library, overrides, closed);
+  return std::move(*scene);
 }
 
 }  // namespace room_reverb::tool

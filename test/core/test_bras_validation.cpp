@@ -51,7 +51,9 @@ TEST(BrasValidation, TwoPairsAgreeWithTheMeasuredRoom) {
     if (row.nominal_hz >= 2000.0) {
       EXPECT_LT(std::abs(*t20), 3.0) << row.nominal_hz;  // 15 %
     } else {
-      EXPECT_LT(*t20, 7.0) << row.nominal_hz;  // the low bands' excess: 16-17 % at full size, up to 28 % with two pairs
+      // The low bands' known excess: +3.6 JND at 125 Hz over all ten pairs, +4.9 JND with
+      // these two pairs and 10 000 rays (measured); a JND of margin for platform differences.
+      EXPECT_LT(*t20, 6.0) << row.nominal_hz;
       EXPECT_GT(*t20, -1.0) << row.nominal_hz;
     }
     if (row.nominal_hz >= 500.0 && row.nominal_hz <= 4000.0) {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "room_reverb/acoustics/acoustic_scene.h"
 #include "room_reverb/acoustics/air_absorption.h"
 #include "room_reverb/acoustics/material.h"
 #include "room_reverb/acoustics/triangle_mesh.h"
@@ -59,5 +60,11 @@ TriangleMesh roomModelToMesh(const RoomModel& model);
 // The library extended by the model's inline materials; throws InputError if a surface or
 // object names a material neither defines.
 MaterialLibrary materialsFor(const RoomModel& model, const MaterialLibrary& library);
+
+// The scene the simulator traces: the model's mesh with its materials (library plus inline
+// ones), closed unless the room has no ceiling. The model's air conditions are not part of
+// the scene; the caller passes model.air to the simulation.
+AcousticScene roomModelToScene(const RoomModel& model, const MaterialLibrary& library,
+                               const MaterialOverrides& overrides = {});
 
 }  // namespace room_reverb::core

@@ -134,14 +134,20 @@ std::vector<FrequencyBand> lateSynthesisBands() {
   return bands;
 }
 
-// Effective noise bandwidth of each band, the integral of |H|^2 (Hz).
+// Effective noise bandwidth of each band, the integral of |H|^2 (Hz), on a fine grid over
+// the band's support only (it is zero elsewhere; a band reaches at most one of its own
+// widths past either edge).
 std::vector<double> noiseBandwidthsHz(const BandFilterBank& bank) {
-  constexpr int kSteps = 1 << 16;
-  const double step_hz = 0.5 * bank.sampleRateHz() / kSteps;
+  constexpr int kSteps = 4096;
   std::vector<double> out(bank.bands().size(), 0.0);
   for (std::size_t b = 0; b < out.size(); ++b) {
+    const FrequencyBand& band = bank.bands()[b];
+    const double width = band.upper_hz / band.lower_hz;
+    const double low = band.lower_hz / width;
+    const double high = std::min(band.upper_hz * width, 0.5 * bank.sampleRateHz());
+    const double step_hz = (high - low) / kSteps;
     for (int k = 0; k < kSteps; ++k) {
-      const double g = bank.gain(b, (k + 0.5) * step_hz);
+      const double g = bank.gain(b, low + (k + 0.5) * step_hz);
       out[b] += g * g * step_hz;
     }
   }

@@ -46,30 +46,6 @@ struct MaterialTerms {
   double mean_scattering = 0.0;        // p
 };
 
-// The tracer's histogram: [bin][band] and [bin][band][xyz], all bands of an arrival at once.
-struct LocalHistogram {
-  double bin_s = 0.001;
-  std::size_t bins = 0;
-  std::vector<double> energy, flux;
-  LocalHistogram(double bin, std::size_t n)
-      : bin_s(bin), bins(n), energy(n * kOctaveBandCount, 0.0), flux(n * kOctaveBandCount * 3, 0.0) {}
-  // Adds e[b] * weight[b] for every band.
-  void add(double time_s, const OctaveBandValues& e, const double* weight, const Eigen::Vector3d& direction) {
-    if (!(time_s >= 0.0)) return;
-    const auto bin = static_cast<std::size_t>(time_s / bin_s);
-    if (bin >= bins) return;
-    double* en = &energy[bin * kOctaveBandCount];
-    double* fl = &flux[bin * kOctaveBandCount * 3];
-    for (int b = 0; b < kOctaveBandCount; ++b) {
-      const double v = e[b] * weight[b];
-      en[b] += v;
-      fl[3 * b] += v * direction.x();
-      fl[3 * b + 1] += v * direction.y();
-      fl[3 * b + 2] += v * direction.z();
-    }
-  }
-};
-
 struct Tracer {
   const AcousticScene& scene;
   const Eigen::Vector3d& source;
@@ -115,18 +91,18 @@ struct Tracer {
 
   // Arrival of `energy` after `distance_m` scaled by `factor`, with air: exp(-m d) as the
   // table's exp(-m k L) times a 5-term series of exp(-x), x = m (d - k L) <= m L (1e-9 exact).
-  void deposit(LocalHistogram& histogram, const OctaveBandValues& energy, double distance_m, double factor,
+  void deposit(EnergyHistogram& histogram, const OctaveBandValues& energy, double distance_m, double factor,
                const Eigen::Vector3d& direction) const {
     const std::size_t k = std::min(static_cast<std::size_t>(std::max(0.0, distance_m) / bin_length_m), air_upper.size() / kOctaveBandCount - 2);
     const double* upper = &air_upper[k * kOctaveBandCount];
     const double rest = distance_m - static_cast<double>(k) * bin_length_m;
-    double weight[kOctaveBandCount];
+    OctaveBandValues weight;
     for (int b = 0; b < kOctaveBandCount; ++b) {
       const double x = model.air_attenuation_per_m[b] * rest;
       const double series = 1.0 - x * (1.0 - x * (0.5 - x * (1.0 / 6.0 - x * (1.0 / 24.0))));
       weight[b] = factor * upper[b] * series;
     }
-    histogram.add(distance_m / model.speed_of_sound_m_s, energy, weight, direction);
+    histogram.addBands(distance_m / model.speed_of_sound_m_s, energy, weight, direction);
   }
 
   // max over bands of energy * exp(-m travelled) < floor, decided from the tables when
@@ -149,7 +125,7 @@ struct Tracer {
     return loudest < floor;
   }
 
-  void traceRay(std::mt19937_64& rng, LocalHistogram& histogram, RayTracingStats& stats) const {
+  void traceRay(std::mt19937_64& rng, EnergyHistogram& histogram, RayTracingStats& stats) const {
     std::uniform_real_distribution<double> u(0.0, 1.0);
     Eigen::Vector3d direction = uniformDirection(rng);
     const double gain = model.directivity.pressureGain(direction);
@@ -251,7 +227,7 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
   const Tracer tracer(scene, source, listener, model, options, 1.0 / static_cast<double>(options.ray_count), bins);
   const std::size_t chunks = (options.ray_count + kRaysPerChunk - 1) / kRaysPerChunk;
 
-  std::vector<LocalHistogram> histograms(static_cast<std::size_t>(threads), LocalHistogram(options.bin_s, bins));
+  std::vector<EnergyHistogram> histograms(static_cast<std::size_t>(threads), EnergyHistogram(options.bin_s, bins));
   std::vector<RayTracingStats> stats(static_cast<std::size_t>(threads));
   auto work = [&](int thread) {
     for (std::size_t chunk = static_cast<std::size_t>(thread); chunk < chunks; chunk += static_cast<std::size_t>(threads)) {
@@ -266,23 +242,8 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
   work(0);
   for (auto& thread : pool) thread.join();
 
-  // Sum the threads in order and hand over as an EnergyHistogram.
-  LocalHistogram& total = histograms[0];
-  for (int t = 1; t < threads; ++t) {
-    for (std::size_t i = 0; i < total.energy.size(); ++i) total.energy[i] += histograms[t].energy[i];
-    for (std::size_t i = 0; i < total.flux.size(); ++i) total.flux[i] += histograms[t].flux[i];
-  }
   RayTracingResult result{EnergyHistogram(options.bin_s, bins), {}};
-  for (std::size_t bin = 0; bin < bins; ++bin) {
-    const double time = (static_cast<double>(bin) + 0.5) * options.bin_s;
-    for (int b = 0; b < kOctaveBandCount; ++b) {
-      const std::size_t i = bin * kOctaveBandCount + static_cast<std::size_t>(b);
-      const double e = total.energy[i];
-      if (!(e > 0.0)) continue;
-      const Eigen::Vector3d mean_direction(total.flux[3 * i] / e, total.flux[3 * i + 1] / e, total.flux[3 * i + 2] / e);
-      result.histogram.add(time, b, e, mean_direction);
-    }
-  }
+  for (int t = 0; t < threads; ++t) result.histogram.merge(histograms[static_cast<std::size_t>(t)]);
   for (int t = 0; t < threads; ++t) addStats(result.stats, stats[t]);
   return result;
 }

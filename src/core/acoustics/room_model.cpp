@@ -433,4 +433,9 @@ MaterialLibrary materialsFor(const RoomModel& model, const MaterialLibrary& libr
   return result;
 }
 
+AcousticScene roomModelToScene(const RoomModel& model, const MaterialLibrary& library,
+                               const MaterialOverrides& overrides) {
+  return AcousticScene(roomModelToMesh(model), materialsFor(model, library), overrides, model.has_ceiling);
+}
+
 }  // namespace room_reverb::core
