@@ -9,6 +9,7 @@
 #include "arguments.h"
 #include "command.h"
 #include "room_reverb/common/error.h"
+#include "room_reverb/common/text_file.h"
 #include "room_reverb/evaluation/parameter_comparison.h"
 #include "room_reverb/evaluation/simulated_pairs.h"
 #include "simulation_arguments.h"
@@ -117,11 +118,7 @@ int runCompare(const std::vector<std::string>& raw) {
   if (thirds) report << "\nThird-octave bands:\n\n" << comparisonToMarkdown(rows);
 
   std::cout << report.str();
-  if (args.has("markdown")) {
-    std::ofstream out(args.value("markdown", ""));
-    if (!out) throw InputError(args.value("markdown", "") + ": cannot write the Markdown file");
-    out << report.str();
-  }
+  if (args.has("markdown")) writeTextFile(args.value("markdown", ""), report.str());
   return 0;
 }
 

@@ -39,6 +39,11 @@ struct LateReverbBand {
   double decay_constant_per_s = 0.0;  // energy envelope ~ exp(-2 * decay_constant * t): amplitude ~ exp(-decay_constant * t)
   double t60_s = 0.0;                 // 3 ln(10) / decay_constant
   double level = 0.0;                 // RMS amplitude of the band's W channel at the mixing time (linear)
+  // This project's extension of the onset ramp (late_envelope.h, onset_ramp_fit.h): the
+  // band's amplitude at onset_s, from which it moves geometrically to `level` at the mixing
+  // time, carrying early energy the discrete reflections leave out. 0: the paper's linear
+  // ramp from zero.
+  double onset_level = 0.0;
   bool reliable = true;
   std::string reason;                 // why not reliable ("" when reliable)
 };
@@ -47,6 +52,9 @@ struct LateReverb {
   double mixing_time_s = 0.0;  // from the first sample of the RIR
   double onset_s = 0.0;        // where the ramp starts (the first reflection)
   double attack_time_s = 0.0;  // ramp length: mixing_time_s - onset_s
+  // Where the bands' extended early course (LateReverbBand::onset_level, late_envelope.h)
+  // joins the exponential decay; at or before the mixing time: at the mixing time.
+  double course_end_s = 0.0;
   std::vector<LateReverbBand> bands;  // the nine octave bands 63 Hz..16 kHz
 };
 

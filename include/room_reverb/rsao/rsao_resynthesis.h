@@ -8,18 +8,14 @@
 // Direct sound and early reflections: each a tap at its exact, fractional time of arrival
 // (a windowed-sinc fractional delay), shaped by its filter (the second-order sections when
 // there are any, else the all-pole LPC filter, else none), scaled so that the W energy of
-// the shaped tap from the start of its kernel to reflection_window_s after its arrival is
-// EarlyReflection::level^2, and encoded with sn3dHarmonics(1, direction).
+// the shaped tap under a Hamming window of length analysis_window_s centred on its arrival
+// (the estimator's window) is EarlyReflection::level^2, and encoded with sn3dHarmonics(1, direction).
 //
 // Late reverberation, per octave band b (the nine S3A bands) and per channel: independent
 // Gaussian noise, band-limited by BandFilterBank's band-b response, of unit mean square,
-// under the envelope
-//
-//     level_b * ramp(t)                      onset_s <= t < mixing_time_s
-//     level_b * exp(-delta_b (t - t_mix))    t >= mixing_time_s
-//
-// (zero before onset_s), ramp rising from 0 to 1: linear as in the VISR renderer's late
-// envelope, or raised-cosine. This is exactly the model late_reverb.h measures: the band's
+// under the band's envelope (late_envelope.h: zero before onset_s, a ramp over the band's
+// attack time, linear as in the VISR renderer or raised-cosine, then the decay; level_b at
+// the mixing time and exp(-delta_b (t - t_mix)) after it). This is exactly the model late_reverb.h measures: the band's
 // W has mean square level_b^2 at the mixing time and decays with delta_b. Channels Y, Z, X
 // carry 1/3 of W's energy each, independent of W and of each other: a diffuse field in SN3D.
 //
@@ -47,19 +43,20 @@
 #include <cstdint>
 
 #include "room_reverb/audio/audio_buffer.h"
+#include "room_reverb/rsao/late_envelope.h"
 #include "room_reverb/rsao/rsao.h"
 
 namespace room_reverb::core {
 
-enum class OnsetRamp { kLinear, kRaisedCosine };
 
 struct ResynthesisOptions {
   std::uint32_t seed = 1;
   // Length of the output; 0 takes Rsao::duration_s, and when that is 0 too, the mixing
   // time plus the longest band T60 (or the last reflection's response, if later).
   double duration_s = 0.0;
-  // The window over which the estimator measured EarlyReflection::level, from the arrival.
-  double reflection_window_s = 0.005;
+  // D, the length of the Hamming window centred on the arrival over which the estimator
+  // measured EarlyReflection::level (EarlyReflectionOptions::analysis_window_s).
+  double analysis_window_s = 0.002;
   // A reflection filter's response is kept this long (its ringing past it is cut).
   double reflection_response_s = 0.020;
   OnsetRamp onset_ramp = OnsetRamp::kLinear;

@@ -14,7 +14,8 @@
 //                   "level": "0.065, 0.097, ...",                     // nine bands, linear, re the direct sound
 //                   "attacktime": "0.0527, 0.0527, ...",              // ramp length, s
 //                   "decayconst": "-3.84, -4.32, ..."}},              // 1/s, amplitude exp(decayconst t)
-//     "room_reverb": {"band_reliable": [true, ...], "band_reason": ["", ...]}}]}
+//     "room_reverb": {"band_reliable": [true, ...], "band_reason": ["", ...],
+//                     "band_onset_level": [0.0, 0.12, ...]}}]}                // re the direct sound
 //
 // What was confirmed from VISR's sources (s3a-spatialaudio/VISR: libobjectmodel's
 // point_source_with_reverb_parser.cpp, point_source_parser.cpp, object_parser.cpp,
@@ -42,7 +43,8 @@
 //   - the object-level "biquadsos" carries the direct sound's filter, as in the S3A test
 //     data, though VISR's renderer does not apply it yet;
 //   - "room_reverb" is this project's addition (VISR ignores unknown keys): the per-band
-//     reliability the estimator found;
+//     reliability the estimator found, and the onset levels of this project's extended
+//     early course (late_envelope.h). VISR plays its linear ramp instead;
 //   - levels: the object's level defaults to the direct sound's level, reflection and late
 //     levels are divided by it. The late level is this project's (late_reverb.h: the RMS of
 //     the band at the mixing time); VISR multiplies its own band noise (uniform +-1 noise

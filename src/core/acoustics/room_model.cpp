@@ -10,6 +10,7 @@
 #include <sys/stat.h>
 
 #include "room_reverb/common/error.h"
+#include "room_reverb/common/text_file.h"
 #include "room_reverb/common/yaml_reader.h"
 
 namespace room_reverb::core {
@@ -309,16 +310,7 @@ std::string nameText(const std::string& name) {
 
 RoomModel parseRoomModel(const std::string& yaml_text) { return Reader("room model").parse(yaml_text); }
 
-RoomModel loadRoomModel(const std::string& path) {
-  struct stat status {};
-  if (stat(path.c_str(), &status) != 0) throw InputError(path + ": no such file");
-  if (S_ISDIR(status.st_mode)) throw InputError(path + ": is a directory, not a room model");
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open for reading");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return Reader(path).parse(text.str());
-}
+RoomModel loadRoomModel(const std::string& path) { return Reader(path).parse(readTextFile(path, "room model")); }
 
 std::string roomModelToYaml(const RoomModel& model) {
   // A model that would not read back is refused here rather than written.
@@ -367,14 +359,7 @@ std::string roomModelToYaml(const RoomModel& model) {
   return out.str();
 }
 
-void saveRoomModel(const std::string& path, const RoomModel& model) {
-  const std::string text = roomModelToYaml(model);
-  std::ofstream out(path);
-  if (!out) throw InputError(path + ": cannot open for writing");
-  out << text;
-  out.close();
-  if (!out) throw InputError(path + ": write failed");
-}
+void saveRoomModel(const std::string& path, const RoomModel& model) { writeTextFile(path, roomModelToYaml(model)); }
 
 TriangleMesh roomModelToMesh(const RoomModel& model) {
   checkModel(model, "room model");

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "room_reverb/common/error.h"
+#include "room_reverb/common/text_file.h"
 #include "room_reverb/common/yaml_reader.h"
 
 namespace room_reverb::core {
@@ -109,13 +110,10 @@ Measurements parseMeasurements(const std::string& yaml_text, const std::string& 
 }
 
 Measurements loadMeasurements(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open the measurements file");
-  std::ostringstream text;
-  text << in.rdbuf();
+  const std::string text = readTextFile(path, "measurements file");
   const auto slash = path.find_last_of('/');
   const std::string base = slash == std::string::npos ? "." : path.substr(0, slash);
-  return MeasurementsReader(path, base).parse(text.str());
+  return MeasurementsReader(path, base).parse(text);
 }
 
 }  // namespace room_reverb::core

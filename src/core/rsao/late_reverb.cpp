@@ -7,6 +7,7 @@
 
 #include "room_reverb/audio/audio_buffer.h"
 #include "room_reverb/audio/band_filter_bank.h"
+#include "room_reverb/audio/clipping.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/metrics/energy_decay.h"
 
@@ -60,23 +61,6 @@ DecayLine fitDecayLine(const EnergyDecay& decay, double start_db, double end_db)
   line.intercept_db = (sl - line.slope_db_per_s * st) / n;
   line.valid = line.slope_db_per_s < 0.0;
   return line;
-}
-
-// First sample (at or after `from`) of a run of `run` or more samples at the signal's peak
-// magnitude: the flat top clipping leaves. A smooth waveform's samples near its crest differ
-// in the 5th digit even at 63 Hz, so the relative tolerance is far tighter than that.
-std::size_t findClippedRun(const std::vector<float>& x, std::size_t from, int run) {
-  float peak = 0.0f;
-  for (float v : x) peak = std::max(peak, std::abs(v));
-  if (peak <= 0.0f || run < 2) return x.size();
-  const float level = peak * (1.0f - 1e-6f);
-  int length = 0;
-  for (std::size_t n = 0; n < x.size(); ++n) {
-    length = std::abs(x[n]) >= level ? length + 1 : 0;
-    const std::size_t start = n + 1 - static_cast<std::size_t>(std::max(length, 1));
-    if (length >= run && start >= from) return start;
-  }
-  return x.size();
 }
 
 struct BandMeasurement {

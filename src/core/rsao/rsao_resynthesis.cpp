@@ -13,6 +13,8 @@
 #include "room_reverb/audio/band_filter_bank.h"
 #include "room_reverb/audio/fft.h"
 #include "room_reverb/common/error.h"
+#include "room_reverb/rsao/analysis_window.h"
+#include "room_reverb/rsao/late_envelope.h"
 #include "room_reverb/rsao/lpc.h"
 
 namespace room_reverb::core {
@@ -79,11 +81,16 @@ void addReflection(const EarlyReflection& r, std::size_t k, const ResynthesisOpt
       throw InputError("resynthesis: " + reflectionName(k) + "'s LPC filter is unstable (its response grows)");
     }
   }
-  // Scale: W energy from the kernel's start to the end of the analysis window is level^2.
-  const std::size_t window_end = std::min(
-      tap.size(), kKernelHalfLength + static_cast<std::size_t>(std::lround(o.reflection_window_s * kFs)));
+  // Scale: the W energy under the estimator's own window (a Hamming window of length D
+  // centred on the arrival, analysis_window.h) is level^2, so that estimating this tap
+  // again gives back its level.
+  const double centre = static_cast<double>(kKernelHalfLength - 1) + (position - whole);
+  const SampleWindow window = hammingWindowAt(centre, o.analysis_window_s * kFs, tap.size());
   double energy = 0.0;
-  for (std::size_t i = 0; i < window_end; ++i) energy += tap[i] * tap[i];
+  for (std::size_t i = 0; i < window.weights.size(); ++i) {
+    const double v = window.weights[i] * tap[window.first + i];
+    energy += v * v;
+  }
   if (!(energy > 0.0)) return;  // a filter that is zero over the window: nothing to place
   const double gain = r.level / std::sqrt(energy);
 
@@ -171,14 +178,6 @@ std::vector<float> bandNoise(const std::vector<double>& gain, RealFft& fft, Gaus
   return noise;
 }
 
-// The onset ramp, 0 before the onset rising to 1 at the mixing time.
-double rampAt(double t, const LateReverb& late, OnsetRamp shape) {
-  if (t < late.onset_s) return 0.0;
-  if (t >= late.mixing_time_s) return 1.0;
-  const double u = (t - late.onset_s) / (late.mixing_time_s - late.onset_s);
-  return shape == OnsetRamp::kLinear ? u : 0.5 * (1.0 - std::cos(kPi * u));
-}
-
 // How much of band noise b' each analysis band b sees: M(b, b') = sum_k |H_b(f_k)|^2
 // |N_b'(f_k)|^2 / sum_k |N_b'(f_k)|^2 over the realised noise's spectrum. Adjacent bands of
 // the bank overlap over their crossovers, so M is not diagonal: octave b' puts 5-9 % of its
@@ -201,16 +200,12 @@ Eigen::MatrixXd leakageMatrix(const std::vector<std::vector<float>>& noises,
   return m;
 }
 
-// The model's mean square of each analysis band over time (late_reverb.h): level^2 under
-// the onset ramp, then exp(-2 delta (t - t_mix)).
+// The model's mean square of each analysis band over time (late_envelope.h).
 std::vector<std::vector<double>> targetPowers(const LateReverb& late, std::size_t frames, OnsetRamp shape) {
   std::vector<std::vector<double>> target(late.bands.size(), std::vector<double>(frames));
   for (std::size_t b = 0; b < late.bands.size(); ++b) {
-    const LateReverbBand& band = late.bands[b];
     for (std::size_t n = 0; n < frames; ++n) {
-      const double t = static_cast<double>(n) / kFs;
-      const double decay = t < late.mixing_time_s ? 1.0 : std::exp(-band.decay_constant_per_s * (t - late.mixing_time_s));
-      const double amplitude = band.level * rampAt(t, late, shape) * decay;
+      const double amplitude = late.bands[b].level * lateEnvelopeGain(late, b, static_cast<double>(n) / kFs, shape);
       target[b][n] = amplitude * amplitude;
     }
   }
@@ -330,9 +325,10 @@ void checkRsao(const Rsao& r) {
     throw InputError("resynthesis: the late onset must be finite, non-negative and no later than the mixing time");
   }
   for (const LateReverbBand& band : late.bands) {
-    if (!(std::isfinite(band.decay_constant_per_s) && band.decay_constant_per_s > 0.0) || !finiteNonNegative(band.level)) {
+    if (!(std::isfinite(band.decay_constant_per_s) && band.decay_constant_per_s > 0.0) || !finiteNonNegative(band.level) ||
+        !finiteNonNegative(band.onset_level)) {
       throw InputError("resynthesis: the late band at " + std::to_string(static_cast<int>(std::lround(band.center_hz))) +
-                       " Hz needs a positive decay constant and a non-negative level");
+                       " Hz needs a positive decay constant and a non-negative level and onset level");
     }
   }
 }
@@ -351,9 +347,9 @@ double defaultDuration(const Rsao& r, const ResynthesisOptions& o) {
 
 AudioBuffer resynthesizeRsao(const Rsao& rsao, const ResynthesisOptions& options) {
   checkRsao(rsao);
-  if (!(options.reflection_window_s > 0.0 && options.reflection_response_s >= 0.0 && options.match_bandwidths > 0.0 &&
+  if (!(options.analysis_window_s > 0.0 && options.reflection_response_s >= 0.0 && options.match_bandwidths > 0.0 &&
         options.match_passes >= 0)) {
-    throw InputError("resynthesis: reflection_window_s and match_bandwidths must be positive, match_passes not negative");
+    throw InputError("resynthesis: analysis_window_s and match_bandwidths must be positive, match_passes not negative");
   }
   const double duration = options.duration_s > 0.0 ? options.duration_s : defaultDuration(rsao, options);
   if (!(duration > 0.0 && duration <= kMaxDurationS)) {

@@ -230,13 +230,16 @@ VisrImport readObject(const json& object) {
 
   std::vector<bool> reliable(levels.size(), true);
   std::vector<std::string> reasons(levels.size());
+  std::vector<double> onset_levels(levels.size(), 0.0);
   if (object.contains("room_reverb")) {
     const json& extra = object["room_reverb"];
     const json flags = extra.value("band_reliable", json::array());
     const json texts = extra.value("band_reason", json::array());
+    const json onsets = extra.value("band_onset_level", json::array());
     for (std::size_t b = 0; b < levels.size(); ++b) {
       if (b < flags.size() && flags[b].is_boolean()) reliable[b] = flags[b].get<bool>();
       if (b < texts.size() && texts[b].is_string()) reasons[b] = texts[b].get<std::string>();
+      if (b < onsets.size() && onsets[b].is_number()) onset_levels[b] = onsets[b].get<double>();
     }
   }
   const std::vector<FrequencyBand> bands = standardBands(BandResolution::kOctave);
@@ -250,6 +253,7 @@ VisrImport readObject(const json& object) {
     band.decay_constant_per_s = -decays[b];
     band.t60_s = 3.0 * kLn10 / band.decay_constant_per_s;
     band.level = levels[b];
+    band.onset_level = onset_levels[b];
     band.reliable = reliable[b];
     band.reason = reasons[b];
     rsao.late.bands.push_back(band);
@@ -299,7 +303,7 @@ std::string rsaoToVisrJson(const Rsao& rsao, const VisrObjectFields& fields, int
     early.push_back(e);
   }
 
-  std::vector<double> levels, attacks, decays;
+  std::vector<double> levels, attacks, decays, onset_levels;
   ordered_json reliable = ordered_json::array(), reasons = ordered_json::array();
   for (const LateReverbBand& band : rsao.late.bands) {
     if (!(band.decay_constant_per_s > 0.0) || !std::isfinite(band.decay_constant_per_s) || !std::isfinite(band.level)) {
@@ -309,6 +313,7 @@ std::string rsaoToVisrJson(const Rsao& rsao, const VisrObjectFields& fields, int
     levels.push_back(band.level / direct.level);
     attacks.push_back(rsao.late.attack_time_s);
     decays.push_back(-band.decay_constant_per_s);  // VISR: amplitude exp(decayconst * t)
+    onset_levels.push_back(band.onset_level / direct.level);
     reliable.push_back(band.reliable);
     reasons.push_back(band.reason);
   }
@@ -318,7 +323,7 @@ std::string rsaoToVisrJson(const Rsao& rsao, const VisrObjectFields& fields, int
   late["attacktime"] = bandString(attacks);
   late["decayconst"] = bandString(decays);
   object["room"] = {{"ereflect", early}, {"lreverb", late}};
-  object["room_reverb"] = {{"band_reliable", reliable}, {"band_reason", reasons}};
+  object["room_reverb"] = {{"band_reliable", reliable}, {"band_reason", reasons}, {"band_onset_level", onset_levels}};
 
   ordered_json scene;
   scene["objects"] = ordered_json::array({object});

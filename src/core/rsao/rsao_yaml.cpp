@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "room_reverb/common/error.h"
+#include "room_reverb/common/text_file.h"
 #include "room_reverb/common/yaml_reader.h"
 #include "rsao_file_text.h"
 
@@ -158,6 +159,7 @@ class Reader {
       yaml_.fail(node, key, "t60_s and decay_constant_per_s disagree (t60 = 3 ln 10 / decay constant); give one of them");
     }
     b.level = requiredNumber(node, "level", key + ".level");
+    b.onset_level = yaml_.numberOr(node, "onset_level", key + ".onset_level", 0.0);
     b.reliable = yaml_.flagOr(node, "reliable", key + ".reliable", true);
     b.reason = textOrEmpty(node, "reason", key + ".reason");
     return b;
@@ -249,7 +251,7 @@ std::string rsaoToYaml(const Rsao& r) {
       out << "    - {center_hz: " << shortestDecimal(b.center_hz)
           << ", decay_constant_per_s: " << shortestDecimal(b.decay_constant_per_s)
           << ", t60_s: " << shortestDecimal(b.t60_s) << ", level: " << shortestDecimal(b.level)
-          << ", reliable: " << (b.reliable ? "true" : "false") << ", reason: " << quoted(b.reason) << "}\n";
+          << ", onset_level: " << shortestDecimal(b.onset_level) << ", reliable: " << (b.reliable ? "true" : "false") << ", reason: " << quoted(b.reason) << "}\n";
     }
   }
   if (r.warnings.empty()) {
@@ -263,21 +265,8 @@ std::string rsaoToYaml(const Rsao& r) {
 
 Rsao parseRsaoYaml(const std::string& yaml_text, const std::string& source) { return Reader(source).parse(yaml_text); }
 
-void saveRsaoYaml(const std::string& path, const Rsao& rsao) {
-  const std::string text = rsaoToYaml(rsao);
-  std::ofstream out(path);
-  if (!out) throw InputError(path + ": cannot open for writing");
-  out << text;
-  out.close();
-  if (!out) throw InputError(path + ": write failed");
-}
+void saveRsaoYaml(const std::string& path, const Rsao& rsao) { writeTextFile(path, rsaoToYaml(rsao)); }
 
-Rsao loadRsaoYaml(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open for reading (no such file?)");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return Reader(path).parse(text.str());
-}
+Rsao loadRsaoYaml(const std::string& path) { return Reader(path).parse(readTextFile(path, "RSAO YAML file")); }
 
 }  // namespace room_reverb::core

@@ -1,0 +1,29 @@
+#pragma once
+// The amplitude envelope of one late-reverb band: the model the estimator fits and the
+// resynthesis and renderers play. With t_0 = LateReverb::onset_s, t_m = mixing_time_s,
+// u = (t - t_0) / (t_m - t_0):
+//
+//   e_b(t) = 0                                           t < t_0
+//          = level_b * ramp(u)                           t_0 <= t < t_m, onset_level_b = 0
+//          = onset_level_b * (level_b / onset_level_b)^u t_0 <= t < t_m, onset_level_b > 0
+//          = level_b * exp(-delta_b (t - t_m))           t >= t_m
+//
+// The first form is the paper's (and VISR's) onset ramp, linear or raised-cosine, from zero
+// at the first reflection to the band's level at the mixing time. The second is this
+// project's extension for rooms whose early energy the discrete reflections do not hold
+// (onset_ramp_fit.h): an exponential course from the onset level to the mixing-time level,
+// the faster early decay that makes a measured EDT shorter than its T20. After the mixing
+// time both are the measured decay.
+#include <cstddef>
+
+#include "room_reverb/rsao/rsao.h"
+
+namespace room_reverb::core {
+
+enum class OnsetRamp { kLinear, kRaisedCosine };
+
+// e_b(t) / level_b for band `band` of `late`, t from the first sample of the RIR (0 when
+// level_b is 0).
+double lateEnvelopeGain(const LateReverb& late, std::size_t band, double t, OnsetRamp shape = OnsetRamp::kLinear);
+
+}  // namespace room_reverb::core
