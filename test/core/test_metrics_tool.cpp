@@ -30,6 +30,7 @@ using room_reverb::test::writeFile;
 
 std::string tempPathString(const std::string& name) { return tempPath(name).string(); }
 
+using room_reverb::test::expectOneLineError;
 using room_reverb::test::runTool;
 using room_reverb::test::ToolRun;
 
@@ -41,14 +42,6 @@ std::string writeRir(const std::string& name, std::vector<float> samples, double
   const std::string path = tempPathString(name);
   writeAudioFile(path, buffer, encoding);
   return path;
-}
-
-void expectOneLineError(const ToolRun& run, const std::string& fragment) {
-  EXPECT_EQ(run.exit_code, 2) << run.err;
-  EXPECT_TRUE(run.out.empty()) << run.out;
-  ASSERT_FALSE(run.err.empty());
-  EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
-  EXPECT_NE(run.err.find(fragment), std::string::npos) << run.err;
 }
 
 // Patches the float sample at `index` of a float WAV written by writeRir.

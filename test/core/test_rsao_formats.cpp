@@ -38,6 +38,7 @@ Rsao awkwardRsao(std::uint32_t seed) {
   r.late.onset_s = r.reflections[1].time_of_arrival_s;
   r.late.mixing_time_s = 0.0731 + 1e-4 * unit(rng);
   r.late.attack_time_s = r.late.mixing_time_s - r.late.onset_s;
+  r.late.course_end_s = r.late.mixing_time_s + 0.05;
   const auto bands = standardBands(BandResolution::kOctave);
   for (std::size_t b = 0; b < bands.size(); ++b) {
     LateReverbBand band;
@@ -45,6 +46,7 @@ Rsao awkwardRsao(std::uint32_t seed) {
     band.decay_constant_per_s = 3.0 + 10.0 * unit(rng);
     band.t60_s = 3.0 * std::log(10.0) / band.decay_constant_per_s;
     band.level = 0.01 + 0.05 * unit(rng);
+    band.onset_level = b % 2 == 0 ? 0.0 : band.level * (1.0 + 3.0 * unit(rng));  // both kinds of early course
     band.reliable = b != 8;
     band.reason = b == 8 ? "noise-dominated: \"16 kHz\" band;\nsubstituted" : "";
     r.late.bands.push_back(band);
@@ -79,12 +81,14 @@ void expectSameRsao(const Rsao& a, const Rsao& b) {
   EXPECT_EQ(a.late.mixing_time_s, b.late.mixing_time_s);
   EXPECT_EQ(a.late.onset_s, b.late.onset_s);
   EXPECT_EQ(a.late.attack_time_s, b.late.attack_time_s);
+  EXPECT_EQ(a.late.course_end_s, b.late.course_end_s);
   ASSERT_EQ(a.late.bands.size(), b.late.bands.size());
   for (std::size_t i = 0; i < a.late.bands.size(); ++i) {
     EXPECT_EQ(a.late.bands[i].center_hz, b.late.bands[i].center_hz);
     EXPECT_EQ(a.late.bands[i].decay_constant_per_s, b.late.bands[i].decay_constant_per_s);
     EXPECT_EQ(a.late.bands[i].t60_s, b.late.bands[i].t60_s);
     EXPECT_EQ(a.late.bands[i].level, b.late.bands[i].level);
+    EXPECT_EQ(a.late.bands[i].onset_level, b.late.bands[i].onset_level);
     EXPECT_EQ(a.late.bands[i].reliable, b.late.bands[i].reliable);
     EXPECT_EQ(a.late.bands[i].reason, b.late.bands[i].reason);
   }

@@ -5,6 +5,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <gtest/gtest.h>
+
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -36,6 +39,16 @@ inline ToolRun runTool(const std::string& args) {
   run.out = out.str();
   run.err = err.str();
   return run;
+}
+
+// A bad-input run as every subcommand must end it: exit 2, nothing on stdout, one line on
+// stderr that holds `fragment`. (gtest assertions: include gtest before this header.)
+inline void expectOneLineError(const ToolRun& run, const std::string& fragment) {
+  EXPECT_EQ(run.exit_code, 2) << run.err;
+  EXPECT_TRUE(run.out.empty()) << run.out;
+  ASSERT_FALSE(run.err.empty());
+  EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+  EXPECT_NE(run.err.find(fragment), std::string::npos) << run.err;
 }
 
 }  // namespace room_reverb::test

@@ -20,6 +20,7 @@
 //     mixing_time_s: 0.061
 //     onset_s: 0.0083
 //     attack_time_s: 0.0527
+//     course_end_s: 0.111           # where the bands' extended early course ends (late_envelope.h)
 //     bands:                        # none, or the nine octaves 63 Hz .. 16 kHz
 //       - {center_hz: 62.5, decay_constant_per_s: 3.84, t60_s: 1.8, level: 0.02, onset_level: 0.05,
 //          reliable: true, reason: ""}  # onset_level: late_envelope.h
@@ -34,7 +35,7 @@
 // value that is not a number, a band list that is not empty or nine long, an lpc whose first
 // coefficient is not 1, or a decay constant and T60 that disagree. Optional: sample_rate_hz
 // (48000), duration_s (0), distance_m (0), lpc ([]), lpc_gain (1), sos ([]), warnings ([]),
-// a band's onset_level (0: the paper's linear ramp from zero);
+// a band's onset_level (0: the paper's linear ramp from zero), late.course_end_s (0);
 // a band needs one of decay_constant_per_s and t60_s, reliable defaults to true.
 #include <string>
 

@@ -13,7 +13,8 @@ namespace room_reverb::core {
 namespace {
 
 constexpr double kFs = kInternalSampleRateHz;
-constexpr int kBisectionSteps = 40;
+constexpr int kBisectionSteps = 20;  // 80 dB of log range to 1e-4 dB
+constexpr double kFilterMarginS = 0.1;  // longer than the 63 Hz band filter's ringing
 
 double energyBetween(const std::vector<float>& x, std::size_t from, std::size_t to) {
   double sum = 0.0;
@@ -37,22 +38,25 @@ void fitOnsetRamps(const std::vector<float>& w, Rsao& rsao, const OnsetRampFitOp
   LateReverb& late = rsao.late;
   if (late.bands.empty() || rsao.reflections.empty() || !(late.mixing_time_s > late.onset_s)) return;
 
-  // The taps alone, as the resynthesis plays them.
-  ResynthesisOptions taps_only;
-  taps_only.include_late = false;
-  taps_only.analysis_window_s = options.analysis_window_s;
-  taps_only.duration_s = static_cast<double>(w.size()) / kFs;
-  const std::vector<float> taps = resynthesizeRsao(rsao, taps_only).channels[kAcnW];
-
-  const std::vector<FrequencyBand> bands = standardBands(BandResolution::kOctave);
-  const BandFilterBank bank(bands, kFs);
-  const std::vector<std::vector<float>> measured = bank.split(w);
-  const std::vector<std::vector<float>> played = bank.split(taps);
   const double start_s = std::max(0.0, rsao.reflections.front().time_of_arrival_s - 0.001);
   const auto from = static_cast<std::size_t>(std::floor(start_s * kFs));
   late.course_end_s = late.mixing_time_s + options.course_extension_s;
   const auto to = std::min(w.size(), static_cast<std::size_t>(std::ceil(late.course_end_s * kFs)));
   if (from >= to) return;
+  // Only the span and a margin for the band filters' responses are analysed.
+  const std::size_t length = std::min(w.size(), to + static_cast<std::size_t>(kFilterMarginS * kFs));
+
+  // The taps alone, as the resynthesis plays them.
+  ResynthesisOptions taps_only;
+  taps_only.include_late = false;
+  taps_only.analysis_window_s = options.analysis_window_s;
+  taps_only.duration_s = static_cast<double>(length) / kFs;
+  const std::vector<float> taps = resynthesizeRsao(rsao, taps_only).channels[kAcnW];
+
+  const std::vector<FrequencyBand> bands = standardBands(BandResolution::kOctave);
+  const BandFilterBank bank(bands, kFs);
+  const std::vector<std::vector<float>> measured = bank.split(std::vector<float>(w.begin(), w.begin() + length));
+  const std::vector<std::vector<float>> played = bank.split(taps);
 
   const double max_gain = std::pow(10.0, options.max_onset_gain_db / 20.0);
   for (std::size_t b = 0; b < late.bands.size() && b < bands.size(); ++b) {

@@ -241,6 +241,7 @@ VisrImport readObject(const json& object) {
       if (b < texts.size() && texts[b].is_string()) reasons[b] = texts[b].get<std::string>();
       if (b < onsets.size() && onsets[b].is_number()) onset_levels[b] = onsets[b].get<double>();
     }
+    if (extra.contains("course_end") && extra["course_end"].is_number()) rsao.late.course_end_s = extra["course_end"].get<double>();
   }
   const std::vector<FrequencyBand> bands = standardBands(BandResolution::kOctave);
   for (std::size_t b = 0; b < levels.size(); ++b) {
@@ -323,7 +324,8 @@ std::string rsaoToVisrJson(const Rsao& rsao, const VisrObjectFields& fields, int
   late["attacktime"] = bandString(attacks);
   late["decayconst"] = bandString(decays);
   object["room"] = {{"ereflect", early}, {"lreverb", late}};
-  object["room_reverb"] = {{"band_reliable", reliable}, {"band_reason", reasons}, {"band_onset_level", onset_levels}};
+  object["room_reverb"] = {{"band_reliable", reliable}, {"band_reason", reasons}, {"band_onset_level", onset_levels},
+                           {"course_end", rsao.late.course_end_s > 0.0 ? rsao.late.course_end_s - direct.time_of_arrival_s : 0.0}};
 
   ordered_json scene;
   scene["objects"] = ordered_json::array({object});

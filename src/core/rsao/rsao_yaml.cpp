@@ -75,6 +75,7 @@ void checkFinite(const Rsao& r) {
   check(r.late.mixing_time_s, "late.mixing_time_s");
   check(r.late.onset_s, "late.onset_s");
   check(r.late.attack_time_s, "late.attack_time_s");
+  check(r.late.course_end_s, "late.course_end_s");
   for (std::size_t b = 0; b < r.late.bands.size(); ++b) {
     const LateReverbBand& band = r.late.bands[b];
     for (double v : {band.center_hz, band.decay_constant_per_s, band.t60_s, band.level}) {
@@ -188,6 +189,7 @@ class Reader {
     r.late.mixing_time_s = requiredNumber(late, "mixing_time_s", "late.mixing_time_s");
     r.late.onset_s = requiredNumber(late, "onset_s", "late.onset_s");
     r.late.attack_time_s = requiredNumber(late, "attack_time_s", "late.attack_time_s");
+    r.late.course_end_s = yaml_.numberOr(late, "course_end_s", "late.course_end_s", 0.0);
     const YAML::Node bands = yaml_.require(late, "bands", "late.bands");
     if (!bands.IsSequence() || (bands.size() != 0 && bands.size() != static_cast<std::size_t>(kOctaveBandCount))) {
       yaml_.fail(bands, "late.bands", "must be a list of the nine octave bands 63 Hz .. 16 kHz (or empty), has " +
@@ -243,6 +245,7 @@ std::string rsaoToYaml(const Rsao& r) {
   out << "  mixing_time_s: " << shortestDecimal(r.late.mixing_time_s) << "\n";
   out << "  onset_s: " << shortestDecimal(r.late.onset_s) << "\n";
   out << "  attack_time_s: " << shortestDecimal(r.late.attack_time_s) << "\n";
+  out << "  course_end_s: " << shortestDecimal(r.late.course_end_s) << "\n";
   if (r.late.bands.empty()) {
     out << "  bands: []\n";
   } else {

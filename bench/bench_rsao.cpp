@@ -1,0 +1,66 @@
+// Speed of the RSAO estimator (issue target: a 1 s, 4-channel, 48 kHz RIR parameterised in
+// under 50 ms median on one core), whole and by stage, on the first second of a bundled
+// measured RIR. Run: scripts/bench (or .ws/devel/lib/room_reverb/bench_rsao).
+#include <benchmark/benchmark.h>
+
+#include <string>
+
+#include "room_reverb/ambisonics/bformat.h"
+#include "room_reverb/audio/audio_file.h"
+#include "room_reverb/rsao/early_reflections.h"
+#include "room_reverb/rsao/echo_density.h"
+#include "room_reverb/rsao/late_reverb.h"
+#include "room_reverb/rsao/rsao_estimator.h"
+#include "room_reverb/rsao/rsao_resynthesis.h"
+
+namespace {
+
+using namespace room_reverb::core;
+
+// The Dixon studio theatre (T60 about 1 s), cut to 1 s: the issue's case.
+const AudioBuffer& oneSecondRir() {
+  static const AudioBuffer rir = [] {
+    AudioBuffer b = toAmbix(readAudioFile(std::string(ROOM_REVERB_SOURCE_DIR) +
+                                          "/data/rirs/bformat/dixon_studio_theatre_r1.wav"),
+                            AmbisonicFormat::kFuMa);
+    for (auto& channel : b.channels) channel.resize(48000);
+    return b;
+  }();
+  return rir;
+}
+
+void BM_EstimateRsao1s(benchmark::State& state) {
+  RsaoOptions options;
+  options.fit_onset_ramps = state.range(0) != 0;
+  for (auto _ : state) benchmark::DoNotOptimize(estimateRsao(oneSecondRir(), AmbisonicFormat::kAmbiX, options));
+}
+BENCHMARK(BM_EstimateRsao1s)->Arg(1)->Arg(0)->ArgName("fit_onset")->Unit(benchmark::kMillisecond);
+
+void BM_MixingTime1s(benchmark::State& state) {
+  const auto& w = oneSecondRir().channels[kAcnW];
+  for (auto _ : state) benchmark::DoNotOptimize(estimateMixingTime(echoDensityProfile(w, 48000.0), 0.005));
+}
+BENCHMARK(BM_MixingTime1s)->Unit(benchmark::kMillisecond);
+
+void BM_EarlyReflections1s(benchmark::State& state) {
+  EarlyReflectionOptions options;
+  options.mixing_time_s = 0.03;
+  for (auto _ : state) benchmark::DoNotOptimize(estimateEarlyReflections(oneSecondRir(), options));
+}
+BENCHMARK(BM_EarlyReflections1s)->Unit(benchmark::kMillisecond);
+
+void BM_LateReverb1s(benchmark::State& state) {
+  const auto& w = oneSecondRir().channels[kAcnW];
+  for (auto _ : state) benchmark::DoNotOptimize(estimateLateReverb(w, 0.007, 0.03));
+}
+BENCHMARK(BM_LateReverb1s)->Unit(benchmark::kMillisecond);
+
+void BM_Resynthesis1s(benchmark::State& state) {
+  const Rsao rsao = estimateRsao(oneSecondRir(), AmbisonicFormat::kAmbiX);
+  for (auto _ : state) benchmark::DoNotOptimize(resynthesizeRsao(rsao));
+}
+BENCHMARK(BM_Resynthesis1s)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
