@@ -21,7 +21,7 @@ using namespace room_reverb::core;
 
 const char* kHelp = R"(usage: room_reverb rsao RIR.wav --format fuma|ambix [--yaml OUT.yaml] [--visr-json OUT.json]
                         [--resynthesis OUT.wav] [--max-reflections N] [--window-ms D]
-                        [--lpc-order P] [--mixing-time S] [--grid]
+                        [--lpc-order P] [--mixing-time S] [--grid] [--paper-ramp]
 
 Parameterises a measured first-order B-format room impulse response into a reverberant
 spatial audio object (RSAO, Remaggi et al.): the direct sound and early reflections (time
@@ -38,6 +38,8 @@ of arrival, level, direction, LPC filter) and the late reverb per octave band 63
   --lpc-order P       order of each reflection's LPC filter (default 9)
   --mixing-time S     fixed mixing time, s from the first sample (default: echo density)
   --grid              directions by the paper's grid search instead of the closed form
+  --paper-ramp        keep the paper's linear onset ramp in every band instead of fitting
+                      each band's early course to the measured early energy (docs/rsao.md)
 
 Prints a summary table. Files at other rates than 48 kHz are resampled to 48 kHz.
 Exit status: 0 on success (warnings on stderr), 2 with one line on stderr for bad input.
@@ -70,7 +72,7 @@ void printSummary(const Rsao& rsao, std::ostream& out) {
 int runRsao(const std::vector<std::string>& raw) {
   const Arguments args(raw, {"format", "yaml", "visr-json", "resynthesis", "max-reflections", "window-ms", "lpc-order",
                              "mixing-time"},
-                       {"grid"});
+                       {"grid", "paper-ramp"});
   if (args.positional().size() != 1) throw UsageError("give exactly one B-format RIR file");
   if (!args.has("format")) throw UsageError("--format fuma|ambix is required: the file's convention is never guessed");
   const AmbisonicFormat format = parseAmbisonicFormat(args.value("format", ""));
@@ -83,6 +85,7 @@ int runRsao(const std::vector<std::string>& raw) {
   options.early.lpc_order = args.intValue("lpc-order", options.early.lpc_order);
   if (args.has("mixing-time")) options.mixing_time_s = args.doubleValue("mixing-time", 0.0);
   if (args.has("grid")) options.early.direction_method = DirectionMethod::kGridSearch;
+  options.fit_onset_ramps = !args.has("paper-ramp");
 
   const AudioBuffer rir = readAudioFile(args.positional().front());
   const Rsao rsao = estimateRsao(rir, format, options);
