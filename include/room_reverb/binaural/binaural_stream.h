@@ -1,0 +1,78 @@
+#pragma once
+// Real-time, head-tracked binaural rendering of a mono source in a room, block by block:
+//
+//   source --(room: 1 -> K ambisonic RIR, partitioned convolution)--> K-channel field
+//          --(head tracking: K x K rotation, interpolated across each block)-->
+//          --(binaural decoder: K -> 2 short FIRs)--> left, right
+//
+// K = (N+1)^2 for the decoder's order N. A room of lower order is zero-padded (its missing
+// channels are single-zero filters and cost one partition each). Changing the room
+// crossfades inside the room convolver over `crossfade_blocks`, with the input history
+// kept, so the old room's tail rings on and the new one starts complete: no click, no gap.
+// The head rotation is interpolated linearly, sample by sample, from the previous block's
+// matrix to the new one, so a head turn does not step either.
+//
+// Timing: no algorithmic delay beyond the block (frame j of the k-th output block is
+// y[kB + j]); see partitioned_convolver.h for what "one block of latency" means.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "room_reverb/audio/audio_buffer.h"
+#include "room_reverb/audio/partitioned_convolver.h"
+#include "room_reverb/binaural/binaural_decoder.h"
+
+namespace room_reverb::core {
+
+struct BinauralStreamOptions {
+  std::size_t block_size = PartitionedConvolver::kDefaultBlockSize;  // frames at 48 kHz
+  std::size_t crossfade_blocks = 4;  // room changes fade over this many blocks (21 ms at 256)
+  double max_response_s = 4.0;       // longer room responses are truncated, with a warning
+};
+
+class BinauralStream {
+ public:
+  // Throws InputError for a decoder that is not at 48 kHz or bad options.
+  BinauralStream(BinauralDecoder decoder, const BinauralStreamOptions& options = {});
+  ~BinauralStream();
+
+  std::size_t blockSize() const { return options_.block_size; }
+  int order() const { return decoder_.order; }
+  bool hasRoom() const { return room_ != nullptr; }
+
+  // An ambisonic (AmbiX, ACN/SN3D) room response at 48 kHz, order up to the decoder's.
+  // Returns a warning ("" when none): truncation to max_response_s. Throws InputError for
+  // a response of the wrong rate, a channel count that is not (n+1)^2 up to the decoder's
+  // order, or non-finite samples (the stream keeps its previous room then).
+  std::string setRoom(const AudioBuffer& ambix_response);
+
+  // The listener's head orientation in the room frame (rotation.h). Throws InputError for a
+  // malformed quaternion (the stream keeps the previous orientation then).
+  void setHeadOrientation(const Eigen::Quaterniond& head_in_room);
+
+  // One block: `source` holds blockSize() mono samples; writes blockSize() samples to each
+  // ear. Non-finite source samples are played as zeros and counted. Silence until a room
+  // is set.
+  void process(const float* source, float* left, float* right);
+
+  // Source samples replaced by zeros because they were NaN or infinite, since construction.
+  std::size_t nonFiniteSamples() const { return non_finite_samples_; }
+
+ private:
+  BinauralDecoder decoder_;
+  BinauralStreamOptions options_;
+  std::size_t channels_;
+  std::unique_ptr<PartitionedConvolver> room_;
+  std::unique_ptr<PartitionedConvolver> decoder_convolver_;
+  Eigen::MatrixXd rotation_from_, rotation_to_;
+  std::vector<float> source_block_;
+  std::vector<std::vector<float>> field_, rotated_;
+  std::vector<float*> field_out_, rotated_out_;
+  std::vector<const float*> rotated_in_;
+  std::size_t non_finite_samples_ = 0;
+};
+
+}  // namespace room_reverb::core

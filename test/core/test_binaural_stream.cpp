@@ -1,0 +1,173 @@
+// The head-tracked streaming renderer: equal to the offline render, a room swap without a
+// click or a gap, head turns that move the source, and bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "room_reverb/ambisonics/rotation.h"
+#include "room_reverb/ambisonics/spherical_harmonics.h"
+#include "room_reverb/audio/convolution.h"
+#include "room_reverb/binaural/binaural_cues.h"
+#include "room_reverb/binaural/binaural_stream.h"
+#include "spherical_head.h"
+#include "synthetic_rir.h"
+#include "test_files.h"
+
+using namespace room_reverb::core;
+using room_reverb::test::expectInputError;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+const BinauralDecoder& decoder() {
+  static const BinauralDecoder d = makeBinauralDecoder(room_reverb::test::sphericalHeadHrtfSet(), 3);
+  return d;
+}
+
+// A third-order room: a plane wave from `direction` after 5 ms, then a decaying diffuse tail.
+AudioBuffer room(const Eigen::Vector3d& direction, std::uint32_t seed, double duration_s = 0.3) {
+  const auto frames = static_cast<std::size_t>(duration_s * 48000.0);
+  AudioBuffer r = makeSilentBuffer(16, frames, 48000.0);
+  const std::vector<double> y = sn3dHarmonics(3, direction);
+  for (std::size_t c = 0; c < 16; ++c) {
+    r.channels[c][240] = static_cast<float>(y[c]);
+    const auto tail = room_reverb::test::exponentialDecayNoise(frames, 0.25, 480, seed + static_cast<std::uint32_t>(c));
+    for (std::size_t n = 0; n < frames; ++n) r.channels[c][n] += 0.02f * tail[n];
+  }
+  return r;
+}
+
+Eigen::Vector3d unit(double azimuth_deg) {
+  return {std::cos(azimuth_deg * kPi / 180.0), std::sin(azimuth_deg * kPi / 180.0), 0.0};
+}
+
+// Streams `source` (whole blocks) and returns left, right.
+std::pair<std::vector<float>, std::vector<float>> stream(BinauralStream& s, const std::vector<float>& source) {
+  const std::size_t b = s.blockSize();
+  std::vector<float> left(source.size()), right(source.size());
+  for (std::size_t at = 0; at + b <= source.size(); at += b) s.process(source.data() + at, left.data() + at, right.data() + at);
+  return {left, right};
+}
+
+}  // namespace
+
+TEST(BinauralStream, EqualsTheOfflineRenderWithNoAddedDelay) {
+  const AudioBuffer r = room(unit(60.0), 3);
+  const std::vector<float> source = room_reverb::test::whiteNoise(256 * 40, 9);
+  BinauralStream s(decoder());
+  s.setRoom(r);
+  const auto [left, right] = stream(s, source);
+  // Offline: the source through each channel of the room, then the decoder.
+  AudioBuffer field = makeSilentBuffer(16, source.size() + r.frameCount() - 1, 48000.0);
+  for (std::size_t c = 0; c < 16; ++c) field.channels[c] = fftConvolve(source, r.channels[c]);
+  const AudioBuffer offline = decodeToBinaural(field, decoder());
+  double error = 0.0, energy = 0.0;
+  for (std::size_t n = 0; n < source.size(); ++n) {
+    error += std::pow(left[n] - offline.channels[0][n], 2) + std::pow(right[n] - offline.channels[1][n], 2);
+    energy += std::pow(offline.channels[0][n], 2) + std::pow(offline.channels[1][n], 2);
+  }
+  EXPECT_LT(10.0 * std::log10(error / energy), -100.0);
+}
+
+TEST(BinauralStream, RoomSwapHasNoClickAndNoGap) {
+  std::vector<float> source(256 * 60);
+  for (std::size_t n = 0; n < source.size(); ++n) source[n] = static_cast<float>(0.5 * std::sin(2.0 * kPi * 440.0 * n / 48000.0));
+  BinauralStream s(decoder());
+  s.setRoom(room(unit(90.0), 1));
+  std::vector<float> left(source.size()), right(source.size());
+  float largest_step_before = 0.0f;
+  for (std::size_t block = 0; block < 60; ++block) {
+    if (block == 30) s.setRoom(room(unit(-90.0), 2));
+    const std::size_t at = block * 256;
+    s.process(source.data() + at, left.data() + at, right.data() + at);
+  }
+  for (std::size_t n = 20 * 256 + 1; n < 30 * 256; ++n) {
+    largest_step_before = std::max(largest_step_before, std::abs(left[n] - left[n - 1]));
+  }
+  float largest_step_swap = 0.0f, smallest_block_rms = 1e9f;
+  for (std::size_t n = 30 * 256; n < 36 * 256; ++n) largest_step_swap = std::max(largest_step_swap, std::abs(left[n] - left[n - 1]));
+  for (std::size_t block = 28; block < 40; ++block) {
+    double e = 0.0;
+    for (std::size_t n = block * 256; n < (block + 1) * 256; ++n) e += left[n] * left[n] + right[n] * right[n];
+    smallest_block_rms = std::min(smallest_block_rms, static_cast<float>(std::sqrt(e / 512.0)));
+  }
+  // No step during the fade exceeds the signal's own largest step (with 20 % for the two
+  // rooms' different levels), no block falls silent, and the new room has the source on
+  // the right.
+  EXPECT_LT(largest_step_swap, 1.2f * largest_step_before);
+  EXPECT_GT(smallest_block_rms, 0.02f);
+  // 440 Hz: an interaural level difference of about 3 dB at the side, to either side.
+  const auto ear_energies = [&](std::size_t from_block, std::size_t to_block) {
+    double l = 0.0, r = 0.0;
+    for (std::size_t n = from_block * 256; n < to_block * 256; ++n) {
+      l += left[n] * left[n];
+      r += right[n] * right[n];
+    }
+    return std::make_pair(l, r);
+  };
+  const auto [l_before, r_before] = ear_energies(20, 30);
+  const auto [l_after, r_after] = ear_energies(50, 60);
+  EXPECT_GT(l_before, 1.5 * r_before);
+  EXPECT_GT(r_after, 1.5 * l_after);
+}
+
+TEST(BinauralStream, TurningTheHeadLeftBringsALeftSourceToTheFront) {
+  const std::vector<float> source = room_reverb::test::whiteNoise(256 * 40, 4);
+  AudioBuffer dry = makeSilentBuffer(16, 4800, 48000.0);  // an anechoic plane wave from +90 deg
+  const std::vector<double> y = sn3dHarmonics(3, unit(90.0));
+  for (std::size_t c = 0; c < 16; ++c) dry.channels[c][0] = static_cast<float>(y[c]);
+  const auto ild_db = [&](const Eigen::Quaterniond& head) {
+    BinauralStream s(decoder());
+    s.setRoom(dry);
+    s.setHeadOrientation(head);
+    const auto [left, right] = stream(s, source);
+    double l = 0.0, r = 0.0;
+    for (std::size_t n = 2560; n < left.size(); ++n) {
+      l += left[n] * left[n];
+      r += right[n] * right[n];
+    }
+    return 10.0 * std::log10(l / r);
+  };
+  const double facing = ild_db(Eigen::Quaterniond::Identity());
+  const double turned = ild_db(Eigen::Quaterniond(Eigen::AngleAxisd(kPi / 2.0, Eigen::Vector3d::UnitZ())));
+  EXPECT_GT(facing, 5.0);            // the source on the left
+  EXPECT_NEAR(turned, 0.0, 1.0);     // now in front (the 1 dB)
+}
+
+TEST(BinauralStream, NonFiniteSourceSamplesAreZeroedAndCounted) {
+  BinauralStream s(decoder());
+  s.setRoom(room(unit(0.0), 5));
+  std::vector<float> source(256, 0.1f), left(256), right(256);
+  source[7] = std::nanf("");
+  source[9] = INFINITY;
+  s.process(source.data(), left.data(), right.data());
+  EXPECT_EQ(s.nonFiniteSamples(), 2u);
+  for (std::size_t n = 0; n < 256; ++n) EXPECT_TRUE(std::isfinite(left[n]) && std::isfinite(right[n]));
+}
+
+TEST(BinauralStream, LongResponsesAreTruncatedWithAWarning) {
+  BinauralStreamOptions options;
+  options.max_response_s = 0.1;
+  BinauralStream s(decoder(), options);
+  EXPECT_NE(s.setRoom(room(unit(0.0), 6, 0.3)).find("truncated"), std::string::npos);
+  EXPECT_EQ(s.setRoom(room(unit(0.0), 6, 0.05)), "");
+}
+
+TEST(BinauralStream, BadInput) {
+  BinauralStream s(decoder());
+  AudioBuffer five = makeSilentBuffer(5, 480, 48000.0);
+  five.channels[0][0] = 1.0f;
+  expectInputError([&] { s.setRoom(five); }, {"5 channels"});
+  AudioBuffer at44 = room(unit(0.0), 7, 0.05);
+  at44.sample_rate_hz = 44100.0;
+  expectInputError([&] { s.setRoom(at44); }, {"48000"});
+  AudioBuffer nan = room(unit(0.0), 7, 0.05);
+  nan.channels[3][10] = std::nanf("");
+  expectInputError([&] { s.setRoom(nan); }, {"NaN"});
+  expectInputError([&] { s.setHeadOrientation(Eigen::Quaterniond(0.0, 0.0, 0.0, 0.0)); }, {"quaternion"});
+  expectInputError([&] { s.setHeadOrientation(Eigen::Quaterniond(NAN, 0.0, 0.0, 1.0)); }, {"quaternion"});
+  BinauralStreamOptions zero;
+  zero.block_size = 0;
+  expectInputError([&] { BinauralStream bad(decoder(), zero); }, {"block_size"});
+}

@@ -1,0 +1,283 @@
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <new>
+
+#include "room_reverb/audio/convolution.h"
+#include "room_reverb/audio/partitioned_convolver.h"
+#include "room_reverb/common/error.h"
+#include "synthetic_rir.h"
+#include "test_files.h"
+
+using namespace room_reverb::core;
+using room_reverb::test::expectInputError;
+using room_reverb::test::whiteNoise;
+
+// Counts heap allocations of this test process, so a test can assert that process() makes
+// none (replacing the global operator new is the only way to see every allocation). The
+// deletes are kept out of line: inlined, GCC would pair the replaced new with free() and
+// warn of a mismatch.
+namespace {
+std::atomic<long> g_allocations{0};
+}  // namespace
+
+void* operator new(std::size_t size) {
+  ++g_allocations;
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+__attribute__((noinline)) void operator delete(void* p) noexcept { std::free(p); }
+__attribute__((noinline)) void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace {
+
+using Channels = std::vector<std::vector<float>>;
+
+FilterMatrix randomFilters(std::size_t inputs, std::size_t outputs, std::size_t min_length,
+                           std::size_t max_length, std::uint32_t seed) {
+  FilterMatrix filters(inputs, Channels(outputs));
+  std::uint32_t s = seed;
+  for (auto& row : filters) {
+    for (auto& filter : row) {
+      const std::size_t length = min_length + (s * 2654435761u) % (max_length - min_length + 1);
+      filter = whiteNoise(length, s++);
+      for (std::size_t n = 0; n < length; ++n) filter[n] *= static_cast<float>(std::exp(-3.0 * n / length));
+    }
+  }
+  return filters;
+}
+
+// Streams `inputs` (lengths a multiple of the block size) through the convolver.
+Channels stream(PartitionedConvolver& convolver, const Channels& inputs) {
+  const std::size_t b = convolver.blockSize();
+  Channels out(convolver.outputCount(), std::vector<float>(inputs.front().size()));
+  AudioBuffer in_block = makeSilentBuffer(inputs.size(), b, 48000.0);
+  AudioBuffer out_block;
+  for (std::size_t start = 0; start < inputs.front().size(); start += b) {
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+      std::copy_n(inputs[i].begin() + start, b, in_block.channels[i].begin());
+    }
+    convolver.process(in_block, out_block);
+    for (std::size_t o = 0; o < out.size(); ++o) std::copy_n(out_block.channels[o].begin(), b, out[o].begin() + start);
+  }
+  return out;
+}
+
+// The offline result, truncated to the input length: out[o] = sum_i x[i] * h[i][o].
+Channels offline(const FilterMatrix& filters, const Channels& inputs) {
+  const std::size_t length = inputs.front().size();
+  Channels out(filters.front().size(), std::vector<float>(length, 0.0f));
+  for (std::size_t i = 0; i < inputs.size(); ++i) {
+    for (std::size_t o = 0; o < out.size(); ++o) {
+      const auto y = fftConvolve(inputs[i], filters[i][o]);
+      for (std::size_t n = 0; n < length; ++n) out[o][n] += y[n];
+    }
+  }
+  return out;
+}
+
+// Error energy relative to the reference's, in dB, over [begin, end) of every channel.
+double errorDb(const Channels& got, const Channels& want, std::size_t begin, std::size_t end) {
+  double error = 0.0;
+  double energy = 0.0;
+  for (std::size_t c = 0; c < want.size(); ++c) {
+    for (std::size_t n = begin; n < end; ++n) {
+      error += std::pow(double(got[c][n]) - want[c][n], 2);
+      energy += std::pow(double(want[c][n]), 2);
+    }
+  }
+  return 10.0 * std::log10(error / energy);
+}
+
+double largestStep(const std::vector<float>& x) {
+  double step = 0.0;
+  for (std::size_t n = 1; n < x.size(); ++n) step = std::max(step, double(std::abs(x[n] - x[n - 1])));
+  return step;
+}
+
+Channels noiseInputs(std::size_t channels, std::size_t blocks, std::size_t block_size, std::size_t silent_blocks) {
+  Channels inputs;
+  for (std::size_t c = 0; c < channels; ++c) {
+    auto x = whiteNoise(blocks * block_size, 100 + static_cast<std::uint32_t>(c));
+    x.resize((blocks + silent_blocks) * block_size, 0.0f);  // let the tails ring out
+    inputs.push_back(std::move(x));
+  }
+  return inputs;
+}
+
+}  // namespace
+
+TEST(PartitionedConvolver, StreamingEqualsOfflineConvolution) {
+  struct Case {
+    std::size_t inputs, outputs, block, min_taps, max_taps;
+  };
+  // Filters shorter than a block, longer than several, and mixed lengths in one matrix.
+  const std::vector<Case> cases = {{16, 2, 64, 700, 1100},  {16, 2, 256, 20, 200},  {16, 2, 256, 300, 1300},
+                                   {16, 2, 512, 600, 1600}, {1, 2, 64, 64, 64},     {1, 2, 512, 5000, 5000},
+                                   {4, 3, 100, 1, 450}};
+  double worst_db = -1000.0;
+  for (const auto& c : cases) {
+    const auto filters = randomFilters(c.inputs, c.outputs, c.min_taps, c.max_taps, 7);
+    PartitionedConvolver convolver(filters, c.block);
+    const auto inputs = noiseInputs(c.inputs, 10, c.block, (c.max_taps + c.block - 1) / c.block);
+    const double db = errorDb(stream(convolver, inputs), offline(filters, inputs), 0, inputs.front().size());
+    EXPECT_LT(db, -100.0) << c.inputs << "x" << c.outputs << " block " << c.block << " taps " << c.max_taps;
+    worst_db = std::max(worst_db, db);
+  }
+  RecordProperty("worst_error_db", std::to_string(worst_db));
+  std::cout << "worst streaming-vs-offline error: " << worst_db << " dB\n";
+}
+
+TEST(PartitionedConvolver, ImpulseComesOutAsTheFilterWithNoAddedDelay) {
+  // The documented timing: frame j of call k is y[kB + j], so an impulse at stream frame
+  // n gives the filter from output frame n on (the one block of latency is the caller's
+  // buffering, not a shift inside the stream).
+  const std::size_t b = 64;
+  const auto filters = randomFilters(1, 2, 150, 150, 3);
+  PartitionedConvolver convolver(filters, b);
+  const std::size_t at = b + b / 2 + 5;
+  Channels input(1, std::vector<float>(6 * b, 0.0f));
+  input[0][at] = 1.0f;
+  const auto out = stream(convolver, input);
+  for (std::size_t o = 0; o < 2; ++o) {
+    for (std::size_t n = 0; n < out[o].size(); ++n) {
+      const float want = n >= at && n - at < 150 ? filters[0][o][n - at] : 0.0f;
+      ASSERT_NEAR(out[o][n], want, 1e-5) << "output " << o << " frame " << n;
+    }
+  }
+}
+
+TEST(PartitionedConvolver, FilterSwapCrossfadesWithoutClickOrGap) {
+  // A 1 kHz sine through a gain of 1, swapped for a gain of 0.5 delayed by 7 frames.
+  const std::size_t b = 256;
+  const std::size_t swap_block = 20;
+  const FilterMatrix old_filters = {{{1.0f}}};
+  const FilterMatrix new_filters = {{{0, 0, 0, 0, 0, 0, 0, 0.5f}}};
+  Channels input(1, std::vector<float>(40 * b));
+  for (std::size_t n = 0; n < input[0].size(); ++n) input[0][n] = static_cast<float>(0.8 * std::sin(2 * M_PI * 1000.0 * n / 48000.0));
+  const auto old_out = offline(old_filters, input);
+  const auto new_out = offline(new_filters, input);
+  const double own_step = std::max(largestStep(old_out[0]), largestStep(new_out[0]));
+  double old_rms = 0.0, new_rms = 0.0;
+  for (std::size_t n = 0; n < input[0].size(); ++n) old_rms += old_out[0][n] * old_out[0][n] / input[0].size();
+  for (std::size_t n = 0; n < input[0].size(); ++n) new_rms += new_out[0][n] * new_out[0][n] / input[0].size();
+  const double quieter_rms = std::sqrt(std::min(old_rms, new_rms));
+
+  for (std::size_t fade_blocks : {1u, 4u}) {
+    PartitionedConvolver convolver(old_filters, b, fade_blocks);
+    const Channels first(1, std::vector<float>(input[0].begin(), input[0].begin() + swap_block * b));
+    const Channels second(1, std::vector<float>(input[0].begin() + swap_block * b, input[0].end()));
+    auto out = stream(convolver, first)[0];
+    convolver.setFilters(new_filters);
+    const auto rest = stream(convolver, second)[0];
+    out.insert(out.end(), rest.begin(), rest.end());
+
+    const std::size_t fade_end = (swap_block + fade_blocks) * b;
+    for (std::size_t n = 0; n < out.size(); ++n) {
+      if (n < swap_block * b) {
+        ASSERT_NEAR(out[n], old_out[0][n], 1e-5) << n;
+      } else if (n >= fade_end) {
+        ASSERT_NEAR(out[n], new_out[0][n], 1e-5) << n;
+      }
+    }
+    const double step_ratio = largestStep(out) / own_step;
+    EXPECT_LE(step_ratio, 1.0) << "fade over " << fade_blocks << " blocks";
+    std::cout << "fade over " << fade_blocks << " blocks: largest step / signal's own largest step = " << step_ratio << "\n";
+    // No gap: the RMS over every 48-frame window (one period) stays near the signal level.
+    for (std::size_t start = 0; start + 48 <= out.size(); start += 16) {
+      double energy = 0.0;
+      for (std::size_t n = start; n < start + 48; ++n) energy += out[n] * out[n] / 48.0;
+      ASSERT_GT(std::sqrt(energy), 0.5 * quieter_rms) << "window at " << start;
+    }
+  }
+}
+
+TEST(PartitionedConvolver, NewFilterStartsWithItsFullTail) {
+  // The delay line holds the input history, so right after the fade the output is the
+  // offline convolution of the whole stream with the new filters, even a longer one.
+  const std::size_t b = 128;
+  const auto old_filters = randomFilters(2, 2, 200, 400, 11);
+  const auto new_filters = randomFilters(2, 2, 500, 900, 12);
+  const auto inputs = noiseInputs(2, 30, b, 0);
+  PartitionedConvolver convolver(old_filters, b, 2);
+  Channels head(2), tail(2);
+  for (std::size_t i = 0; i < 2; ++i) {
+    head[i].assign(inputs[i].begin(), inputs[i].begin() + 12 * b);
+    tail[i].assign(inputs[i].begin() + 12 * b, inputs[i].end());
+  }
+  stream(convolver, head);
+  convolver.setFilters(new_filters);
+  EXPECT_TRUE(convolver.crossfading());
+  const auto got_tail = stream(convolver, tail);
+  EXPECT_FALSE(convolver.crossfading());
+  const auto want = offline(new_filters, inputs);
+  Channels want_tail(2);
+  for (std::size_t o = 0; o < 2; ++o) want_tail[o].assign(want[o].begin() + 12 * b, want[o].end());
+  EXPECT_LT(errorDb(got_tail, want_tail, 2 * b, want_tail[0].size()), -100.0);
+}
+
+TEST(PartitionedConvolver, SwapRequestedDuringAFadeWaitsForIt) {
+  const std::size_t b = 64;
+  const auto a = randomFilters(1, 2, 100, 100, 1);
+  const auto c = randomFilters(1, 2, 300, 300, 3);
+  PartitionedConvolver convolver(a, b, 3);
+  const auto inputs = noiseInputs(1, 20, b, 0);
+  convolver.setFilters(randomFilters(1, 2, 200, 200, 2));
+  convolver.setFilters(c);  // arrives during the first fade
+  const auto out = stream(convolver, inputs);
+  // Three blocks of the first fade, then three of the second: from block 6 on it is c.
+  EXPECT_LT(errorDb(out, offline(c, inputs), 6 * b, inputs.front().size()), -100.0);
+  EXPECT_GT(errorDb(out, offline(c, inputs), 3 * b, 6 * b), -100.0);
+  EXPECT_EQ(convolver.partitionCount(), 5u);
+}
+
+TEST(PartitionedConvolver, ProcessAllocatesNothingEvenDuringAFade) {
+  const std::size_t b = 128;
+  PartitionedConvolver convolver(randomFilters(4, 2, 300, 700, 5), b, 2);
+  AudioBuffer in = makeSilentBuffer(4, b, 48000.0);
+  in.channels[0][3] = 1.0f;
+  AudioBuffer out;
+  convolver.process(in, out);  // shapes `out` once
+  convolver.setFilters(randomFilters(4, 2, 100, 900, 6));
+  const long before = g_allocations.load();
+  for (int k = 0; k < 6; ++k) convolver.process(in, out);
+  convolver.reset();
+  convolver.process(in, out);
+  EXPECT_EQ(g_allocations.load(), before);
+}
+
+TEST(PartitionedConvolver, ResetForgetsTheInput) {
+  const std::size_t b = 64;
+  const auto filters = randomFilters(1, 1, 300, 300, 4);
+  PartitionedConvolver convolver(filters, b);
+  const auto inputs = noiseInputs(1, 4, b, 0);
+  stream(convolver, inputs);
+  convolver.reset();
+  const auto out = stream(convolver, inputs);
+  EXPECT_LT(errorDb(out, offline(filters, inputs), 0, inputs.front().size()), -100.0);
+}
+
+TEST(PartitionedConvolver, RejectsBadInputs) {
+  const FilterMatrix two_by_two = {{{1.0f}, {0.5f}}, {{0.2f}, {0.1f}}};
+  expectInputError([&] { PartitionedConvolver(two_by_two, 0); }, {"block size is 0"});
+  expectInputError([&] { PartitionedConvolver(two_by_two, 64, 0); }, {"crossfade is 0"});
+  expectInputError([] { PartitionedConvolver(FilterMatrix{}, 64); }, {"no input channels"});
+  expectInputError([] { PartitionedConvolver(FilterMatrix{{}}, 64); }, {"no output channels"});
+  expectInputError([] { PartitionedConvolver(FilterMatrix{{{1.0f}, {1.0f}}, {{1.0f}}}, 64); }, {"row 1 has 1 filters", "row 0 has 2"});
+  expectInputError([] { PartitionedConvolver(FilterMatrix{{{1.0f}, {}}}, 64); }, {"filter 0->1 is empty"});
+  expectInputError([] { PartitionedConvolver(FilterMatrix{{{1.0f, NAN}}}, 64); }, {"non-finite"});
+
+  PartitionedConvolver convolver(two_by_two, 64);
+  expectInputError([&] { convolver.setFilters({{{1.0f}, {1.0f}, {1.0f}}, {{1.0f}, {1.0f}, {1.0f}}}); },
+                   {"2 inputs x 3 outputs", "runs 2 x 2"});
+  AudioBuffer out;
+  expectInputError([&] { convolver.process(makeSilentBuffer(3, 64, 48000.0), out); }, {"3 channels", "expect 2"});
+  expectInputError([&] { convolver.process(makeSilentBuffer(2, 63, 48000.0), out); }, {"63 frames", "exactly 64"});
+  // A failed swap leaves the convolver as it was.
+  EXPECT_FALSE(convolver.crossfading());
+  convolver.process(makeSilentBuffer(2, 64, 48000.0), out);
+  EXPECT_EQ(out.channelCount(), 2u);
+}
