@@ -31,6 +31,10 @@ class HrtfSet {
   static HrtfSet loadSofa(const std::string& path,
                           double target_rate_hz = kInternalSampleRateHz);
 
+  // The bundled KU100 set: $ROOM_REVERB_HRTF when set, else data/hrtf/FHK_HRIR_L2354.sofa
+  // of the package.
+  static std::string defaultSofaPath();
+
   // From memory (tests and synthetic head models). Every HRIR has the same length;
   // directions are normalised. Throws InputError on an empty or inconsistent set.
   HrtfSet(double sample_rate_hz, std::vector<Eigen::Vector3d> directions,

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <sstream>
@@ -233,6 +234,16 @@ HrtfSet HrtfSet::loadSofa(const std::string& path, double target_rate_hz) {
   HrtfSet set(target_rate_hz, std::move(directions), std::move(hrirs), describe(sofa.get(), path));
   set.notes_ = std::move(notes);
   return set;
+}
+
+std::string HrtfSet::defaultSofaPath() {
+  const char* from_environment = std::getenv("ROOM_REVERB_HRTF");
+  if (from_environment != nullptr && *from_environment != '\0') return from_environment;
+#ifdef ROOM_REVERB_SOURCE_DIR
+  return std::string(ROOM_REVERB_SOURCE_DIR) + "/data/hrtf/FHK_HRIR_L2354.sofa";
+#else
+  return "data/hrtf/FHK_HRIR_L2354.sofa";
+#endif
 }
 
 }  // namespace room_reverb::core
