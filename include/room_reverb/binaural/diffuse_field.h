@@ -26,6 +26,12 @@ struct DiffuseFieldSpectrum {
 // apart: the HRIRs are zero-padded, which interpolates their spectra).
 DiffuseFieldSpectrum diffuseFieldSpectrum(const HrtfSet& hrtfs);
 
+// The same sums over any weighted left/right pairs (HRIRs with their solid angles, or a
+// decoder's per-channel filters with each channel's diffuse-field power), zero-padded to
+// `fft_size` at `sample_rate_hz`. Pairs longer than fft_size are an InputError.
+DiffuseFieldSpectrum weightedPairSpectrum(const std::vector<const Hrir*>& pairs, const std::vector<double>& weights,
+                                          std::size_t fft_size, double sample_rate_hz);
+
 // The coherence averaged over the bins of each octave band. A centre that is a standard
 // octave band's (nominal 63, 125, ... 16000 Hz or its exact centre, frequency_bands.h)
 // takes that band's edges; any other centre c spans c/sqrt(2)..c*sqrt(2). InputError

@@ -80,35 +80,14 @@ DiffuseFieldSpectrum decoderDiffuseFieldSpectrum(const BinauralDecoder& decoder,
       fft_size / 2 + 1 != like.coherence.size()) {
     throw InputError("the decoder's filters do not fit the diffuse-field spectrum's frequency grid");
   }
-  RealFft fft(fft_size);
-  const std::size_t bins = fft.spectrumSize();
-  DiffuseFieldSpectrum result;
-  result.bin_spacing_hz = like.bin_spacing_hz;
-  result.power_left.assign(bins, 0.0);
-  result.power_right.assign(bins, 0.0);
-  std::vector<std::complex<double>> cross(bins, 0.0);
-  std::vector<float> padded(fft_size, 0.0f);
-  std::vector<std::complex<float>> left(bins), right(bins);
   const Eigen::VectorXd powers = decoder_support::sn3dDiffuseChannelPowers(decoder.order);
+  std::vector<const Hrir*> pairs;
+  std::vector<double> weights;
   for (std::size_t c = 0; c < decoder.filters.size(); ++c) {
-    const double power = powers(static_cast<Eigen::Index>(c));
-    std::copy(decoder.filters[c].left.begin(), decoder.filters[c].left.end(), padded.begin());
-    fft.forward(padded.data(), left.data());
-    std::copy(decoder.filters[c].right.begin(), decoder.filters[c].right.end(), padded.begin());
-    fft.forward(padded.data(), right.data());
-    for (std::size_t k = 0; k < bins; ++k) {
-      const std::complex<double> l(left[k]), r(right[k]);
-      cross[k] += power * l * std::conj(r);
-      result.power_left[k] += power * std::norm(l);
-      result.power_right[k] += power * std::norm(r);
-    }
+    pairs.push_back(&decoder.filters[c]);
+    weights.push_back(powers(static_cast<Eigen::Index>(c)));
   }
-  result.coherence.resize(bins);
-  for (std::size_t k = 0; k < bins; ++k) {
-    const double auto_product = std::sqrt(result.power_left[k] * result.power_right[k]);
-    result.coherence[k] = auto_product > 0.0 ? cross[k].real() / auto_product : 0.0;
-  }
-  return result;
+  return weightedPairSpectrum(pairs, weights, fft_size, decoder.sample_rate_hz);
 }
 
 DecoderComparison compareDecoderToHrtf(const BinauralDecoder& decoder, const HrtfSet& hrtf,

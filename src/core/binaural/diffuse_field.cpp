@@ -32,33 +32,34 @@ FrequencyBand octaveBandAround(double centre_hz) {
 
 }  // namespace
 
-DiffuseFieldSpectrum diffuseFieldSpectrum(const HrtfSet& hrtfs) {
-  const std::size_t length = hrtfs.length();
-  const auto fine_size = static_cast<std::size_t>(std::ceil(hrtfs.sampleRateHz() / kMaxBinSpacingHz));
-  RealFft fft(nextFastFftSize(std::max(2 * length, fine_size)));
+DiffuseFieldSpectrum weightedPairSpectrum(const std::vector<const Hrir*>& pairs, const std::vector<double>& weights,
+                                          std::size_t fft_size, double sample_rate_hz) {
+  if (pairs.size() != weights.size()) throw InputError("diffuse field: one weight per ear pair is needed");
+  RealFft fft(fft_size);
   const std::size_t bins = fft.spectrumSize();
-  const Eigen::VectorXd weights = densityCompensatingWeights(hrtfs.directions());
-
-  std::vector<std::complex<double>> cross(bins, 0.0);
   DiffuseFieldSpectrum result;
-  result.bin_spacing_hz = hrtfs.sampleRateHz() / static_cast<double>(fft.size());
+  result.bin_spacing_hz = sample_rate_hz / static_cast<double>(fft_size);
   result.power_left.assign(bins, 0.0);
   result.power_right.assign(bins, 0.0);
-  std::vector<float> padded(fft.size(), 0.0f);
-  std::vector<std::complex<float>> left(bins);
-  std::vector<std::complex<float>> right(bins);
-  for (std::size_t d = 0; d < hrtfs.size(); ++d) {
-    std::copy(hrtfs.hrir(d).left.begin(), hrtfs.hrir(d).left.end(), padded.begin());
+  std::vector<std::complex<double>> cross(bins, 0.0);
+  std::vector<float> padded(fft_size, 0.0f);
+  std::vector<std::complex<float>> left(bins), right(bins);
+  for (std::size_t d = 0; d < pairs.size(); ++d) {
+    const Hrir& pair = *pairs[d];
+    if (pair.left.size() > fft_size || pair.right.size() > fft_size) {
+      throw InputError("diffuse field: an ear filter is longer than the FFT grid");
+    }
+    std::fill(padded.begin(), padded.end(), 0.0f);
+    std::copy(pair.left.begin(), pair.left.end(), padded.begin());
     fft.forward(padded.data(), left.data());
-    std::copy(hrtfs.hrir(d).right.begin(), hrtfs.hrir(d).right.end(), padded.begin());
+    std::fill(padded.begin(), padded.end(), 0.0f);
+    std::copy(pair.right.begin(), pair.right.end(), padded.begin());
     fft.forward(padded.data(), right.data());
-    const double w = weights[static_cast<Eigen::Index>(d)];
     for (std::size_t k = 0; k < bins; ++k) {
-      const std::complex<double> l(left[k]);
-      const std::complex<double> r(right[k]);
-      cross[k] += w * l * std::conj(r);
-      result.power_left[k] += w * std::norm(l);
-      result.power_right[k] += w * std::norm(r);
+      const std::complex<double> l(left[k]), r(right[k]);
+      cross[k] += weights[d] * l * std::conj(r);
+      result.power_left[k] += weights[d] * std::norm(l);
+      result.power_right[k] += weights[d] * std::norm(r);
     }
   }
   result.coherence.resize(bins);
@@ -68,6 +69,19 @@ DiffuseFieldSpectrum diffuseFieldSpectrum(const HrtfSet& hrtfs) {
     result.coherence[k] = auto_product > 0.0 ? cross[k].real() / auto_product : 0.0;
   }
   return result;
+}
+
+DiffuseFieldSpectrum diffuseFieldSpectrum(const HrtfSet& hrtfs) {
+  const auto fine_size = static_cast<std::size_t>(std::ceil(hrtfs.sampleRateHz() / kMaxBinSpacingHz));
+  const Eigen::VectorXd solid_angles = densityCompensatingWeights(hrtfs.directions());
+  std::vector<const Hrir*> pairs;
+  std::vector<double> weights;
+  for (std::size_t d = 0; d < hrtfs.size(); ++d) {
+    pairs.push_back(&hrtfs.hrir(d));
+    weights.push_back(solid_angles[static_cast<Eigen::Index>(d)]);
+  }
+  return weightedPairSpectrum(pairs, weights, nextFastFftSize(std::max(2 * hrtfs.length(), fine_size)),
+                              hrtfs.sampleRateHz());
 }
 
 std::vector<double> diffuseFieldCoherence(const HrtfSet& hrtfs,
