@@ -2,6 +2,7 @@
 // the binaural_renderer node's ~render_to_file).
 #include <cmath>
 #include <iostream>
+#include <optional>
 
 #include "arguments.h"
 #include "command.h"
@@ -13,6 +14,8 @@
 #include "room_reverb/audio/resample.h"
 #include "room_reverb/binaural/binaural_decoder.h"
 #include "room_reverb/binaural/hrtf_set.h"
+#include "room_reverb/binaural/rsao_binaural.h"
+#include "room_reverb/rsao/rsao_yaml.h"
 #include "room_reverb/common/error.h"
 
 namespace room_reverb::tool {
@@ -21,7 +24,7 @@ namespace {
 using namespace room_reverb::core;
 
 const char* kHelp = R"(usage: room_reverb render --source DRY.wav
-                          (--bformat-rir F --format fuma|ambix | --ambisonic-rir F)
+                          (--bformat-rir F --format fuma|ambix | --ambisonic-rir F | --rsao F.yaml)
                           [--hrtf F.sofa] [--decoder magls|least_squares|virtual_loudspeakers]
                           [--yaw DEG] --out OUT.wav
 
@@ -33,9 +36,13 @@ the source. Writes a 2-channel (left, right) 32-bit float WAV at 48 kHz.
   --bformat-rir FILE    a measured first-order B-format RIR (the paper's reference)
   --format F            its convention, fuma or ambix (required with --bformat-rir)
   --ambisonic-rir FILE  a simulated AmbiX RIR of order 0-3 (room_reverb simulate --out)
+  --rsao FILE           an RSAO (room_reverb rsao --yaml): the direct sound and each
+                        reflection through the HRTF of its direction, the late reverb as
+                        band noise with the HRTF set's diffuse-field coherence per ear
   --hrtf FILE           SOFA SimpleFreeFieldHRIR set (default: the bundled KU100,
                         data/hrtf/FHK_HRIR_L2354.sofa); other rates are resampled
-  --decoder NAME        magls (default), least_squares or virtual_loudspeakers
+  --decoder NAME        magls (default), least_squares or virtual_loudspeakers (not
+                        used with --rsao)
   --yaw DEG             the head turned DEG degrees to the left (counter-clockwise seen
                         from above); default 0: facing +x
 Exit status: 0 on success, 2 with one line on stderr for bad input.
@@ -80,28 +87,42 @@ AudioBuffer roomResponse(const Arguments& args, int& order) {
 }
 
 int runRender(const std::vector<std::string>& raw) {
-  const Arguments args(raw, {"source", "bformat-rir", "format", "ambisonic-rir", "hrtf", "decoder", "yaw", "out"}, {});
+  const Arguments args(raw, {"source", "bformat-rir", "format", "ambisonic-rir", "rsao", "hrtf", "decoder", "yaw", "out"},
+                       {});
   if (!args.positional().empty()) throw UsageError("unexpected argument '" + args.positional().front() + "'");
   if (!args.has("source")) throw UsageError("--source DRY.wav is required");
   if (!args.has("out")) throw UsageError("--out OUT.wav is required");
-  if (args.has("bformat-rir") == args.has("ambisonic-rir")) throw UsageError("give exactly one of --bformat-rir and --ambisonic-rir");
+  if (int(args.has("bformat-rir")) + int(args.has("ambisonic-rir")) + int(args.has("rsao")) != 1) {
+    throw UsageError("give exactly one of --bformat-rir, --ambisonic-rir and --rsao");
+  }
   const double yaw_deg = args.doubleValue("yaw", 0.0);
   if (!std::isfinite(yaw_deg)) throw UsageError("--yaw must be a finite number of degrees");
   const DecoderMethod method = parseDecoderMethod(args.value("decoder", "magls"));
 
   const AudioBuffer source = monoSource(args.value("source", ""));
+  const Eigen::Quaterniond head(Eigen::AngleAxisd(yaw_deg * 3.14159265358979323846 / 180.0, Eigen::Vector3d::UnitZ()));
+  const std::optional<Rsao> rsao = args.has("rsao") ? std::optional<Rsao>(loadRsaoYaml(args.value("rsao", ""))) : std::nullopt;
   int order = 0;
-  AudioBuffer response = roomResponse(args, order);
+  AudioBuffer response = rsao ? AudioBuffer{} : roomResponse(args, order);
   const HrtfSet hrtf = HrtfSet::loadSofa(args.value("hrtf", HrtfSet::defaultSofaPath()));
   for (const std::string& note : hrtf.notes()) std::cerr << "room_reverb render: note: " << note << "\n";
-  if (order == 0) {
-    // An omni response has no directions: decode it as first order with silent X, Y, Z.
-    response.channels.resize(4, std::vector<float>(response.frameCount(), 0.0f));
-    order = 1;
+  AudioBuffer brir;
+  std::string how;
+  if (rsao) {
+    RsaoBinauralOptions options;
+    options.head_in_rig = head.toRotationMatrix();
+    brir = renderRsaoBinaural(*rsao, hrtf, options);
+    how = "RSAO through the HRTFs";
+  } else {
+    if (order == 0) {
+      // An omni response has no directions: decode it as first order with silent X, Y, Z.
+      response.channels.resize(4, std::vector<float>(response.frameCount(), 0.0f));
+      order = 1;
+    }
+    rotateAmbisonicBuffer(response, headTrackingRotation(head, order));
+    brir = decodeToBinaural(response, makeBinauralDecoder(hrtf, order, method));
+    how = "order-" + std::to_string(order) + " " + toString(method) + " decoder";
   }
-  const Eigen::Quaterniond head(Eigen::AngleAxisd(yaw_deg * 3.14159265358979323846 / 180.0, Eigen::Vector3d::UnitZ()));
-  rotateAmbisonicBuffer(response, headTrackingRotation(head, order));
-  const AudioBuffer brir = decodeToBinaural(response, makeBinauralDecoder(hrtf, order, method));
 
   AudioBuffer out = makeSilentBuffer(2, 0, kInternalSampleRateHz);
   for (std::size_t ear = 0; ear < 2; ++ear) out.channels[ear] = fftConvolve(source.channels[0], brir.channels[ear]);
@@ -121,8 +142,8 @@ int runRender(const std::vector<std::string>& raw) {
     peak *= gain;
   }
   writeAudioFile(args.value("out", ""), out, SampleEncoding::kFloat32);
-  std::cout << "wrote " << args.value("out", "") << ": " << out.durationS() << " s, binaural, order-" << order << " "
-            << toString(method) << " decoder, peak " << 20.0 * std::log10(std::max(peak, 1e-30f)) << " dBFS\n";
+  std::cout << "wrote " << args.value("out", "") << ": " << out.durationS() << " s, binaural, " << how << ", peak "
+            << 20.0 * std::log10(std::max(peak, 1e-30f)) << " dBFS\n";
   return 0;
 }
 

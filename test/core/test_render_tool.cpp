@@ -66,6 +66,22 @@ TEST(RenderTool, AMeasuredRoomRendersToTwoEarsAt48k) {
   EXPECT_NEAR(b.durationS(), 2.6 + 5.8, 0.2);
 }
 
+TEST(RenderTool, AnRsaoRendersToTwoEars) {
+  const std::string rir = std::string(ROOM_REVERB_SOURCE_DIR) + "/data/rirs/bformat/terrys_typing_room.wav";
+  const std::string yaml = tempPath("terry_rsao.yaml").string();
+  ASSERT_EQ(runTool("rsao " + rir + " --format fuma --yaml " + yaml).exit_code, 0);
+  const std::string parametric = tempPath("terry_rsao_binaural.wav").string(),
+                    measured = tempPath("terry_measured_binaural.wav").string();
+  const std::string source = noiseSource();
+  const auto run = runTool("render --source " + source + " --rsao " + yaml + " --out " + parametric);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  ASSERT_EQ(runTool("render --source " + source + " --bformat-rir " + rir + " --format fuma --out " + measured).exit_code, 0);
+  // The parametric render has the measured render's length (both: the source plus the RIR).
+  const AudioBuffer a = readAudioFile(parametric), b = readAudioFile(measured);
+  EXPECT_EQ(a.channelCount(), 2u);
+  EXPECT_NEAR(a.durationS(), b.durationS(), 0.05);
+}
+
 TEST(RenderTool, TheHeadTurnedTowardsTheSourceHearsItInFront) {
   const std::string facing = tempPath("facing.wav").string(), turned = tempPath("turned.wav").string();
   const std::string common = "render --source " + noiseSource() + " --ambisonic-rir " + leftPlaneWave();
@@ -91,5 +107,8 @@ TEST(RenderTool, BadInput) {
   expectOneLineError(runTool("render --source " + source + " --ambisonic-rir " + writeBuffer("three.wav", three) + " --out " + out),
                      "3 channels");
   expectOneLineError(runTool("render --source " + source + " --ambisonic-rir " + room + " --decoder best --out " + out), "best");
+  expectOneLineError(runTool("render --source " + source + " --rsao /nonexistent/rsao.yaml --out " + out), "no such file");
+  expectOneLineError(runTool("render --source " + source + " --rsao x.yaml --ambisonic-rir " + room + " --out " + out),
+                     "exactly one");
   EXPECT_FALSE(std::filesystem::exists(out));
 }
