@@ -1,6 +1,7 @@
 // rsao_estimator: offers ~estimate (room_reverb/EstimateRsao), the reverberant spatial audio
-// object of a B-format RIR; publishes the last estimate latched on ~rsao and as rviz
-// markers on ~markers. Parameters: config/rsao_estimator.yaml.
+// object of a B-format RIR, also for RIRs arriving on ~impulse_response; publishes the last
+// estimate latched on ~rsao and as rviz markers on ~markers. Parameters:
+// config/rsao_estimator.yaml.
 #include <ros/ros.h>
 
 #include "room_reverb/ros/rsao_estimator_server.h"

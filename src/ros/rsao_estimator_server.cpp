@@ -90,6 +90,20 @@ RsaoEstimatorServer::RsaoEstimatorServer(::ros::NodeHandle& private_nh) {
   rsao_publisher_ = private_nh.advertise<room_reverb::Rsao>("rsao", 1, true);
   marker_publisher_ = private_nh.advertise<visualization_msgs::MarkerArray>("markers", 1, true);
   server_ = private_nh.advertiseService("estimate", &RsaoEstimatorServer::estimate, this);
+  subscriber_ = private_nh.subscribe("impulse_response", 1, &RsaoEstimatorServer::onImpulseResponse, this);
+}
+
+void RsaoEstimatorServer::onImpulseResponse(const room_reverb::ImpulseResponse::ConstPtr& message) {
+  room_reverb::EstimateRsao::Request request;
+  room_reverb::EstimateRsao::Response response;
+  request.impulse_response = *message;
+  estimate(request, response);
+  if (response.success) {
+    ROS_INFO("rsao_estimator: %zu reflections, mixing time %.1f ms%s", response.rsao.reflections.size(),
+             1000.0 * response.rsao.late.mixing_time_s, response.message.empty() ? "" : (", " + response.message).c_str());
+  } else {
+    ROS_WARN("rsao_estimator: the RIR on ~impulse_response was not estimated: %s", response.message.c_str());
+  }
 }
 
 bool RsaoEstimatorServer::estimate(room_reverb::EstimateRsao::Request& request,

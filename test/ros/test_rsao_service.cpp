@@ -83,6 +83,26 @@ TEST_F(RsaoService, FileAndMessageGiveTheSameObjectAndItIsPublished) {
   EXPECT_NEAR(radius, from_message.rsao.reflections[0].distance_m, 1e-6);
 }
 
+TEST_F(RsaoService, AnImpulseResponseOnTheTopicIsEstimatedAndPublished) {
+  // As a bag replay or the rig's measurement node delivers it.
+  ros::Publisher publisher = nh_.advertise<room_reverb::ImpulseResponse>("/rsao_estimator/impulse_response", 1, true);
+  room_reverb::ImpulseResponse message;
+  room_reverb::core::AudioBuffer rir = room_reverb::core::readAudioFile(kRir);
+  for (auto& channel : rir.channels) channel.resize(48000);  // a distinct object: 1 s of it
+  message.audio = room_reverb::ros_bridge::toMessage(rir, "fuma");
+  message.audio.header.frame_id = "rig_from_topic";
+  publisher.publish(message);
+  const ros::Time deadline = ros::Time::now() + ros::Duration(20.0);
+  room_reverb::Rsao::ConstPtr published;
+  while (ros::Time::now() < deadline) {
+    published = ros::topic::waitForMessage<room_reverb::Rsao>("/rsao_estimator/rsao", nh_, ros::Duration(1.0));
+    if (published && published->header.frame_id == "rig_from_topic") break;
+  }
+  ASSERT_TRUE(published);
+  EXPECT_EQ(published->header.frame_id, "rig_from_topic");
+  EXPECT_GE(published->reflections.size(), 2u);
+}
+
 TEST_F(RsaoService, PerCallOverrides) {
   room_reverb::EstimateRsao::Request r;
   r.file = kRir;

@@ -27,6 +27,11 @@ class RsaoEstimatorServer {
   // success=false and a message.
   bool estimate(room_reverb::EstimateRsao::Request& request, room_reverb::EstimateRsao::Response& response);
 
+  // RIRs arriving on ~impulse_response (a rig's measurement, or a bag replayed): estimated
+  // with the node's parameters, the convention taken from audio.channel_layout ("fuma" or
+  // "ambix"); the result is published as for a service call, a failure logged.
+  void onImpulseResponse(const room_reverb::ImpulseResponse::ConstPtr& message);
+
  private:
   core::RsaoOptions defaults_;
   std::string frame_id_;
@@ -35,6 +40,7 @@ class RsaoEstimatorServer {
   ::ros::Publisher rsao_publisher_;
   ::ros::Publisher marker_publisher_;
   ::ros::ServiceServer server_;
+  ::ros::Subscriber subscriber_;
 };
 
 }  // namespace room_reverb::ros_bridge
