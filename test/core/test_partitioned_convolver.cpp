@@ -7,6 +7,7 @@
 #include <new>
 
 #include "room_reverb/audio/convolution.h"
+#include "room_reverb/audio/partition_plan.h"
 #include "room_reverb/audio/partitioned_convolver.h"
 #include "room_reverb/common/error.h"
 #include "synthetic_rir.h"
@@ -97,6 +98,10 @@ double largestStep(const std::vector<float>& x) {
   for (std::size_t n = 1; n < x.size(); ++n) step = std::max(step, double(std::abs(x[n] - x[n - 1])));
   return step;
 }
+
+// The convolver's fade-in gain at sample n of a fade of `length` samples (the header's
+// raised cosine).
+double fadeInGain(std::size_t n, std::size_t length) { return 0.5 - 0.5 * std::cos(M_PI * (n + 0.5) / length); }
 
 Channels noiseInputs(std::size_t channels, std::size_t blocks, std::size_t block_size, std::size_t silent_blocks) {
   Channels inputs;
@@ -280,4 +285,202 @@ TEST(PartitionedConvolver, RejectsBadInputs) {
   EXPECT_FALSE(convolver.crossfading());
   convolver.process(makeSilentBuffer(2, 64, 48000.0), out);
   EXPECT_EQ(out.channelCount(), 2u);
+}
+
+// --- Non-uniform partitioning (partition_plan.h) ---------------------------------------
+
+TEST(PartitionPlan, CoversTheFilterWithGrowingLevelsThatCanSpreadTheirWork) {
+  struct Case {
+    std::size_t length, block, max_size, inputs, outputs;
+  };
+  const std::vector<Case> cases = {{96000, 256, 16384, 1, 16}, {96000, 256, 16384, 16, 2}, {96000, 256, 16384, 1, 2},
+                                   {20000, 64, 16384, 2, 3},   {12345, 100, 4096, 1, 1},    {700, 256, 16384, 1, 2}};
+  for (const auto& c : cases) {
+    const auto plan = planPartitions(c.length, c.block, c.max_size, c.inputs, c.outputs);
+    ASSERT_FALSE(plan.empty());
+    EXPECT_EQ(plan.front().partition_size, c.block);
+    EXPECT_EQ(plan.front().first_tap, 0u);
+    for (std::size_t l = 0; l < plan.size(); ++l) {
+      const auto& level = plan[l];
+      EXPECT_GE(level.partitions, 1u);
+      EXPECT_LE(level.partition_size, std::max(c.block, c.max_size));
+      EXPECT_EQ(level.partition_size % c.block, 0u);
+      const std::size_t period = level.partition_size / c.block;
+      EXPECT_EQ(period & (period - 1), 0u) << "sizes are the block times a power of two";
+      // Its output is never needed before its work is done, which may take a quarter of
+      // its period.
+      EXPECT_GE(spreadCalls(level, c.block), std::max<std::size_t>(1, period / 4));
+      if (l > 0) {
+        EXPECT_GT(level.partition_size, plan[l - 1].partition_size);
+        EXPECT_EQ(level.first_tap, plan[l - 1].endTap());
+        EXPECT_GE(level.first_tap, earliestFirstTap(level.partition_size, c.block));
+      }
+    }
+    EXPECT_GE(plan.back().endTap(), c.length);
+    EXPECT_LT(plan.back().endTap() - plan.back().partition_size, c.length) << "no partition beyond the filter";
+  }
+  // The renderer's long convolution: several sizes, several times cheaper than uniform.
+  const auto ambisonic = planPartitions(96000, 256, 16384, 1, 16);
+  EXPECT_GE(ambisonic.size(), 3u);
+  const double uniform_cost = partitionPlanCost(planPartitions(96000, 256, 256, 1, 16), 1, 16);
+  EXPECT_LT(partitionPlanCost(ambisonic, 1, 16), uniform_cost / 5.0);
+}
+
+TEST(PartitionPlan, MaximumAtTheBlockSizeIsUniformAndBadSizesAreRejected) {
+  const auto uniform = planPartitions(5000, 256, 256, 16, 2);
+  ASSERT_EQ(uniform.size(), 1u);
+  EXPECT_EQ(uniform.front().partitions, 20u);
+  EXPECT_EQ(planPartitions(5000, 256, 0, 1, 1).size(), 1u);
+  EXPECT_EQ(planPartitions(100, 256, 16384, 1, 1).size(), 1u) << "a filter inside one block";
+  expectInputError([] { planPartitions(0, 256, 16384, 1, 1); }, {"0 taps"});
+  expectInputError([] { planPartitions(100, 0, 16384, 1, 1); }, {"block size is 0"});
+}
+
+TEST(PartitionedConvolver, NonUniformStreamingEqualsOfflineConvolution) {
+  struct Case {
+    std::size_t inputs, outputs, block, taps, max_partition;
+  };
+  // 2 s responses at the renderer's block (both structures), many levels at small blocks,
+  // a block that is no power of two, and the uniform convolver on the same filters.
+  const std::vector<Case> cases = {{1, 16, 256, 96000, 16384}, {1, 2, 256, 96000, 16384}, {16, 2, 256, 30000, 16384},
+                                   {2, 3, 64, 20000, 16384},   {1, 1, 100, 12345, 4096},   {2, 3, 64, 20000, 64}};
+  double worst_db = -1000.0;
+  for (const auto& c : cases) {
+    const auto filters = randomFilters(c.inputs, c.outputs, c.taps, c.taps, 9);
+    PartitionedConvolver convolver(filters, c.block, 1, c.max_partition);
+    if (c.max_partition > c.block) {
+      EXPECT_GE(convolver.partitionPlan().size(), 2u) << "the case should exercise several partition sizes";
+    }
+    // Noise for about half a filter (so every level sees signal), then the tail rings out.
+    const std::size_t blocks = (c.taps / 2 + c.block - 1) / c.block;
+    const auto inputs = noiseInputs(c.inputs, blocks, c.block, (c.taps + c.block - 1) / c.block);
+    const double db = errorDb(stream(convolver, inputs), offline(filters, inputs), 0, inputs.front().size());
+    EXPECT_LT(db, -100.0) << c.inputs << "x" << c.outputs << " block " << c.block << " taps " << c.taps;
+    worst_db = std::max(worst_db, db);
+  }
+  RecordProperty("worst_error_db", std::to_string(worst_db));
+  std::cout << "worst non-uniform streaming-vs-offline error: " << worst_db << " dB\n";
+}
+
+TEST(PartitionedConvolver, NonUniformImpulseComesOutAsTheFilterWithNoAddedDelay) {
+  // Two impulses at frames that fall mid-block and mid-period of every level: the output
+  // is the filter from exactly those frames on, so no level adds or loses a sample.
+  const std::size_t b = 64;
+  const std::size_t taps = 9000;
+  const auto filters = randomFilters(1, 2, taps, taps, 21);
+  PartitionedConvolver convolver(filters, b);
+  ASSERT_GE(convolver.partitionPlan().size(), 3u);
+  const std::size_t first = 3 * b + 17;
+  const std::size_t second = 4000 + 5;
+  Channels input(1, std::vector<float>(first + second + taps + 3 * b, 0.0f));
+  input[0].resize(input[0].size() / b * b);
+  input[0][first] = 1.0f;
+  input[0][second] = -0.5f;
+  const auto out = stream(convolver, input);
+  for (std::size_t o = 0; o < 2; ++o) {
+    for (std::size_t n = 0; n < out[o].size(); ++n) {
+      double want = 0.0;
+      if (n >= first && n - first < taps) want += filters[0][o][n - first];
+      if (n >= second && n - second < taps) want -= 0.5 * filters[0][o][n - second];
+      ASSERT_NEAR(out[o][n], want, 1e-5) << "output " << o << " frame " << n;
+    }
+  }
+}
+
+TEST(PartitionedConvolver, NonUniformSwapIsAnExactCrossfadeAtAnyPhase) {
+  // Long filters, so the larger levels have work in flight at the swap. Whatever the
+  // phase of the swap within their periods, the output is the old filters' response up to
+  // the swap, exactly the raised-cosine mix of both responses during the fade (so no gap
+  // and no click: both are the full convolutions of the stream), and the new filters'
+  // full response after it.
+  const std::size_t b = 64;
+  const std::size_t fade_blocks = 3;
+  const auto old_filters = randomFilters(2, 2, 6000, 6000, 31);
+  const auto new_filters = randomFilters(2, 2, 5000, 6000, 32);
+  const auto inputs = noiseInputs(2, 240, b, 0);
+  const auto old_out = offline(old_filters, inputs);
+  const auto new_out = offline(new_filters, inputs);
+  for (std::size_t swap_block : {100u, 131u, 158u, 193u}) {
+    PartitionedConvolver convolver(old_filters, b, fade_blocks);
+    ASSERT_GE(convolver.partitionPlan().size(), 3u);
+    Channels head(2), tail(2);
+    for (std::size_t i = 0; i < 2; ++i) {
+      head[i].assign(inputs[i].begin(), inputs[i].begin() + swap_block * b);
+      tail[i].assign(inputs[i].begin() + swap_block * b, inputs[i].end());
+    }
+    Channels out = stream(convolver, head);
+    convolver.setFilters(new_filters);
+    const auto rest = stream(convolver, tail);
+    const std::size_t swap = swap_block * b;
+    const std::size_t fade = fade_blocks * b;
+    Channels want(2);
+    for (std::size_t o = 0; o < 2; ++o) {
+      out[o].insert(out[o].end(), rest[o].begin(), rest[o].end());
+      want[o] = old_out[o];
+      for (std::size_t n = swap; n < want[o].size(); ++n) {
+        const double g = n < swap + fade ? fadeInGain(n - swap, fade) : 1.0;
+        want[o][n] = static_cast<float>(old_out[o][n] + g * (new_out[o][n] - old_out[o][n]));
+      }
+    }
+    EXPECT_LT(errorDb(out, want, 0, swap), -100.0) << "before the swap at block " << swap_block;
+    EXPECT_LT(errorDb(out, want, swap, swap + fade), -100.0) << "the fade at block " << swap_block;
+    EXPECT_LT(errorDb(out, want, swap + fade, want[0].size()), -100.0) << "after the fade at block " << swap_block;
+  }
+}
+
+TEST(PartitionedConvolver, NonUniformSwapDuringAFadeKeepsUpWhileItWaits) {
+  // The waiting matrix runs with the stream while it waits, so when its own fade starts
+  // (after a wait in which the larger levels start blocks) its output is already whole.
+  const std::size_t b = 64;
+  const std::size_t fade_blocks = 8;
+  const auto a = randomFilters(1, 2, 9000, 9000, 41);
+  const auto c = randomFilters(1, 2, 8500, 9000, 43);
+  const auto inputs = noiseInputs(1, 300, b, 0);
+  PartitionedConvolver convolver(a, b, fade_blocks);
+  ASSERT_GE(convolver.partitionPlan().size(), 3u);
+  auto section = [&](std::size_t from_block, std::size_t to_block) {
+    return Channels(1, std::vector<float>(inputs[0].begin() + from_block * b, inputs[0].begin() + to_block * b));
+  };
+  Channels out = stream(convolver, section(0, 90));
+  convolver.setFilters(randomFilters(1, 2, 9000, 9000, 42));
+  const auto part = stream(convolver, section(90, 91));
+  convolver.setFilters(c);  // one block into an eight-block fade: waits seven
+  EXPECT_TRUE(convolver.crossfading());
+  const auto rest = stream(convolver, section(91, 300));
+  for (std::size_t o = 0; o < 2; ++o) {
+    out[o].insert(out[o].end(), part[o].begin(), part[o].end());
+    out[o].insert(out[o].end(), rest[o].begin(), rest[o].end());
+  }
+  // The second fade runs over blocks 98..105; from block 106 on the output is c's.
+  EXPECT_LT(errorDb(out, offline(c, inputs), 106 * b, inputs.front().size()), -100.0);
+  EXPECT_GT(errorDb(out, offline(c, inputs), 91 * b, 98 * b), -100.0);
+}
+
+TEST(PartitionedConvolver, NonUniformProcessAllocatesNothing) {
+  const std::size_t b = 64;
+  PartitionedConvolver convolver(randomFilters(2, 3, 9000, 9000, 51), b, 2);
+  ASSERT_GE(convolver.partitionPlan().size(), 3u);
+  AudioBuffer in = makeSilentBuffer(2, b, 48000.0);
+  for (std::size_t n = 0; n < b; ++n) in.channels[0][n] = std::sin(0.1 * n);
+  AudioBuffer out;
+  convolver.process(in, out);  // shapes `out` once
+  convolver.setFilters(randomFilters(2, 3, 8000, 9000, 52));
+  convolver.setFilters(randomFilters(2, 3, 7000, 9000, 53));  // waits for the first fade
+  const long before = g_allocations.load();
+  // Several periods of the largest level, through both fades.
+  for (int k = 0; k < 600; ++k) convolver.process(in, out);
+  convolver.reset();
+  for (int k = 0; k < 100; ++k) convolver.process(in, out);
+  EXPECT_EQ(g_allocations.load(), before);
+}
+
+TEST(PartitionedConvolver, NonUniformResetForgetsTheInput) {
+  const std::size_t b = 64;
+  const auto filters = randomFilters(1, 2, 5000, 5000, 61);
+  PartitionedConvolver convolver(filters, b);
+  const auto inputs = noiseInputs(1, 50, b, 80);
+  stream(convolver, Channels(1, std::vector<float>(inputs[0].begin(), inputs[0].begin() + 77 * b)));
+  convolver.reset();
+  const auto out = stream(convolver, inputs);
+  EXPECT_LT(errorDb(out, offline(filters, inputs), 0, inputs.front().size()), -100.0);
 }

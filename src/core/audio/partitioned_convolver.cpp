@@ -2,51 +2,29 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <sstream>
 #include <utility>
 
+#include "convolver_level.h"
 #include "room_reverb/common/error.h"
+#include "sample_ring.h"
 
 namespace room_reverb::core {
 
-// One filter matrix in the frequency domain: for partition p, input i, output o (in that
-// nesting, the order render() walks them, so the largest array streams through memory
-// once per block) a split spectrum of stride_ real parts then stride_ imaginary parts.
-struct PartitionedConvolver::FilterSpectra {
+// One filter matrix in the frequency domain, per level, and where its output goes.
+struct PartitionedConvolver::FilterSet {
+  std::vector<LevelSpectra> levels;
+  std::vector<std::int64_t> first_block;            // per level: the first block process() runs for it
+  std::vector<std::vector<float>> accumulators;     // per level: the output spectrum being summed
+  std::unique_ptr<SampleRing> output;               // per output: the levels' sum, by stream frame
   std::size_t partitions = 0;
-  std::vector<float> rows;
+
+  LevelTarget target(std::size_t level) {
+    return {&levels[level], accumulators[level].data(), output.get()};
+  }
 };
 
 namespace {
-
-// Spectra are kept as split real/imaginary rows padded to a multiple of this many floats
-// (one 64-byte cache line), so the multiply-add loop runs over whole SIMD vectors.
-constexpr std::size_t kRowAlignmentFloats = 16;
-
-std::size_t ceilDiv(std::size_t a, std::size_t b) { return (a + b - 1) / b; }
-
-// y += x * h over n bins of split complex rows. The hot loop of the convolver: restrict
-// lets the compiler vectorise it.
-void multiplyAccumulate(const float* __restrict x_re, const float* __restrict x_im,
-                        const float* __restrict h_re, const float* __restrict h_im,
-                        float* __restrict y_re, float* __restrict y_im, std::size_t n) {
-  for (std::size_t k = 0; k < n; ++k) {
-    y_re[k] += x_re[k] * h_re[k] - x_im[k] * h_im[k];
-    y_im[k] += x_re[k] * h_im[k] + x_im[k] * h_re[k];
-  }
-}
-
-void splitSpectrum(const std::complex<float>* spectrum, std::size_t bins, float* re, float* im) {
-  for (std::size_t k = 0; k < bins; ++k) {
-    re[k] = spectrum[k].real();
-    im[k] = spectrum[k].imag();
-  }
-}
-
-void joinSpectrum(const float* re, const float* im, std::size_t bins, std::complex<float>* spectrum) {
-  for (std::size_t k = 0; k < bins; ++k) spectrum[k] = {re[k], im[k]};
-}
 
 std::size_t validateMatrix(const FilterMatrix& filters) {
   if (filters.empty()) throw InputError("filter matrix has no input channels; give one row of filters per input");
@@ -76,26 +54,35 @@ std::size_t validateMatrix(const FilterMatrix& filters) {
   return outputs;
 }
 
+std::size_t longestFilter(const FilterMatrix& filters) {
+  std::size_t longest = 0;
+  for (const auto& row : filters) {
+    for (const auto& taps : row) longest = std::max(longest, taps.size());
+  }
+  return longest;
+}
+
 }  // namespace
 
 PartitionedConvolver::PartitionedConvolver(const FilterMatrix& filters, std::size_t block_size,
-                                           std::size_t crossfade_blocks)
+                                           std::size_t crossfade_blocks, std::size_t max_partition_size)
     : input_count_(filters.size()),
       output_count_(validateMatrix(filters)),
       block_size_(block_size),
       crossfade_blocks_(crossfade_blocks),
-      bins_(block_size + 1),
-      stride_(ceilDiv(block_size + 1, kRowAlignmentFloats) * kRowAlignmentFloats),
-      fft_(block_size == 0 ? 1 : 2 * block_size),
-      fade_block_(crossfade_blocks),
-      capacity_(0),
-      newest_slot_(0) {
+      fade_block_(crossfade_blocks) {
   if (block_size == 0) throw InputError("convolver block size is 0; use a positive size such as 256 frames");
   if (crossfade_blocks == 0) throw InputError("convolver crossfade is 0 blocks; use at least 1 so a filter swap does not click");
-  spectrum_.resize(bins_);
-  time_.resize(2 * block_size_);
-  input_windows_.assign(input_count_ * 2 * block_size_, 0.0f);
-  accumulators_.assign(output_count_ * 2 * stride_, 0.0f);
+  plan_ = planPartitions(longestFilter(filters), block_size, max_partition_size, input_count_, output_count_);
+  std::size_t largest = 0;
+  for (std::size_t l = 0; l < plan_.size(); ++l) {
+    levels_.push_back(std::make_unique<ConvolverLevel>(plan_[l], l + 1 == plan_.size(), block_size_, input_count_,
+                                                       output_count_));
+    largest = std::max(largest, plan_[l].partition_size);
+  }
+  // A level reads its 2P-frame window up to P - B frames after the window ends.
+  input_ = std::make_unique<SampleRing>(input_count_, 3 * largest);
+  targets_.resize(3);
   fade_out_samples_.assign(output_count_ * block_size_, 0.0f);
   for (std::size_t o = 0; o < output_count_; ++o) fade_out_pointers_.push_back(&fade_out_samples_[o * block_size_]);
   input_pointers_.resize(input_count_);
@@ -109,16 +96,14 @@ PartitionedConvolver::PartitionedConvolver(const FilterMatrix& filters, std::siz
     fade_in_gain_[n] = static_cast<float>(0.5 - 0.5 * std::cos(M_PI * (n + 0.5) / fade_length));
   }
 
-  current_ = transform(filters);
-  growDelayLine(current_->partitions);
+  current_ = makeSet(filters);
 }
 
 PartitionedConvolver::~PartitionedConvolver() = default;
 
 std::size_t PartitionedConvolver::partitionCount() const { return current_->partitions; }
 
-std::unique_ptr<PartitionedConvolver::FilterSpectra> PartitionedConvolver::transform(
-    const FilterMatrix& filters) {
+std::unique_ptr<PartitionedConvolver::FilterSet> PartitionedConvolver::makeSet(const FilterMatrix& filters) {
   const std::size_t outputs = validateMatrix(filters);
   if (filters.size() != input_count_ || outputs != output_count_) {
     std::ostringstream os;
@@ -126,53 +111,29 @@ std::unique_ptr<PartitionedConvolver::FilterSpectra> PartitionedConvolver::trans
        << input_count_ << " x " << output_count_ << "; make a new convolver to change the channel counts";
     throw InputError(os.str());
   }
-  std::size_t longest = 0;
-  for (const auto& row : filters) {
-    for (const auto& taps : row) longest = std::max(longest, taps.size());
+  const std::size_t longest = longestFilter(filters);
+  auto set = std::make_unique<FilterSet>();
+  // A level writes up to D + B frames ahead of the frame being played (catchUp() up to D).
+  std::size_t ahead = 0;
+  for (const auto& level : plan_) ahead = std::max(ahead, level.first_tap + level.partition_size);
+  set->output = std::make_unique<SampleRing>(output_count_, ahead + 2 * block_size_);
+  for (auto& level : levels_) {
+    set->levels.push_back(level->transform(filters, longest));
+    level->reserve(set->levels.back().partitions);
+    set->accumulators.emplace_back(2 * level->stride(), 0.0f);
+    set->partitions += set->levels.back().partitions;
   }
-  auto spectra = std::make_unique<FilterSpectra>();
-  spectra->partitions = ceilDiv(longest, block_size_);
-  spectra->rows.assign(spectra->partitions * input_count_ * output_count_ * 2 * stride_, 0.0f);
-
-  // Partition p holds taps [pB, (p+1)B), zero-padded to 2B: against the 2B input window
-  // the last B samples of the circular convolution are then the linear convolution.
-  for (std::size_t p = 0; p < spectra->partitions; ++p) {
-    for (std::size_t i = 0; i < input_count_; ++i) {
-      for (std::size_t o = 0; o < output_count_; ++o) {
-        const auto& taps = filters[i][o];
-        const std::size_t begin = std::min(taps.size(), p * block_size_);
-        const std::size_t end = std::min(taps.size(), begin + block_size_);
-        std::fill(time_.begin(), time_.end(), 0.0f);
-        std::copy(taps.begin() + begin, taps.begin() + end, time_.begin());
-        fft_.forward(time_.data(), spectrum_.data());
-        float* row = &spectra->rows[((p * input_count_ + i) * output_count_ + o) * 2 * stride_];
-        splitSpectrum(spectrum_.data(), bins_, row, row + stride_);
-      }
-    }
+  // The new set joins the stream now: it gets the outputs of every block already under
+  // way, and process() runs the later blocks for it.
+  for (std::size_t l = 0; l < levels_.size(); ++l) {
+    levels_[l]->catchUp(calls_, *input_, set->target(l));
+    set->first_block.push_back(levels_[l]->blockOfCall(calls_ - 1) + 1);
   }
-  return spectra;
-}
-
-void PartitionedConvolver::growDelayLine(std::size_t partitions) {
-  if (partitions <= capacity_) return;
-  // Re-lay the ring with the newest block in slot capacity_-1 and older blocks below it;
-  // the new slots hold blocks older than were kept, i.e. silence.
-  const std::size_t slot_floats = input_count_ * 2 * stride_;
-  std::vector<float> grown(partitions * slot_floats, 0.0f);
-  for (std::size_t age = 0; age < capacity_; ++age) {
-    const std::size_t from = (newest_slot_ + capacity_ - age) % capacity_;
-    const std::size_t to = capacity_ - 1 - age;
-    std::copy_n(&delay_line_[from * slot_floats], slot_floats, &grown[to * slot_floats]);
-  }
-  newest_slot_ = capacity_ == 0 ? 0 : capacity_ - 1;
-  capacity_ = partitions;
-  delay_line_ = std::move(grown);
+  return set;
 }
 
 void PartitionedConvolver::setFilters(const FilterMatrix& filters) {
-  auto spectra = transform(filters);
-  growDelayLine(spectra->partitions);
-  pending_ = std::move(spectra);  // frees a stale set here, never in process()
+  pending_ = makeSet(filters);  // frees a stale set here, never in process()
   swap_waiting_ = true;
   if (!crossfading()) startPendingFade();
 }
@@ -184,63 +145,57 @@ void PartitionedConvolver::startPendingFade() {
   std::swap(current_, pending_);
   swap_waiting_ = false;
   fade_block_ = 0;
+  fade_end_frame_ = (calls_ + static_cast<std::int64_t>(crossfade_blocks_)) * static_cast<std::int64_t>(block_size_);
 }
 
 void PartitionedConvolver::reset() {
-  std::fill(delay_line_.begin(), delay_line_.end(), 0.0f);
-  std::fill(input_windows_.begin(), input_windows_.end(), 0.0f);
+  input_->clearAll();
+  for (auto& level : levels_) level->reset();
+  for (auto* set : {current_.get(), previous_.get(), pending_.get()}) {
+    if (set) set->output->clearAll();
+  }
   if (swap_waiting_) startPendingFade();
   fade_block_ = crossfade_blocks_;
 }
 
-void PartitionedConvolver::pushInputs(const float* const* inputs) {
-  newest_slot_ = (newest_slot_ + 1) % capacity_;
-  const std::size_t b = block_size_;
-  for (std::size_t i = 0; i < input_count_; ++i) {
-    float* window = &input_windows_[i * 2 * b];
-    std::memmove(window, window + b, b * sizeof(float));
-    std::memcpy(window + b, inputs[i], b * sizeof(float));
-    fft_.forward(window, spectrum_.data());
-    float* row = &delay_line_[(newest_slot_ * input_count_ + i) * 2 * stride_];
-    splitSpectrum(spectrum_.data(), bins_, row, row + stride_);
+std::size_t PartitionedConvolver::levelTargets(std::size_t level) {
+  // The sets whose output needs this level's current block: the one playing, the one
+  // fading out while the block's output overlaps the fade, and one waiting to fade in.
+  // A set added after the block started got its share from catchUp().
+  const std::int64_t block = levels_[level]->blockOfCall(calls_);
+  std::size_t count = 0;
+  if (current_->first_block[level] <= block) targets_[count++] = current_->target(level);
+  if (crossfading() && levels_[level]->outputBegin(block) < fade_end_frame_) {
+    targets_[count++] = previous_->target(level);
   }
-}
-
-void PartitionedConvolver::render(const FilterSpectra& spectra, float* const* outputs) {
-  std::fill(accumulators_.begin(), accumulators_.end(), 0.0f);
-  const std::size_t row_pair = 2 * stride_;
-  for (std::size_t p = 0; p < spectra.partitions; ++p) {
-    const std::size_t slot = (newest_slot_ + capacity_ - p) % capacity_;
-    const float* x = &delay_line_[slot * input_count_ * row_pair];
-    const float* h = &spectra.rows[p * input_count_ * output_count_ * row_pair];
-    for (std::size_t i = 0; i < input_count_; ++i, x += row_pair) {
-      float* y = accumulators_.data();
-      for (std::size_t o = 0; o < output_count_; ++o, h += row_pair, y += row_pair) {
-        multiplyAccumulate(x, x + stride_, h, h + stride_, y, y + stride_, stride_);
-      }
-    }
-  }
-  for (std::size_t o = 0; o < output_count_; ++o) {
-    const float* y = &accumulators_[o * row_pair];
-    joinSpectrum(y, y + stride_, bins_, spectrum_.data());
-    fft_.inverse(spectrum_.data(), time_.data());
-    std::copy_n(time_.data() + block_size_, block_size_, outputs[o]);
-  }
+  if (swap_waiting_ && pending_->first_block[level] <= block) targets_[count++] = pending_->target(level);
+  return count;
 }
 
 void PartitionedConvolver::process(const float* const* inputs, float* const* outputs) {
   if (!crossfading() && swap_waiting_) startPendingFade();
-  pushInputs(inputs);
-  render(*current_, outputs);
-  if (!crossfading()) return;
-  render(*previous_, fade_out_pointers_.data());
-  const float* gain = &fade_in_gain_[fade_block_ * block_size_];
-  for (std::size_t o = 0; o < output_count_; ++o) {
-    const float* old_out = fade_out_pointers_[o];
-    float* out = outputs[o];
-    for (std::size_t n = 0; n < block_size_; ++n) out[n] = old_out[n] + gain[n] * (out[n] - old_out[n]);
+  const std::int64_t frame = calls_ * static_cast<std::int64_t>(block_size_);
+  for (std::size_t i = 0; i < input_count_; ++i) input_->write(i, frame, inputs[i], block_size_);
+  for (std::size_t l = 0; l < levels_.size(); ++l) {
+    const std::size_t count = levelTargets(l);
+    levels_[l]->run(calls_, *input_, targets_.data(), count);
   }
-  ++fade_block_;
+  for (std::size_t o = 0; o < output_count_; ++o) current_->output->read(o, frame, outputs[o], block_size_);
+  if (crossfading()) {
+    const float* gain = &fade_in_gain_[fade_block_ * block_size_];
+    for (std::size_t o = 0; o < output_count_; ++o) {
+      float* old_out = fade_out_pointers_[o];
+      previous_->output->read(o, frame, old_out, block_size_);
+      float* out = outputs[o];
+      for (std::size_t n = 0; n < block_size_; ++n) out[n] = old_out[n] + gain[n] * (out[n] - old_out[n]);
+    }
+    ++fade_block_;
+  }
+  // Played frames are zeroed so the rings can wrap onto them.
+  current_->output->clear(frame, block_size_);
+  if (previous_) previous_->output->clear(frame, block_size_);
+  if (swap_waiting_) pending_->output->clear(frame, block_size_);
+  ++calls_;
 }
 
 void PartitionedConvolver::process(const AudioBuffer& input, AudioBuffer& output) {

@@ -1,0 +1,191 @@
+#include "convolver_level.h"
+
+#include <algorithm>
+#include <limits>
+
+#include "spectral_kernels.h"
+
+namespace room_reverb::core {
+
+ConvolverLevel::ConvolverLevel(const PartitionLevel& plan, bool open_ended, std::size_t block_size,
+                               std::size_t inputs, std::size_t outputs)
+    : plan_(plan),
+      open_ended_(open_ended),
+      block_size_(block_size),
+      calls_per_block_(plan.partition_size / block_size),
+      spread_(spreadCalls(plan, block_size)),
+      inputs_(inputs),
+      outputs_(outputs),
+      bins_(plan.partition_size + 1),
+      stride_(rowStride(bins_)),
+      fft_(2 * plan.partition_size),
+      units_(inputs + outputs * (inputs + 1)),
+      next_unit_(units_),
+      fft_unit_cost_(fftCost(2 * plan.partition_size)),
+      time_(2 * plan.partition_size),
+      spectrum_(bins_) {
+  reserve(plan.partitions);
+}
+
+LevelSpectra ConvolverLevel::transform(const FilterMatrix& filters, std::size_t longest) {
+  const std::size_t p = plan_.partition_size;
+  LevelSpectra spectra;
+  spectra.partitions = longest > plan_.first_tap ? (longest - plan_.first_tap + p - 1) / p : 0;
+  if (!open_ended_) spectra.partitions = std::min(spectra.partitions, plan_.partitions);
+  spectra.rows.assign(outputs_ * inputs_ * spectra.partitions * 2 * stride_, 0.0f);
+  // Partition q holds taps [D + qP, D + (q+1)P), zero-padded to 2P: against the 2P input
+  // window the last P samples of the circular convolution are then the linear convolution.
+  float* row = spectra.rows.data();
+  for (std::size_t o = 0; o < outputs_; ++o) {
+    for (std::size_t i = 0; i < inputs_; ++i) {
+      const auto& taps = filters[i][o];
+      for (std::size_t q = 0; q < spectra.partitions; ++q, row += 2 * stride_) {
+        const std::size_t begin = std::min(taps.size(), plan_.first_tap + q * p);
+        const std::size_t end = std::min(taps.size(), begin + p);
+        std::fill(time_.begin(), time_.end(), 0.0f);
+        std::copy(taps.begin() + begin, taps.begin() + end, time_.begin());
+        fft_.forward(time_.data(), spectrum_.data());
+        splitSpectrum(spectrum_.data(), bins_, row, stride_);
+      }
+    }
+  }
+  return spectra;
+}
+
+void ConvolverLevel::reserve(std::size_t partitions) {
+  // Besides the n blocks one output needs, catchUp() reaches back to the oldest block
+  // whose output is still ahead of the stream: floor(D / P) + 1 blocks more.
+  const std::size_t capacity = partitions + plan_.first_tap / plan_.partition_size + 1;
+  if (capacity <= capacity_) return;
+  // Re-lay the kept blocks by their absolute index; the new slots hold blocks older than
+  // were kept, i.e. silence.
+  const std::size_t slot_floats = inputs_ * 2 * stride_;
+  std::vector<float> grown(capacity * slot_floats, 0.0f);
+  for (std::int64_t m = std::max<std::int64_t>(0, block_ - static_cast<std::int64_t>(capacity_) + 1); m <= block_; ++m) {
+    std::copy_n(&delay_line_[slotOf(m) * slot_floats], slot_floats,
+                &grown[static_cast<std::size_t>(m) % capacity * slot_floats]);
+  }
+  capacity_ = capacity;
+  delay_line_ = std::move(grown);
+  // The schedule's cost estimate follows the most partitions any set has here.
+  mac_unit_cost_ = std::max(partitions, plan_.partitions) * multiplyAddCost(bins_);
+  block_cost_ = (inputs_ + outputs_) * fft_unit_cost_ + inputs_ * outputs_ * mac_unit_cost_;
+}
+
+std::size_t ConvolverLevel::slotOf(std::int64_t block) const {
+  const auto capacity = static_cast<std::int64_t>(capacity_);
+  return static_cast<std::size_t>(((block % capacity) + capacity) % capacity);
+}
+
+const float* ConvolverLevel::slotRow(std::int64_t block, std::size_t input) const {
+  return &delay_line_[(slotOf(block) * inputs_ + input) * 2 * stride_];
+}
+
+float* ConvolverLevel::slotRow(std::int64_t block, std::size_t input) {
+  return &delay_line_[(slotOf(block) * inputs_ + input) * 2 * stride_];
+}
+
+double ConvolverLevel::unitCost(std::size_t unit) const {
+  if (unit < inputs_) return fft_unit_cost_;
+  return (unit - inputs_) % (inputs_ + 1) == inputs_ ? fft_unit_cost_ : mac_unit_cost_;
+}
+
+void ConvolverLevel::run(std::int64_t call, const SampleRing& input, const LevelTarget* targets, std::size_t count) {
+  const auto slice = static_cast<std::size_t>((call + 1) % static_cast<std::int64_t>(calls_per_block_));
+  if (slice == 0) {
+    block_ = blockOfCall(call);
+    next_unit_ = 0;
+    done_cost_ = 0.0;
+  }
+  // This call's share: the block's cost up to (slice + 1) / spread, the rest in its last
+  // allowed call.
+  const double budget = slice + 1 >= spread_ ? std::numeric_limits<double>::infinity()
+                                             : block_cost_ * static_cast<double>(slice + 1) / spread_;
+  while (next_unit_ < units_ && done_cost_ < budget) {
+    runUnit(next_unit_, input, targets, count);
+    done_cost_ += unitCost(next_unit_);
+    ++next_unit_;
+  }
+}
+
+void ConvolverLevel::runUnit(std::size_t unit, const SampleRing& input, const LevelTarget* targets,
+                             std::size_t count) {
+  if (unit < inputs_) {
+    transformInput(block_, unit, input);
+    return;
+  }
+  const std::size_t output = (unit - inputs_) / (inputs_ + 1);
+  const std::size_t step = (unit - inputs_) % (inputs_ + 1);
+  for (std::size_t t = 0; t < count; ++t) {
+    if (targets[t].spectra->partitions == 0) continue;
+    if (step < inputs_) {
+      multiplyAdd(block_, output, step, targets[t]);
+    } else {
+      finishOutput(block_, output, targets[t], std::numeric_limits<std::int64_t>::min());
+    }
+  }
+}
+
+void ConvolverLevel::finishInputTransforms(const SampleRing& input) {
+  while (next_unit_ < inputs_) {
+    transformInput(block_, next_unit_, input);
+    done_cost_ += unitCost(next_unit_);
+    ++next_unit_;
+  }
+}
+
+void ConvolverLevel::catchUp(std::int64_t next_call, const SampleRing& input, const LevelTarget& target) {
+  const std::int64_t newest = blockOfCall(next_call - 1);
+  if (newest < 0 || target.spectra->partitions == 0) return;
+  finishInputTransforms(input);
+  const std::int64_t from = next_call * static_cast<std::int64_t>(block_size_);
+  const auto p = static_cast<std::int64_t>(plan_.partition_size);
+  // Older blocks' outputs end earlier; stop at the first one already played.
+  for (std::int64_t m = newest; m >= 0 && outputBegin(m) + p > from; --m) {
+    for (std::size_t o = 0; o < outputs_; ++o) {
+      for (std::size_t i = 0; i < inputs_; ++i) multiplyAdd(m, o, i, target);
+      finishOutput(m, o, target, from);
+    }
+  }
+}
+
+void ConvolverLevel::reset() {
+  std::fill(delay_line_.begin(), delay_line_.end(), 0.0f);
+  next_unit_ = units_;
+}
+
+void ConvolverLevel::transformInput(std::int64_t block, std::size_t input, const SampleRing& ring) {
+  // The 2P-frame window ending with the block (overlap-save).
+  const auto p = static_cast<std::int64_t>(plan_.partition_size);
+  ring.read(input, (block - 1) * p, time_.data(), time_.size());
+  fft_.forward(time_.data(), spectrum_.data());
+  splitSpectrum(spectrum_.data(), bins_, slotRow(block, input), stride_);
+}
+
+void ConvolverLevel::multiplyAdd(std::int64_t block, std::size_t output, std::size_t input,
+                                 const LevelTarget& target) const {
+  const std::size_t partitions = target.spectra->partitions;
+  float* y = target.accumulator;
+  if (input == 0) std::fill_n(y, 2 * stride_, 0.0f);
+  // Partition q of the filter meets the input block q blocks older.
+  const float* h = &target.spectra->rows[(output * inputs_ + input) * partitions * 2 * stride_];
+  std::size_t q = 0;
+  for (; q + 1 < partitions; q += 2, h += 4 * stride_) {
+    const auto older = block - static_cast<std::int64_t>(q);
+    multiplyAccumulatePair(slotRow(older, input), h, slotRow(older - 1, input), h + 2 * stride_, y, stride_, stride_);
+  }
+  if (q < partitions) multiplyAccumulate(slotRow(block - static_cast<std::int64_t>(q), input), h, y, stride_, stride_);
+}
+
+void ConvolverLevel::finishOutput(std::int64_t block, std::size_t output, const LevelTarget& target,
+                                  std::int64_t from_frame) {
+  joinSpectrum(target.accumulator, stride_, bins_, spectrum_.data());
+  fft_.inverse(spectrum_.data(), time_.data());
+  // The second half of the 2P-point result is the linear convolution (overlap-save).
+  const std::size_t p = plan_.partition_size;
+  const std::int64_t begin = outputBegin(block);
+  const std::size_t skip = from_frame > begin ? std::min(static_cast<std::size_t>(from_frame - begin), p) : 0;
+  target.output->add(output, begin + static_cast<std::int64_t>(skip), time_.data() + p + skip, p - skip);
+}
+
+}  // namespace room_reverb::core
