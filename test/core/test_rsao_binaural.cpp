@@ -14,6 +14,7 @@
 #include "room_reverb/binaural/rsao_binaural.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/rsao/late_reverb.h"
+#include "synthetic_rsao.h"
 #include "test_files.h"
 
 using namespace room_reverb::core;
@@ -61,25 +62,12 @@ Rsao oneReflection(const Eigen::Vector3d& direction, double toa_s = 0.0123456) {
 
 // A room-like late part (decay and level falling with frequency), onset at 10 ms, mixing
 // time at 60 ms, and a direct sound.
-const std::vector<double> kT60 = {1.8, 1.6, 1.4, 1.2, 1.0, 0.9, 0.8, 0.6, 0.45};
-const std::vector<double> kLevel = {0.02, 0.03, 0.04, 0.05, 0.05, 0.04, 0.03, 0.02, 0.014};
+const std::vector<double>& kT60 = room_reverb::test::roomLikeT60s();
+const std::vector<double>& kLevel = room_reverb::test::roomLikeLevels();
 
 Rsao roomLike(double duration_s) {
-  Rsao rsao;
-  rsao.duration_s = duration_s;
+  Rsao rsao = room_reverb::test::roomLikeLateRsao(duration_s);
   rsao.reflections.push_back(tap(0.004, 0.3, Eigen::Vector3d::UnitX()));
-  const auto bands = standardBands(BandResolution::kOctave);
-  for (std::size_t b = 0; b < bands.size(); ++b) {
-    LateReverbBand band;
-    band.center_hz = bands[b].center_hz;
-    band.t60_s = kT60[b];
-    band.decay_constant_per_s = 3.0 * kLn10 / kT60[b];
-    band.level = kLevel[b];
-    rsao.late.bands.push_back(band);
-  }
-  rsao.late.onset_s = 0.010;
-  rsao.late.mixing_time_s = 0.060;
-  rsao.late.attack_time_s = 0.050;
   return rsao;
 }
 

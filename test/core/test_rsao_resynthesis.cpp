@@ -9,6 +9,7 @@
 #include "room_reverb/rsao/late_reverb.h"
 #include "room_reverb/rsao/analysis_window.h"
 #include "room_reverb/rsao/rsao_resynthesis.h"
+#include "synthetic_rsao.h"
 
 using namespace room_reverb::core;
 
@@ -23,20 +24,7 @@ const std::vector<double> kT60 = {1.8, 1.6, 1.4, 1.2, 1.0, 0.9, 0.8, 0.6, 0.45};
 const std::vector<double> kLevel = {0.02, 0.03, 0.04, 0.05, 0.05, 0.04, 0.03, 0.02, 0.014};
 
 Rsao roomLikeRsao() {
-  Rsao rsao;
-  rsao.duration_s = 2.0;
-  const auto bands = standardBands(BandResolution::kOctave);
-  for (std::size_t b = 0; b < bands.size(); ++b) {
-    LateReverbBand band;
-    band.center_hz = bands[b].center_hz;
-    band.t60_s = kT60[b];
-    band.decay_constant_per_s = 3.0 * kLn10 / kT60[b];
-    band.level = kLevel[b];
-    rsao.late.bands.push_back(band);
-  }
-  rsao.late.onset_s = 0.010;
-  rsao.late.mixing_time_s = 0.060;
-  rsao.late.attack_time_s = 0.050;
+  Rsao rsao = room_reverb::test::roomLikeLateRsao(2.0);
   // Direct sound and three reflections, all before the mixing time.
   auto add = [&](double toa, double level, double az_deg, double el_deg) {
     EarlyReflection r;
