@@ -23,7 +23,6 @@ using room_reverb::test::expectInputError;
 namespace {
 
 constexpr double kFs = 48000.0;
-const double kLn10 = std::log(10.0);
 const std::string kKu100 = std::string(ROOM_REVERB_SOURCE_DIR) + "/data/hrtf/FHK_HRIR_L2354.sofa";
 
 // Loaded once for the whole file (a fifth of a second), its diffuse-field spectrum too.

@@ -16,7 +16,6 @@ using namespace room_reverb::core;
 namespace {
 
 constexpr double kFs = 48000.0;
-const double kLn10 = std::log(10.0);
 
 // A room-like late part: decay and level falling gently with frequency, as air and porous
 // absorption make them; the onset ramp from 10 ms, the mixing time at 60 ms.
