@@ -1,7 +1,6 @@
 // room_reverb compare: simulate the pairs of a measurement and set the simulated
 // room-acoustic parameters against the measured ones, in just-noticeable differences.
 #include <algorithm>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <sstream>

@@ -1,14 +1,24 @@
 #pragma once
-// Whole text files in and out, with the errors a user can cause reported as InputError.
+// Files in and out, with the errors a user can cause reported as InputError, worded the
+// same way by every reader.
 #include <string>
 
 namespace room_reverb::core {
 
-// The file's contents. InputError naming the path for a missing file, a directory or an
-// unreadable file; `what` says what the file was meant to be ("room model").
+// InputError unless `path` names an existing file that is not a directory: "<path>: no
+// such file (expected a <what>)[; <hint>]" or "<path>: is a directory, not a <what>".
+// `what` says what the file was meant to be ("room model").
+void requireExistingFile(const std::string& path, const std::string& what, const std::string& hint = "");
+
+// The file's contents, after requireExistingFile; InputError for an unreadable file.
 std::string readTextFile(const std::string& path, const std::string& what);
 
 // Writes `text` (replacing the file). InputError naming the path when it cannot.
 void writeTextFile(const std::string& path, const std::string& text);
+
+// A file the package ships (e.g. "config/materials.yaml"): the value of the environment
+// variable `environment_variable` when it is set and not empty, else `relative` in the
+// package's source tree (the working directory's when built without ROOM_REVERB_SOURCE_DIR).
+std::string packageFilePath(const char* environment_variable, const std::string& relative);
 
 }  // namespace room_reverb::core

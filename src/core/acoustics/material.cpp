@@ -5,12 +5,11 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdlib>
 #include <sstream>
-#include <sys/stat.h>
 #include <tuple>
 
 #include "room_reverb/common/error.h"
+#include "room_reverb/common/text_file.h"
 
 namespace room_reverb::core {
 namespace {
@@ -195,13 +194,7 @@ void validateMaterial(const AcousticMaterial& material) {
 
 MaterialLibrary MaterialLibrary::load(const std::string& path) {
   // Checked first so the message says "no such file" rather than a YAML parser error.
-  struct stat status {};
-  if (stat(path.c_str(), &status) != 0) {
-    throw InputError(path +
-                     ": no such file (material library; set ROOM_REVERB_MATERIALS "
-                     "or pass an existing materials.yaml)");
-  }
-  if (S_ISDIR(status.st_mode)) throw InputError(path + ": is a directory, not a material library");
+  requireExistingFile(path, "material library", "set ROOM_REVERB_MATERIALS or pass an existing materials.yaml");
 
   YAML::Node root;
   try {
@@ -280,14 +273,7 @@ MaterialLibrary MaterialLibrary::load(const std::string& path) {
 MaterialLibrary MaterialLibrary::loadDefault() { return load(defaultPath()); }
 
 std::string MaterialLibrary::defaultPath() {
-  const char* from_environment = std::getenv("ROOM_REVERB_MATERIALS");
-  if (from_environment != nullptr && *from_environment != '\0') return from_environment;
-#ifdef ROOM_REVERB_SOURCE_DIR
-  return std::string(ROOM_REVERB_SOURCE_DIR) + "/config/materials.yaml";
-#else
-  // Built without the CMake definition: assume the working directory is the source tree.
-  return "config/materials.yaml";
-#endif
+  return packageFilePath("ROOM_REVERB_MATERIALS", "config/materials.yaml");
 }
 
 void MaterialLibrary::add(const AcousticMaterial& material) {

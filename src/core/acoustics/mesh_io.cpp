@@ -9,13 +9,12 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
 #include <map>
 #include <sstream>
-#include <sys/stat.h>
 
 #include "room_reverb/acoustics/triangle_mesh.h"
 #include "room_reverb/common/error.h"
+#include "room_reverb/common/text_file.h"
 
 namespace room_reverb::core {
 namespace {
@@ -32,17 +31,6 @@ std::string lowerExtension(const std::string& path) {
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
   return ext;
-}
-
-std::string readWholeFile(const std::string& path) {
-  struct stat status {};
-  if (stat(path.c_str(), &status) != 0) throw InputError(path + ": no such file");
-  if (S_ISDIR(status.st_mode)) throw InputError(path + ": is a directory, not a mesh file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open for reading");
-  std::ostringstream contents;
-  contents << in.rdbuf();
-  return contents.str();
 }
 
 // Lines without their terminator; "\r\n" files (the BRAS model is one) read like "\n" ones.
@@ -794,7 +782,7 @@ TriangleMesh loadMesh(const std::string& path, UpAxis up) {
   if (ext != "ac" && ext != "obj" && ext != "ply") {
     throw InputError(path + ": unknown mesh format '." + ext + "' (use .ac, .obj or .ply)");
   }
-  const std::string text = readWholeFile(path);
+  const std::string text = readTextFile(path, "mesh file");
   TriangleMesh mesh;
   if (ext == "ac") {
     mesh = Ac3dReader(path, text).read();

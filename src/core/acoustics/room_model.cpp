@@ -5,9 +5,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
-#include <fstream>
 #include <sstream>
-#include <sys/stat.h>
 
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/text_file.h"

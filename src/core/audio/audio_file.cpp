@@ -7,9 +7,9 @@
 #include <cmath>
 #include <memory>
 #include <sstream>
-#include <sys/stat.h>
 
 #include "room_reverb/common/error.h"
+#include "room_reverb/common/text_file.h"
 
 namespace room_reverb::core {
 namespace {
@@ -50,9 +50,7 @@ int sndfileFormat(const std::string& path, SampleEncoding encoding) {
 }  // namespace
 
 AudioBuffer readAudioFile(const std::string& path) {
-  struct stat status {};
-  if (stat(path.c_str(), &status) != 0) throw InputError(path + ": no such file");
-  if (S_ISDIR(status.st_mode)) throw InputError(path + ": is a directory, not an audio file");
+  requireExistingFile(path, "audio file");
 
   SF_INFO info{};
   SndfileHandle file(sf_open(path.c_str(), SFM_READ, &info));

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <sstream>
@@ -13,6 +12,7 @@
 #include "hrir_timing.h"
 #include "room_reverb/audio/resample.h"
 #include "room_reverb/common/error.h"
+#include "room_reverb/common/text_file.h"
 
 namespace room_reverb::core {
 namespace {
@@ -56,13 +56,7 @@ std::string attribute(MYSOFA_ATTRIBUTE* attributes, const char* name) {
 
 SofaPtr openChecked(const std::string& path) {
   const std::string what = "HRTF file '" + path + "'";
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) {
-    throw InputError(what + " does not exist: give the path of a SOFA file");
-  }
-  if (!std::filesystem::is_regular_file(path, ec)) {
-    throw InputError(what + " is not a regular file: give the path of a SOFA file");
-  }
+  requireExistingFile(path, "SOFA HRTF file");
   int error = MYSOFA_OK;
   SofaPtr sofa(mysofa_load(path.c_str(), &error));
   if (!sofa || error != MYSOFA_OK) {
@@ -237,13 +231,7 @@ HrtfSet HrtfSet::loadSofa(const std::string& path, double target_rate_hz) {
 }
 
 std::string HrtfSet::defaultSofaPath() {
-  const char* from_environment = std::getenv("ROOM_REVERB_HRTF");
-  if (from_environment != nullptr && *from_environment != '\0') return from_environment;
-#ifdef ROOM_REVERB_SOURCE_DIR
-  return std::string(ROOM_REVERB_SOURCE_DIR) + "/data/hrtf/FHK_HRIR_L2354.sofa";
-#else
-  return "data/hrtf/FHK_HRIR_L2354.sofa";
-#endif
+  return packageFilePath("ROOM_REVERB_HRTF", "data/hrtf/FHK_HRIR_L2354.sofa");
 }
 
 }  // namespace room_reverb::core

@@ -2,6 +2,7 @@
 
 #include <sys/stat.h>
 
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
@@ -9,11 +10,17 @@
 
 namespace room_reverb::core {
 
-std::string readTextFile(const std::string& path, const std::string& what) {
+void requireExistingFile(const std::string& path, const std::string& what, const std::string& hint) {
   struct stat status {};
-  if (stat(path.c_str(), &status) != 0) throw InputError(path + ": no such file (expected a " + what + ")");
+  if (stat(path.c_str(), &status) != 0) {
+    throw InputError(path + ": no such file (expected a " + what + ")" + (hint.empty() ? "" : "; " + hint));
+  }
   if (S_ISDIR(status.st_mode)) throw InputError(path + ": is a directory, not a " + what);
-  std::ifstream in(path);
+}
+
+std::string readTextFile(const std::string& path, const std::string& what) {
+  requireExistingFile(path, what);
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open the " + what + " for reading");
   std::ostringstream text;
   text << in.rdbuf();
@@ -26,6 +33,16 @@ void writeTextFile(const std::string& path, const std::string& text) {
   out << text;
   out.close();
   if (!out) throw InputError(path + ": write failed");
+}
+
+std::string packageFilePath(const char* environment_variable, const std::string& relative) {
+  const char* from_environment = std::getenv(environment_variable);
+  if (from_environment != nullptr && *from_environment != '\0') return from_environment;
+#ifdef ROOM_REVERB_SOURCE_DIR
+  return std::string(ROOM_REVERB_SOURCE_DIR) + "/" + relative;
+#else
+  return relative;
+#endif
 }
 
 }  // namespace room_reverb::core

@@ -1,7 +1,5 @@
 #include "room_reverb/evaluation/measurements.h"
 
-#include <fstream>
-#include <sstream>
 
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/text_file.h"
