@@ -92,10 +92,9 @@ TEST(BinauralStream, RoomSwapHasNoClickAndNoGap) {
     for (std::size_t n = block * 256; n < (block + 1) * 256; ++n) e += left[n] * left[n] + right[n] * right[n];
     smallest_block_rms = std::min(smallest_block_rms, static_cast<float>(std::sqrt(e / 512.0)));
   }
-  // No step during the fade exceeds the signal's own largest step (with 20 % for the two
-  // rooms' different levels), no block falls silent, and the new room has the source on
-  // the right.
-  EXPECT_LT(largest_step_swap, 1.2f * largest_step_before);
+  // No step during the fade exceeds the signal's own largest step (the criterion),
+  // no block falls silent, and the new room has the source on the right.
+  EXPECT_LE(largest_step_swap, largest_step_before);  // measured: 0.98 of it
   EXPECT_GT(smallest_block_rms, 0.02f);
   // 440 Hz: an interaural level difference of about 3 dB at the side, to either side.
   const auto ear_energies = [&](std::size_t from_block, std::size_t to_block) {

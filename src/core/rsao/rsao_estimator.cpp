@@ -73,6 +73,15 @@ std::string seconds(double s) {
   return os.str();
 }
 
+// The late part needs kMinLateS of signal after the mixing time, which comes at or after
+// `from_s` (`what` names that time).
+void requireLateSpan(double duration_s, double from_s, const std::string& what) {
+  if (duration_s >= from_s + kMinLateS) return;
+  throw InputError("RSAO: the impulse response is too short: " + seconds(duration_s) + ", " + what + " at " +
+                   seconds(from_s) + "; the late reverb needs at least " + seconds(kMinLateS) +
+                   " after the mixing time");
+}
+
 }  // namespace
 
 void validateRsaoOptions(const RsaoOptions& options) {
@@ -113,11 +122,9 @@ Rsao estimateRsao(const AudioBuffer& bformat, AmbisonicFormat format, const Rsao
   }
 
   const double onset_s = static_cast<double>(onset) / kFs;
-  if (rsao.duration_s < onset_s + kMinLateS) {
-    throw InputError("RSAO: the impulse response is too short: " + seconds(rsao.duration_s) + ", direct sound at " +
-                     seconds(onset_s) + "; the late reverb needs at least " + seconds(kMinLateS) +
-                     " after the mixing time");
-  }
+  // Checked before the mixing time too (which cannot precede the direct sound): the echo
+  // density of a response this short would fail with a message about noise instead.
+  requireLateSpan(rsao.duration_s, onset_s, "the direct sound");
   double mixing_time_s = 0.0;
   if (options.mixing_time_s) {
     mixing_time_s = *options.mixing_time_s;
@@ -131,11 +138,7 @@ Rsao estimateRsao(const AudioBuffer& bformat, AmbisonicFormat format, const Rsao
     mixing_time_s = mixing.mixing_time_s;
     if (!mixing.reached_threshold) rsao.warnings.push_back("mixing time: " + mixing.note);
   }
-  if (rsao.duration_s < mixing_time_s + kMinLateS) {
-    throw InputError("RSAO: the impulse response is too short: " + seconds(rsao.duration_s) +
-                     "; the late reverb needs at least " + seconds(kMinLateS) + " after the mixing time (" +
-                     seconds(mixing_time_s) + ")");
-  }
+  requireLateSpan(rsao.duration_s, mixing_time_s, "the mixing time");
 
   EarlyReflectionOptions early = options.early;
   early.mixing_time_s = mixing_time_s;
