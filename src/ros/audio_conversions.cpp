@@ -6,7 +6,7 @@
 
 namespace room_reverb::ros_bridge {
 
-core::AudioBuffer fromMessage(const room_reverb::AudioBuffer& msg) {
+core::AudioBuffer fromMessage(const room_reverb::AudioBuffer& msg, NonFiniteSamples non_finite) {
   if (msg.channel_count == 0) throw core::InputError("audio message has channel_count 0");
   if (msg.samples.empty()) throw core::InputError("audio message holds no samples");
   if (msg.samples.size() % msg.channel_count != 0) {
@@ -16,7 +16,7 @@ core::AudioBuffer fromMessage(const room_reverb::AudioBuffer& msg) {
     throw core::InputError(os.str());
   }
   core::AudioBuffer buffer = core::deinterleave(msg.samples, msg.channel_count, msg.sample_rate_hz);
-  core::validateAudioBuffer(buffer, "audio message");
+  if (non_finite == NonFiniteSamples::kReject) core::validateAudioBuffer(buffer, "audio message");
   return buffer;
 }
 

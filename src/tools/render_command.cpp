@@ -1,5 +1,6 @@
 // room_reverb render: a dry source heard in a room over headphones, offline (the twin of
 // the binaural_renderer node's ~render_to_file).
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <optional>
@@ -7,12 +8,11 @@
 #include "arguments.h"
 #include "command.h"
 #include "room_reverb/ambisonics/bformat.h"
-#include "room_reverb/ambisonics/rotation.h"
-#include "room_reverb/ambisonics/spherical_harmonics.h"
 #include "room_reverb/audio/audio_file.h"
-#include "room_reverb/audio/convolution.h"
+#include "room_reverb/audio/channel_mix.h"
 #include "room_reverb/audio/resample.h"
 #include "room_reverb/binaural/binaural_decoder.h"
+#include "room_reverb/binaural/offline_render.h"
 #include "room_reverb/binaural/hrtf_set.h"
 #include "room_reverb/binaural/rsao_binaural.h"
 #include "room_reverb/rsao/rsao_yaml.h"
@@ -49,41 +49,32 @@ Exit status: 0 on success, 2 with one line on stderr for bad input.
 )";
 
 AudioBuffer monoSource(const std::string& path) {
-  AudioBuffer source = toInternalRate(readAudioFile(path));
+  const AudioBuffer source = readAudioFile(path);
   if (source.channelCount() > 1) {
     std::cerr << "room_reverb render: note: the " << source.channelCount() << "-channel source is mixed to mono\n";
-    for (std::size_t c = 1; c < source.channelCount(); ++c) {
-      for (std::size_t n = 0; n < source.frameCount(); ++n) source.channels[0][n] += source.channels[c][n];
-    }
-    for (float& v : source.channels[0]) v /= static_cast<float>(source.channelCount());
-    source.channels.resize(1);
   }
-  return source;
+  return toInternalRate(mixToMono(source));
 }
 
-// The room's AmbiX response at 48 kHz and its order.
-AudioBuffer roomResponse(const Arguments& args, int& order) {
+// The room's AmbiX response at 48 kHz.
+AudioBuffer roomResponse(const Arguments& args) {
+  std::vector<std::string> notes;
   AudioBuffer response;
   if (args.has("bformat-rir")) {
     if (!args.has("format")) throw UsageError("--format fuma|ambix is required with --bformat-rir");
+    const std::string format = args.value("format", "");
+    parseAmbisonicFormat(format);
     response = readAudioFile(args.value("bformat-rir", ""));
     if (response.channelCount() != 4) {
       throw InputError(args.value("bformat-rir", "") + ": a first-order B-format RIR has 4 channels, this one has " +
                        std::to_string(response.channelCount()));
     }
-    response = toAmbix(response, parseAmbisonicFormat(args.value("format", "")));
+    response = ambixRoomResponse(response, format, notes);
   } else {
-    response = readAudioFile(args.value("ambisonic-rir", ""));
+    response = ambixRoomResponse(readAudioFile(args.value("ambisonic-rir", "")), "ambix", notes);
   }
-  order = -1;
-  for (int n = 0; n <= kMaxAmbisonicOrder; ++n) {
-    if (response.channelCount() == static_cast<std::size_t>(ambisonicChannelCount(n))) order = n;
-  }
-  if (order < 0) {
-    throw InputError("the room response has " + std::to_string(response.channelCount()) +
-                     " channels; AmbiX of order 0-3 has 1, 4, 9 or 16");
-  }
-  return toInternalRate(response);
+  for (const std::string& note : notes) std::cerr << "room_reverb render: note: " << note << "\n";
+  return response;
 }
 
 int runRender(const std::vector<std::string>& raw) {
@@ -102,8 +93,7 @@ int runRender(const std::vector<std::string>& raw) {
   const AudioBuffer source = monoSource(args.value("source", ""));
   const Eigen::Quaterniond head(Eigen::AngleAxisd(yaw_deg * 3.14159265358979323846 / 180.0, Eigen::Vector3d::UnitZ()));
   const std::optional<Rsao> rsao = args.has("rsao") ? std::optional<Rsao>(loadRsaoYaml(args.value("rsao", ""))) : std::nullopt;
-  int order = 0;
-  AudioBuffer response = rsao ? AudioBuffer{} : roomResponse(args, order);
+  const AudioBuffer response = rsao ? AudioBuffer{} : roomResponse(args);
   const HrtfSet hrtf = HrtfSet::loadSofa(args.value("hrtf", HrtfSet::defaultSofaPath()));
   for (const std::string& note : hrtf.notes()) std::cerr << "room_reverb render: note: " << note << "\n";
   AudioBuffer brir;
@@ -114,36 +104,20 @@ int runRender(const std::vector<std::string>& raw) {
     brir = renderRsaoBinaural(*rsao, hrtf, options);
     how = "RSAO through the HRTFs";
   } else {
-    if (order == 0) {
-      // An omni response has no directions: decode it as first order with silent X, Y, Z.
-      response.channels.resize(4, std::vector<float>(response.frameCount(), 0.0f));
-      order = 1;
-    }
-    rotateAmbisonicBuffer(response, headTrackingRotation(head, order));
-    brir = decodeToBinaural(response, makeBinauralDecoder(hrtf, order, method));
+    // An omni response has no directions: it is decoded as first order with silent X, Y, Z.
+    const int order = std::max(ambixOrder(response), 1);
+    brir = binauralRoomResponse(response, makeBinauralDecoder(hrtf, order, method), head);
     how = "order-" + std::to_string(order) + " " + toString(method) + " decoder";
   }
-
-  AudioBuffer out = makeSilentBuffer(2, 0, kInternalSampleRateHz);
-  for (std::size_t ear = 0; ear < 2; ++ear) out.channels[ear] = fftConvolve(source.channels[0], brir.channels[ear]);
-  float peak = 0.0f;
-  for (const auto& ear : out.channels) {
-    for (float v : ear) peak = std::max(peak, std::abs(v));
+  const BinauralRender render = convolveBinaural(source, brir);
+  if (render.gain_db < 0.0) {
+    std::cerr << "room_reverb render: note: the peak was above full scale; scaled by " << render.gain_db
+              << " dB to -1 dBFS\n";
   }
-  // A render for listening must not clip on a fixed-point player: above full scale it is
-  // brought to -1 dBFS, and the gain is said.
-  if (peak > 1.0f) {
-    const float gain = 0.891f / peak;
-    for (auto& ear : out.channels) {
-      for (float& v : ear) v *= gain;
-    }
-    std::cerr << "room_reverb render: note: peak " << 20.0 * std::log10(peak) << " dBFS, scaled by "
-              << 20.0 * std::log10(gain) << " dB to -1 dBFS\n";
-    peak *= gain;
-  }
+  const AudioBuffer& out = render.audio;
   writeAudioFile(args.value("out", ""), out, SampleEncoding::kFloat32);
   std::cout << "wrote " << args.value("out", "") << ": " << out.durationS() << " s, binaural, " << how << ", peak "
-            << 20.0 * std::log10(std::max(peak, 1e-30f)) << " dBFS\n";
+            << render.peak_dbfs << " dBFS\n";
   return 0;
 }
 

@@ -1,0 +1,210 @@
+#include "room_reverb/ros/binaural_renderer_server.h"
+
+#include <room_reverb/SimulateRoom.h>
+#include <room_reverb/StreamStatus.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "room_reverb/ambisonics/rotation.h"
+#include "room_reverb/audio/audio_file.h"
+#include "room_reverb/binaural/hrtf_set.h"
+#include "room_reverb/binaural/offline_render.h"
+#include "room_reverb/common/error.h"
+#include "room_reverb/ros/audio_conversions.h"
+
+namespace room_reverb::ros_bridge {
+namespace {
+
+int positiveInt(::ros::NodeHandle& nh, const std::string& name, int fallback) {
+  int value = fallback;
+  nh.param(name, value, fallback);
+  if (value <= 0) throw core::InputError("parameter ~" + name + " must be positive (got " + std::to_string(value) + ")");
+  return value;
+}
+
+}  // namespace
+
+BinauralRendererServer::BinauralRendererServer(::ros::NodeHandle& nh, ::ros::NodeHandle& private_nh)
+    : nh_(nh) {
+  std::string hrtf_file, decoder_name, source_file, room_file, room_format;
+  private_nh.param<std::string>("frame_id", frame_id_, "head");
+  private_nh.param<std::string>("hrtf_file", hrtf_file, "");
+  private_nh.param<std::string>("decoder", decoder_name, "magls");
+  const int order = positiveInt(private_nh, "order", 3);
+  if (order > 3) throw core::InputError("parameter ~order must be 1 to 3");
+  block_frames_ = static_cast<std::size_t>(positiveInt(private_nh, "block_frames", 256));
+  chunk_blocks_ = static_cast<std::size_t>(positiveInt(private_nh, "chunk_blocks", 2));
+  core::BinauralStreamOptions stream_options;
+  stream_options.block_size = block_frames_;
+  stream_options.crossfade_blocks = static_cast<std::size_t>(positiveInt(private_nh, "crossfade_blocks", 4));
+  private_nh.param("max_response_s", stream_options.max_response_s, 4.0);
+  const double chunk_period_s = static_cast<double>(block_frames_ * chunk_blocks_) / core::kInternalSampleRateHz;
+  pacer_options_.chunk_period_s = chunk_period_s;
+  private_nh.param("late_tolerance_s", pacer_options_.late_tolerance_s, chunk_period_s);
+  private_nh.param("max_lag_s", pacer_options_.max_lag_s, 0.25);
+  private_nh.param("status_period_s", status_period_s_, 1.0);
+  if (!(status_period_s_ > 0.0)) throw core::InputError("parameter ~status_period_s must be positive");
+  rsao_seed_ = static_cast<std::uint32_t>(positiveInt(private_nh, "rsao_seed", 1));
+  private_nh.param<std::string>("simulator_service", simulator_service_, "room_simulator/simulate");
+  private_nh.param<std::string>("source_file", source_file, "");
+  double prebuffer_s = 0.05, max_queued_s = 1.0;
+  private_nh.param("source_prebuffer_s", prebuffer_s, 0.05);
+  private_nh.param("source_max_queued_s", max_queued_s, 1.0);
+  private_nh.param<std::string>("room_file", room_file, "");
+  private_nh.param<std::string>("room_format", room_format, "fuma");
+
+  const core::HrtfSet hrtf =
+      core::HrtfSet::loadSofa(hrtf_file.empty() ? core::HrtfSet::defaultSofaPath() : hrtf_file);
+  for (const std::string& n : hrtf.notes()) ROS_INFO("binaural_renderer: %s", n.c_str());
+  decoder_ = core::makeBinauralDecoder(hrtf, order, core::parseDecoderMethod(decoder_name));
+  stream_ = std::make_unique<core::BinauralStream>(decoder_, stream_options);
+  pacer_ = std::make_unique<core::StreamPacer>(pacer_options_);
+  source_block_.assign(block_frames_, 0.0f);
+  left_.assign(block_frames_ * chunk_blocks_, 0.0f);
+  right_ = left_;
+
+  if (!source_file.empty()) {
+    looped_source_ = std::make_unique<core::LoopedSource>(core::readAudioFile(source_file));
+    source_description_ = "file " + source_file;
+  } else {
+    source_queue_ = std::make_unique<core::SourceQueue>(prebuffer_s, max_queued_s);
+    source_description_ = "topic";
+  }
+  if (!room_file.empty()) {
+    StreamRoom room = roomFromFile(room_file, room_format, rsao_seed_);
+    for (const std::string& n : room.notes) ROS_INFO("binaural_renderer: %s", n.c_str());
+    // Set before the audio thread starts, so the first chunk is not late for it.
+    const std::string warning = stream_->setRoom(room.ambix);
+    if (!warning.empty()) note(warning, true);
+    current_room_ = std::make_shared<const StreamRoom>(std::move(room));
+    counters_.room_changes = 1;
+  }
+
+  binaural_publisher_ = private_nh.advertise<room_reverb::AudioBuffer>("binaural", 50);
+  status_publisher_ = private_nh.advertise<room_reverb::StreamStatus>("status", 1, true);
+  if (source_queue_) source_sub_ = private_nh.subscribe("source", 50, &BinauralRendererServer::onSource, this);
+  rsao_sub_ = private_nh.subscribe("rsao", 1, &BinauralRendererServer::onRsao, this);
+  impulse_response_sub_ = private_nh.subscribe("impulse_response", 1, &BinauralRendererServer::onImpulseResponse, this);
+  room_scene_sub_ = private_nh.subscribe("room_scene", 1, &BinauralRendererServer::onRoomScene, this);
+  head_sub_ = private_nh.subscribe("head_orientation", 10, &BinauralRendererServer::onHeadOrientation, this);
+  render_server_ = private_nh.advertiseService("render_to_file", &BinauralRendererServer::renderToFile, this);
+  simulator_ = nh_.serviceClient<room_reverb::SimulateRoom>(simulator_service_);
+}
+
+BinauralRendererServer::~BinauralRendererServer() { stop(); }
+
+void BinauralRendererServer::start() {
+  if (running_.exchange(true)) return;
+  audio_thread_ = std::thread([this] { audioLoop(); });
+}
+
+void BinauralRendererServer::stop() {
+  running_ = false;
+  if (audio_thread_.joinable()) audio_thread_.join();
+}
+
+void BinauralRendererServer::note(const std::string& message, bool warning) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    counters_.last_message = message;
+  }
+  if (warning) {
+    ROS_WARN("binaural_renderer: %s", message.c_str());
+  } else {
+    ROS_INFO("binaural_renderer: %s", message.c_str());
+  }
+}
+
+void BinauralRendererServer::offerRoom(StreamRoom room) {
+  if (core::ambixOrder(room.ambix) > decoder_.order) {
+    rejectRoom("an order-" + std::to_string(core::ambixOrder(room.ambix)) + " room is above the decoder's order " +
+               std::to_string(decoder_.order));
+    return;
+  }
+  for (const std::string& n : room.notes) note(n, false);
+  auto shared = std::make_shared<const StreamRoom>(std::move(room));
+  std::lock_guard<std::mutex> lock(mutex_);
+  pending_room_ = std::move(shared);
+}
+
+void BinauralRendererServer::rejectRoom(const std::string& why) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++counters_.rooms_rejected;
+  }
+  note("room refused, the previous one plays on: " + why, true);
+}
+
+void BinauralRendererServer::onSource(const room_reverb::AudioBuffer::ConstPtr& message) {
+  try {
+    const core::AudioBuffer chunk = fromMessage(*message, NonFiniteSamples::kKeep);
+    std::string n;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      n = source_queue_->push(chunk);
+    }
+    if (!n.empty()) note(n, false);
+  } catch (const std::exception& e) {
+    note(std::string("a ~source chunk was ignored: ") + e.what(), true);
+  }
+}
+
+void BinauralRendererServer::onRsao(const room_reverb::Rsao::ConstPtr& message) {
+  try {
+    offerRoom(roomFromRsao(*message, rsao_seed_));
+  } catch (const std::exception& e) {
+    rejectRoom(std::string("~rsao: ") + e.what());
+  }
+}
+
+void BinauralRendererServer::onImpulseResponse(const room_reverb::ImpulseResponse::ConstPtr& message) {
+  try {
+    offerRoom(roomFromImpulseResponse(*message));
+  } catch (const std::exception& e) {
+    rejectRoom(std::string("~impulse_response: ") + e.what());
+  }
+}
+
+void BinauralRendererServer::onRoomScene(const room_reverb::RoomScene::ConstPtr& message) {
+  room_reverb::SimulateRoom simulate;
+  simulate.request.room = message->room;
+  simulate.request.source = message->source;
+  simulate.request.listener = message->listener;
+  simulate.request.mode = message->mode;
+  simulate.request.ambisonic_order = decoder_.order;
+  simulate.request.global_scattering = -1.0;
+  if (!simulator_.call(simulate)) {
+    rejectRoom("~room_scene: the simulator service " + simulator_.getService() + " did not answer");
+    return;
+  }
+  if (!simulate.response.success) {
+    rejectRoom("~room_scene: the simulator refused the room: " + simulate.response.message);
+    return;
+  }
+  try {
+    StreamRoom room = roomFromImpulseResponse(simulate.response.impulse_response);
+    room.description = "room_scene " + (message->mode.empty() ? std::string("default mode") : message->mode) + ", " +
+                       room.description;
+    offerRoom(std::move(room));
+  } catch (const std::exception& e) {
+    rejectRoom(std::string("~room_scene: ") + e.what());
+  }
+}
+
+void BinauralRendererServer::onHeadOrientation(const geometry_msgs::QuaternionStamped::ConstPtr& message) {
+  const auto& q = message->quaternion;
+  try {
+    const Eigen::Quaterniond head = core::validatedRotation(Eigen::Quaterniond(q.w, q.x, q.y, q.z));
+    std::lock_guard<std::mutex> lock(mutex_);
+    pending_head_ = head;
+  } catch (const std::exception& e) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      ++counters_.orientations_rejected;
+    }
+    ROS_WARN_THROTTLE(5.0, "binaural_renderer: a head orientation was ignored: %s", e.what());
+  }
+}
+
+}  // namespace room_reverb::ros_bridge

@@ -1,0 +1,216 @@
+// The binaural_renderer's audio thread (pacing, rendering, publishing, status) and its
+// ~render_to_file service; the rest of the node is in binaural_renderer_server.cpp.
+#include <room_reverb/StreamStatus.h>
+#include <time.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "room_reverb/ambisonics/rotation.h"
+#include "room_reverb/audio/audio_file.h"
+#include "room_reverb/audio/channel_mix.h"
+#include "room_reverb/audio/resample.h"
+#include "room_reverb/binaural/offline_render.h"
+#include "room_reverb/common/error.h"
+#include "room_reverb/ros/binaural_renderer_server.h"
+
+namespace room_reverb::ros_bridge {
+namespace {
+
+double cpuSeconds(clockid_t clock) {
+  timespec t{};
+  clock_gettime(clock, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+}  // namespace
+
+void BinauralRendererServer::audioLoop() {
+  const double chunk_period_s = pacer_options_.chunk_period_s;
+  while (running_ && ::ros::ok()) {
+    const double now = ::ros::Time::now().toSec();
+    const core::StreamPacer::Step step = pacer_->next(now);
+    if (step.kind == core::StreamPacer::Step::kWait) {
+      // Sleep in short wall-clock steps: under simulated time the clock may stop, jump
+      // or run at another rate, and the loop must notice shutdown promptly.
+      const double wait_s = std::clamp(step.until - now, 0.0, 0.002);
+      ::ros::WallDuration(std::max(wait_s, 0.0001)).sleep();
+      continue;
+    }
+    if (pacer_->chunkIndex() == 0 && step.dropped == 0) {
+      status_chunk_ = 0;
+      chunks_at_mark_ = 0;
+    }
+    if (step.dropped > 0) {
+      const std::size_t frames = static_cast<std::size_t>(step.dropped) * block_frames_ * chunk_blocks_;
+      if (looped_source_) {
+        looped_source_->skip(frames);
+      } else {
+        std::lock_guard<std::mutex> lock(mutex_);
+        source_queue_->skip(frames);
+      }
+      ROS_WARN_THROTTLE(5.0, "binaural_renderer: %llu chunk(s) dropped: the renderer fell more than %.3f s behind",
+                        static_cast<unsigned long long>(step.dropped), pacer_options_.max_lag_s);
+    }
+    const double cpu_before = cpuSeconds(CLOCK_THREAD_CPUTIME_ID);
+    renderChunk();
+    worst_chunk_s_ = std::max(worst_chunk_s_, cpuSeconds(CLOCK_THREAD_CPUTIME_ID) - cpu_before);
+    const std::uint64_t index = pacer_->chunkIndex();
+    const ::ros::Time stream_start(pacer_->startTime());
+    chunk_message_.header.stamp = stream_start + ::ros::Duration(static_cast<double>(index) * chunk_period_s);
+    binaural_publisher_.publish(chunk_message_);
+    const std::uint64_t late_before = pacer_->counters().late;
+    pacer_->published(::ros::Time::now().toSec());
+    if (pacer_->counters().late > late_before) {
+      ROS_WARN_THROTTLE(5.0, "binaural_renderer: chunk %llu was published late",
+                        static_cast<unsigned long long>(index));
+    }
+    if (index >= status_chunk_) {
+      publishStatus();
+      status_chunk_ = index + std::max<std::uint64_t>(1, std::llround(status_period_s_ / chunk_period_s));
+    }
+  }
+}
+
+void BinauralRendererServer::renderChunk() {
+  std::shared_ptr<const StreamRoom> room;
+  std::optional<Eigen::Quaterniond> head;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    room.swap(pending_room_);
+    head.swap(pending_head_);
+  }
+  if (room) {
+    try {
+      const std::string warning = stream_->setRoom(room->ambix);
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        current_room_ = room;
+        ++counters_.room_changes;
+      }
+      note("now playing " + room->description + (warning.empty() ? "" : "; " + warning), !warning.empty());
+    } catch (const std::exception& e) {
+      rejectRoom(e.what());
+    }
+  }
+  if (head) stream_->setHeadOrientation(*head);
+
+  for (std::size_t b = 0; b < chunk_blocks_; ++b) {
+    if (looped_source_) {
+      looped_source_->read(source_block_.data(), block_frames_);
+    } else {
+      std::lock_guard<std::mutex> lock(mutex_);
+      source_queue_->read(source_block_.data(), block_frames_);
+    }
+    stream_->process(source_block_.data(), left_.data() + b * block_frames_, right_.data() + b * block_frames_);
+  }
+  chunk_message_.header.frame_id = frame_id_;
+  chunk_message_.sample_rate_hz = core::kInternalSampleRateHz;
+  chunk_message_.channel_count = 2;
+  chunk_message_.channel_layout = "binaural";
+  chunk_message_.samples.resize(2 * left_.size());
+  for (std::size_t n = 0; n < left_.size(); ++n) {
+    chunk_message_.samples[2 * n] = left_[n];
+    chunk_message_.samples[2 * n + 1] = right_[n];
+  }
+}
+
+void BinauralRendererServer::publishStatus() {
+  room_reverb::StreamStatus status;
+  status.header.stamp = ::ros::Time::now();
+  status.stream_start = ::ros::Time(pacer_->startTime());
+  status.sample_rate_hz = core::kInternalSampleRateHz;
+  status.chunk_frames = static_cast<std::uint32_t>(block_frames_ * chunk_blocks_);
+  status.block_frames = static_cast<std::uint32_t>(block_frames_);
+  const core::StreamPacerCounters& pacing = pacer_->counters();
+  status.chunks_published = pacing.published;
+  status.chunks_late = pacing.late;
+  status.chunks_dropped = pacing.dropped;
+  status.clock_restarts = pacing.restarts;
+  status.source = source_description_;
+  status.non_finite_samples = stream_->nonFiniteSamples();
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (source_queue_) {
+      status.source_underrun_samples = source_queue_->counters().underrun_samples;
+      status.source_overflow_samples = source_queue_->counters().overflow_samples;
+      status.non_finite_samples += source_queue_->counters().non_finite_samples;
+    }
+    if (current_room_) {
+      status.room = current_room_->description;
+      status.room_duration_s = current_room_->ambix.durationS();
+    }
+    status.room_changes = counters_.room_changes;
+    status.rooms_rejected = counters_.rooms_rejected;
+    status.orientations_rejected = counters_.orientations_rejected;
+    status.last_message = counters_.last_message;
+  }
+  // Processor time over stream time since the last status.
+  const double thread_cpu = cpuSeconds(CLOCK_THREAD_CPUTIME_ID);
+  const double process_cpu = cpuSeconds(CLOCK_PROCESS_CPUTIME_ID);
+  const double stream_s = static_cast<double>(pacing.published - chunks_at_mark_) * pacer_options_.chunk_period_s;
+  if (stream_s > 0.0 && chunks_at_mark_ > 0) {
+    status.render_cpu_share = (thread_cpu - cpu_thread_mark_) / stream_s;
+    status.process_cpu_share = (process_cpu - cpu_process_mark_) / stream_s;
+  }
+  status.worst_chunk_render_s = worst_chunk_s_;
+  cpu_thread_mark_ = thread_cpu;
+  cpu_process_mark_ = process_cpu;
+  chunks_at_mark_ = std::max<std::uint64_t>(pacing.published, 1);
+  worst_chunk_s_ = 0.0;
+  status_publisher_.publish(status);
+}
+
+bool BinauralRendererServer::renderToFile(room_reverb::RenderToFile::Request& request,
+                                          room_reverb::RenderToFile::Response& response) {
+  try {
+    if (request.source_file.empty()) throw core::InputError("source_file is required");
+    if (request.output_file.empty()) throw core::InputError("output_file is required");
+    const int rooms = int(!request.bformat_rir_file.empty()) + int(!request.ambisonic_rir_file.empty()) +
+                      int(!request.rsao_file.empty()) + int(request.current_room);
+    if (rooms != 1) {
+      throw core::InputError("give exactly one room: bformat_rir_file (with format), ambisonic_rir_file, rsao_file "
+                             "or current_room (got " + std::to_string(rooms) + ")");
+    }
+    const auto& q = request.head_orientation;
+    const bool all_zero = q.x == 0.0 && q.y == 0.0 && q.z == 0.0 && q.w == 0.0;
+    const Eigen::Quaterniond head =
+        all_zero ? Eigen::Quaterniond::Identity() : core::validatedRotation(Eigen::Quaterniond(q.w, q.x, q.y, q.z));
+
+    std::shared_ptr<const StreamRoom> room;
+    if (request.current_room) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      room = current_room_;
+      if (!room) throw core::InputError("current_room: the stream has no room yet");
+    } else if (!request.bformat_rir_file.empty()) {
+      if (request.format != "fuma" && request.format != "ambix") {
+        throw core::InputError("format must be \"fuma\" or \"ambix\" with bformat_rir_file");
+      }
+      room = std::make_shared<const StreamRoom>(roomFromFile(request.bformat_rir_file, request.format, rsao_seed_));
+      if (room->ambix.channelCount() != 4) throw core::InputError("bformat_rir_file: a first-order B-format RIR has 4 channels");
+    } else if (!request.ambisonic_rir_file.empty()) {
+      room = std::make_shared<const StreamRoom>(roomFromFile(request.ambisonic_rir_file, "ambix", rsao_seed_));
+    } else {
+      room = std::make_shared<const StreamRoom>(roomFromFile(request.rsao_file, "rsao", rsao_seed_));
+    }
+    if (core::ambixOrder(room->ambix) > decoder_.order) {
+      throw core::InputError("the room's order is above the node's decoder order " + std::to_string(decoder_.order));
+    }
+    const core::AudioBuffer source = core::toInternalRate(core::mixToMono(core::readAudioFile(request.source_file)));
+    const core::BinauralRender render =
+        core::convolveBinaural(source, core::binauralRoomResponse(room->ambix, decoder_, head));
+    core::writeAudioFile(request.output_file, render.audio, core::SampleEncoding::kFloat32);
+    response.success = true;
+    response.message = "rendered " + room->description;
+    response.duration_s = render.audio.durationS();
+    response.peak_dbfs = render.peak_dbfs;
+    response.gain_db = render.gain_db;
+  } catch (const std::exception& e) {
+    response = room_reverb::RenderToFile::Response();
+    response.success = false;
+    response.message = e.what();
+  }
+  return true;
+}
+
+}  // namespace room_reverb::ros_bridge
