@@ -1,0 +1,174 @@
+#include "room_reverb/vision/spherical_stereo.h"
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "room_reverb/common/error.h"
+
+namespace room_reverb::core {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+void requireUsable(const cv::Mat& image, const char* which) {
+  double lo = 0.0, hi = 0.0;
+  cv::minMaxLoc(image.reshape(1), &lo, &hi);
+  if (hi < 8.0) throw InputError(std::string("the ") + which + " image is black (its brightest pixel is " + std::to_string(int(hi)) + ")");
+  if (lo > 247.0) throw InputError(std::string("the ") + which + " image is saturated (its darkest pixel is " + std::to_string(int(lo)) + ")");
+}
+
+void validate(const cv::Mat& top, const cv::Mat& bottom, double baseline_m, const SphericalStereoOptions& o) {
+  if (top.empty() || bottom.empty()) throw InputError("spherical stereo: an image is empty");
+  if (top.size() != bottom.size()) {
+    std::ostringstream os;
+    os << "spherical stereo: the images differ in size (top " << top.cols << "x" << top.rows << ", bottom "
+       << bottom.cols << "x" << bottom.rows << ")";
+    throw InputError(os.str());
+  }
+  if (top.type() != bottom.type()) throw InputError("spherical stereo: the images differ in type");
+  if (top.type() != CV_8UC3 && top.type() != CV_8UC1) throw InputError("spherical stereo: images must be 8-bit BGR or grey");
+  if (top.cols != 2 * top.rows) {
+    std::ostringstream os;
+    os << "spherical stereo: an equirectangular image is twice as wide as high; these are " << top.cols << "x" << top.rows;
+    throw InputError(os.str());
+  }
+  if (top.rows < 32) throw InputError("spherical stereo: images smaller than 64x32 are not usable");
+  if (!(baseline_m > 0.0) || !std::isfinite(baseline_m)) {
+    throw InputError("spherical stereo: the baseline must be positive and finite (got " + std::to_string(baseline_m) + " m)");
+  }
+  if (!(o.min_range_m > baseline_m) || !(o.max_range_m > o.min_range_m) || !(o.polar_cap_deg >= 0.0 && o.polar_cap_deg < 90.0) ||
+      o.seam_padding_px < 0 || o.block_size < 1 || o.block_size % 2 == 0 || o.p1_per_channel <= 0 ||
+      o.p2_per_channel <= o.p1_per_channel || o.max_hole_px < 0) {
+    throw InputError("spherical stereo: options out of range (need baseline < min_range_m < max_range_m, 0 <= "
+                     "polar_cap_deg < 90, odd block_size, 0 < p1 < p2, non-negative paddings)");
+  }
+  requireUsable(top, "top");
+  requireUsable(bottom, "bottom");
+}
+
+// The transposed image (rows = azimuth columns of the original, columns = rows of the
+// original from the zenith down), continued `pole_pad` columns beyond each pole along the
+// same great circle and `seam_pad` rows across the seam.
+cv::Mat transposedWithPadding(const cv::Mat& image, int pole_pad, int seam_pad) {
+  const int w = image.cols, h = image.rows;
+  cv::Mat map_x(w + 2 * seam_pad, h + 2 * pole_pad, CV_32FC1);
+  cv::Mat map_y(map_x.size(), CV_32FC1);
+  for (int r = 0; r < map_x.rows; ++r) {
+    const int u = ((r - seam_pad) % w + w) % w;
+    const int opposite = (u + w / 2) % w;
+    for (int c = 0; c < map_x.cols; ++c) {
+      const int v = c - pole_pad;
+      int src_u = u, src_v = v;
+      if (v < 0) {  // beyond the zenith: coming down the opposite azimuth
+        src_u = opposite;
+        src_v = -v - 1;
+      } else if (v >= h) {  // beyond the nadir
+        src_u = opposite;
+        src_v = 2 * h - 1 - v;
+      }
+      map_x.at<float>(r, c) = static_cast<float>(src_u);
+      map_y.at<float>(r, c) = static_cast<float>(std::clamp(src_v, 0, h - 1));
+    }
+  }
+  cv::Mat out;
+  cv::remap(image, out, map_x, map_y, cv::INTER_NEAREST);
+  return out;
+}
+
+// Holes along each row (azimuth) up to max_px wide take the farther of their two valid
+// neighbours, if that neighbour's colour is close to the hole's edge pixels.
+void fillHoles(SphericalDepth& depth, const cv::Mat& image, const SphericalStereoOptions& o, const cv::Mat& cap_mask) {
+  const int w = depth.range_m.cols;
+  for (int v = 0; v < depth.range_m.rows; ++v) {
+    if (cap_mask.at<std::uint8_t>(v, 0) != 0) continue;
+    float* range = depth.range_m.ptr<float>(v);
+    std::uint8_t* valid = depth.valid.ptr<std::uint8_t>(v);
+    std::uint8_t* filled = depth.filled.ptr<std::uint8_t>(v);
+    for (int u = 0; u < w; ++u) {
+      if (valid[u] == 0 || valid[(u + 1) % w] != 0) continue;
+      // A hole starts at u + 1: find its end (wrapping across the seam).
+      int length = 0;
+      while (length <= o.max_hole_px && length < w && valid[(u + 1 + length) % w] == 0) ++length;
+      if (length == 0 || length > o.max_hole_px) continue;
+      const int left = u, right = (u + 1 + length) % w;
+      const int source = range[left] >= range[right] ? left : right;
+      const auto color_distance = [&](int a, int b) {
+        double d = 0.0;
+        for (int ch = 0; ch < image.channels(); ++ch) {
+          d = std::max(d, std::abs(double(image.ptr<std::uint8_t>(v)[a * image.channels() + ch]) -
+                                   double(image.ptr<std::uint8_t>(v)[b * image.channels() + ch])));
+        }
+        return d;
+      };
+      for (int k = 1; k <= length; ++k) {
+        const int at = (u + k) % w;
+        if (color_distance(at, source) > o.hole_color_tolerance) continue;
+        range[at] = range[source];
+        valid[at] = 255;
+        filled[at] = 255;
+      }
+    }
+  }
+}
+
+}  // namespace
+
+double rangeFromDisparity(double theta_top_rad, double gamma_rad, double baseline_m) {
+  if (!(gamma_rad > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+  return baseline_m * std::sin(theta_top_rad - gamma_rad) / std::sin(gamma_rad);
+}
+
+SphericalDepth computeSphericalDepth(const cv::Mat& top, const cv::Mat& bottom, double baseline_m,
+                                     const SphericalStereoOptions& o) {
+  validate(top, bottom, baseline_m, o);
+  const int w = top.cols, h = top.rows;
+  const double pixel_rad = kPi / h;
+  // The largest disparity: a point at min_range broadside to the baseline.
+  const double gamma_max = std::asin(std::min(1.0, baseline_m / o.min_range_m));
+  const int search = std::max(16, 16 * static_cast<int>(std::ceil(gamma_max / pixel_rad / 16.0)));
+
+  const cv::Mat left = transposedWithPadding(top, search, o.seam_padding_px);
+  const cv::Mat right = transposedWithPadding(bottom, search, o.seam_padding_px);
+  const int channels = top.channels();
+  const int area = o.block_size * o.block_size;
+  cv::Ptr<cv::StereoSGBM> matcher = cv::StereoSGBM::create(
+      0, search, o.block_size, o.p1_per_channel * channels * area, o.p2_per_channel * channels * area,
+      o.disp12_max_diff, o.pre_filter_cap, o.uniqueness_ratio, o.speckle_window_size, o.speckle_range,
+      o.full_dp ? cv::StereoSGBM::MODE_HH : cv::StereoSGBM::MODE_SGBM_3WAY);
+  cv::Mat disparity16;
+  matcher->compute(left, right, disparity16);
+
+  SphericalDepth depth;
+  depth.disparity_search_px = search;
+  depth.range_m = cv::Mat(h, w, CV_32FC1, cv::Scalar(kNaN));
+  depth.disparity_rad = cv::Mat(h, w, CV_32FC1, cv::Scalar(kNaN));
+  depth.valid = cv::Mat::zeros(h, w, CV_8UC1);
+  depth.filled = cv::Mat::zeros(h, w, CV_8UC1);
+  cv::Mat cap_mask = cv::Mat::zeros(h, 1, CV_8UC1);
+  const double cap_rad = o.polar_cap_deg * kPi / 180.0;
+  for (int v = 0; v < h; ++v) {
+    const double theta = (v + 0.5) * pixel_rad;
+    const bool capped = theta < cap_rad || theta > kPi - cap_rad;
+    cap_mask.at<std::uint8_t>(v, 0) = capped ? 255 : 0;
+    if (capped) continue;
+    for (int u = 0; u < w; ++u) {
+      const short d16 = disparity16.at<short>(u + o.seam_padding_px, v + search);
+      if (d16 <= 0) continue;  // negative: no match; 0: at infinity
+      const double gamma = d16 / 16.0 * pixel_rad;
+      const double range = rangeFromDisparity(theta, gamma, baseline_m);
+      depth.disparity_rad.at<float>(v, u) = static_cast<float>(gamma);
+      if (!(range >= o.min_range_m && range <= o.max_range_m)) continue;
+      depth.range_m.at<float>(v, u) = static_cast<float>(range);
+      depth.valid.at<std::uint8_t>(v, u) = 255;
+    }
+  }
+  if (o.fill_holes && o.max_hole_px > 0) fillHoles(depth, top, o, cap_mask);
+  return depth;
+}
+
+}  // namespace room_reverb::core
