@@ -1,0 +1,90 @@
+#include "capture_painter.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "value_noise.h"
+
+namespace room_reverb::core::capture_detail {
+namespace {
+
+void addOnce(std::vector<std::string>& names, const std::string& name) {
+  if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+}
+
+// A clear sky, paler towards the horizon; only seen through an open top, at infinity,
+// so both cameras see the same.
+Rgb skyColor(const Eigen::Vector3d& direction) {
+  const double up = std::sqrt(std::clamp(direction.z(), 0.0, 1.0));
+  return Rgb(200, 220, 236) + (Rgb(92, 142, 206) - Rgb(200, 220, 236)) * up;
+}
+
+}  // namespace
+
+std::vector<std::string> captureMaterialNames(const RoomModel& room) {
+  std::vector<std::string> names;
+  for (const char* face : kRoomSurfaceNames) {
+    if (!room.has_ceiling && std::string(face) == "ceiling") continue;
+    const auto it = room.surfaces.find(face);
+    if (it != room.surfaces.end()) addOnce(names, it->second.material);
+  }
+  for (const CuboidObject& object : room.objects) addOnce(names, object.material);
+  return names;
+}
+
+CapturePainter makeCapturePainter(const RoomModel& room, const MaterialLibrary& library,
+                                  const CaptureOptions& options, const std::vector<std::string>& material_names) {
+  const MaterialLibrary materials = materialsFor(room, library);
+  auto canonical = [&](const std::string& name) { return materials.get(name).name; };
+  std::vector<std::string> flat;
+  for (const std::string& name : options.low_texture_materials) flat.push_back(canonical(name));
+
+  CapturePainter painter;
+  painter.geometry = makeCaptureGeometry(room, material_names);
+  for (const std::string& name : material_names) {
+    const std::string key = canonical(name);
+    const bool poorly_textured = std::find(flat.begin(), flat.end(), key) != flat.end();
+    painter.looks.push_back(makeMaterialLook(key, poorly_textured ? options.low_texture_contrast : 1.0));
+  }
+  painter.seed = options.seed;
+  painter.shading = options.shading;
+  painter.sunlight = !room.has_ceiling;
+  if (painter.sunlight) {
+    painter.light_m = Eigen::Vector3d(0.4, 0.3, 0.87).normalized();
+  } else {
+    painter.light_m = Eigen::Vector3d(0.5 * room.size_m.x(), 0.5 * room.size_m.y(),
+                                      std::max(0.5 * room.size_m.z(), room.size_m.z() - 0.25));
+    // Far corners dimmer, but never black: half intensity at 60 % of the room diagonal.
+    painter.falloff_distance_m = 0.6 * room.size_m.norm();
+  }
+  return painter;
+}
+
+Rgb paintHit(const CapturePainter& painter, const Eigen::Vector3d& direction, const SurfaceHit& hit,
+             double sample_angle_rad) {
+  if (hit.sky) return skyColor(direction);
+  // Grazing views stretch a sample along the surface; capped so far floors still filter
+  // to a finite (if coarse) footprint.
+  const double cos_view = std::max(std::abs(direction.dot(hit.normal)), 0.15);
+  SurfaceSample sample;
+  sample.s_m = hit.s_m;
+  sample.t_m = hit.t_m;
+  sample.salt = hashCombine(hashCombine(painter.seed, hit.object_id), static_cast<std::uint64_t>(hit.face));
+  sample.footprint_m = sample_angle_rad * hit.distance_m / cos_view;
+  const Rgb albedo = textureColor(painter.looks[static_cast<std::size_t>(hit.material)], sample);
+  if (!painter.shading) return albedo;
+
+  double diffuse = 0.0;
+  if (painter.sunlight) {
+    diffuse = std::max(0.0, hit.normal.dot(painter.light_m));
+  } else {
+    const Eigen::Vector3d to_light = painter.light_m - hit.point_m;
+    const double distance = to_light.norm();
+    const double ratio = distance / painter.falloff_distance_m;
+    diffuse = distance > 0.0 ? std::max(0.0, hit.normal.dot(to_light) / distance) / (1.0 + ratio * ratio) : 0.0;
+  }
+  const double shade = painter.ambient + (1.0 - painter.ambient) * diffuse;
+  return albedo * shade;
+}
+
+}  // namespace room_reverb::core::capture_detail
