@@ -25,10 +25,10 @@
 //     a border it cannot match;
 //   - the polar caps, where the baseline points along the view and gamma vanishes, are
 //     masked (polar_cap_deg);
-//   - optional edge-preserving hole filling: a hole up to max_hole_px along the azimuth
-//     takes the farther of its two valid neighbours (holes are mostly occlusions, which
-//     belong to the background), never bridging a colour edge more than hole_color_tolerance
-//     away from the neighbour it copies.
+//   - optional edge-preserving hole filling along the azimuth: a hole up to max_hole_px
+//     between neighbours on one surface (ranges within hole_surface_ratio) is interpolated;
+//     one next to a depth edge is an occlusion and takes the farther neighbour, not past a
+//     colour edge (hole_color_tolerance).
 #include <opencv2/core.hpp>
 
 namespace room_reverb::core {
@@ -51,6 +51,7 @@ struct SphericalStereoOptions {
   // Hole filling.
   bool fill_holes = true;
   int max_hole_px = 24;
+  double hole_surface_ratio = 0.1;     // neighbours within 10 % of each other: one surface
   double hole_color_tolerance = 40.0;  // grey levels (max over channels)
 };
 

@@ -80,35 +80,44 @@ cv::Mat transposedWithPadding(const cv::Mat& image, int pole_pad, int seam_pad) 
   return out;
 }
 
-// Holes along each row (azimuth) up to max_px wide take the farther of their two valid
-// neighbours, if that neighbour's colour is close to the hole's edge pixels.
+// Holes along each row (azimuth) up to max_hole_px wide. Where the two valid neighbours
+// agree within hole_surface_ratio, the hole lies on one surface (a patch too plain to
+// match): it is interpolated linearly between them. Where they do not, the hole is an
+// occlusion next to a depth edge, which belongs to the background: it takes the farther
+// neighbour, as long as its colour stays within hole_color_tolerance of that neighbour's.
 void fillHoles(SphericalDepth& depth, const cv::Mat& image, const SphericalStereoOptions& o, const cv::Mat& cap_mask) {
   const int w = depth.range_m.cols;
+  const int channels = image.channels();
   for (int v = 0; v < depth.range_m.rows; ++v) {
     if (cap_mask.at<std::uint8_t>(v, 0) != 0) continue;
     float* range = depth.range_m.ptr<float>(v);
     std::uint8_t* valid = depth.valid.ptr<std::uint8_t>(v);
     std::uint8_t* filled = depth.filled.ptr<std::uint8_t>(v);
+    const std::uint8_t* pixels = image.ptr<std::uint8_t>(v);
+    const auto color_distance = [&](int a, int b) {
+      int d = 0;
+      for (int ch = 0; ch < channels; ++ch) d = std::max(d, std::abs(int(pixels[a * channels + ch]) - int(pixels[b * channels + ch])));
+      return d;
+    };
     for (int u = 0; u < w; ++u) {
-      if (valid[u] == 0 || valid[(u + 1) % w] != 0) continue;
+      if (valid[u] == 0 || valid[(u + 1) % w] != 0 || filled[u] != 0) continue;
       // A hole starts at u + 1: find its end (wrapping across the seam).
       int length = 0;
       while (length <= o.max_hole_px && length < w && valid[(u + 1 + length) % w] == 0) ++length;
       if (length == 0 || length > o.max_hole_px) continue;
       const int left = u, right = (u + 1 + length) % w;
+      const float near = std::min(range[left], range[right]), far = std::max(range[left], range[right]);
+      const bool one_surface = far <= near * static_cast<float>(1.0 + o.hole_surface_ratio);
       const int source = range[left] >= range[right] ? left : right;
-      const auto color_distance = [&](int a, int b) {
-        double d = 0.0;
-        for (int ch = 0; ch < image.channels(); ++ch) {
-          d = std::max(d, std::abs(double(image.ptr<std::uint8_t>(v)[a * image.channels() + ch]) -
-                                   double(image.ptr<std::uint8_t>(v)[b * image.channels() + ch])));
-        }
-        return d;
-      };
       for (int k = 1; k <= length; ++k) {
         const int at = (u + k) % w;
-        if (color_distance(at, source) > o.hole_color_tolerance) continue;
-        range[at] = range[source];
+        if (one_surface) {
+          const float a = static_cast<float>(k) / static_cast<float>(length + 1);
+          range[at] = (1.0f - a) * range[left] + a * range[right];
+        } else {
+          if (color_distance(at, source) > o.hole_color_tolerance) continue;
+          range[at] = range[source];
+        }
         valid[at] = 255;
         filled[at] = 255;
       }

@@ -1,0 +1,128 @@
+// Vertical-baseline spherical stereo on generated captures with known range: accuracy,
+// coverage outside the polar caps, the sine rule, and bad input. Run at 1024 x 512 to stay
+// fast; bench_visual_route measures 2048 x 1024, the size the targets are set for.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+#include "room_reverb/vision/capture_scene.h"
+#include "room_reverb/vision/spherical_stereo.h"
+#include "test_files.h"
+
+using namespace room_reverb::core;
+using room_reverb::test::expectInputError;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct DepthScore {
+  double valid_fraction = 0.0;  // outside the polar caps
+  double median = 0.0, p90 = 0.0;  // relative range error on valid pixels
+};
+
+DepthScore score(const SphericalDepth& depth, const cv::Mat& truth, double cap_deg) {
+  std::vector<double> errors;
+  long outside = 0, valid = 0;
+  for (int v = 0; v < truth.rows; ++v) {
+    const double theta = (v + 0.5) * kPi / truth.rows;
+    if (theta < cap_deg * kPi / 180.0 || theta > kPi - cap_deg * kPi / 180.0) continue;
+    for (int u = 0; u < truth.cols; ++u) {
+      ++outside;
+      if (depth.valid.at<std::uint8_t>(v, u) == 0) continue;
+      ++valid;
+      const double t = truth.at<float>(v, u);
+      errors.push_back(std::abs(depth.range_m.at<float>(v, u) - t) / t);
+    }
+  }
+  std::sort(errors.begin(), errors.end());
+  DepthScore s;
+  s.valid_fraction = static_cast<double>(valid) / static_cast<double>(outside);
+  if (!errors.empty()) {
+    s.median = errors[errors.size() / 2];
+    s.p90 = errors[errors.size() * 9 / 10];
+  }
+  return s;
+}
+
+StereoCapture render(const std::string& scene_name, int width) {
+  CaptureScene scene = loadCaptureScene(std::string(ROOM_REVERB_SOURCE_DIR) + "/data/captures/" + scene_name + ".yaml");
+  scene.options.width = width;
+  return renderCapture(scene.room, MaterialLibrary::loadDefault(), scene.options);
+}
+
+}  // namespace
+
+TEST(SphericalStereo, SineRuleGivesTheRangeOfAKnownPoint) {
+  // A point 2 m from the top camera, 30 degrees below the horizon; the bottom camera 0.2 m
+  // lower sees it at a smaller depression.
+  const double b = 0.2, r = 2.0, theta_t = kPi / 2.0 + kPi / 6.0;
+  const Eigen::Vector2d p(r * std::sin(theta_t), r * std::cos(theta_t) + b);  // relative to the bottom camera
+  const double theta_b = std::atan2(p.x(), p.y());
+  EXPECT_NEAR(rangeFromDisparity(theta_t, theta_t - theta_b, b), r, 1e-12);
+  EXPECT_TRUE(std::isnan(rangeFromDisparity(theta_t, 0.0, b)));
+}
+
+TEST(SphericalStereo, RangesOfThePaperMeetingRoomWithinTolerance) {
+  const StereoCapture capture = render("mr", 1024);
+  const SphericalStereoOptions options;
+  const SphericalDepth depth = computeSphericalDepth(capture.top.color, capture.bottom.color, 0.2, options);
+  const DepthScore s = score(depth, capture.top.range_m, options.polar_cap_deg);
+  std::cout << "MR 1024x512: valid " << 100.0 * s.valid_fraction << " %, median " << 100.0 * s.median << " %, p90 "
+            << 100.0 * s.p90 << " %\n";
+  // The targets (median 2 %, p90 5 %, 90 % valid) are for 2048 x 1024; at half the
+  // resolution the disparities are half as large and the p90 is allowed 6 %.
+  EXPECT_GE(s.valid_fraction, 0.90);
+  EXPECT_LE(s.median, 0.02);
+  EXPECT_LE(s.p90, 0.06);
+  // The range image is in the top image's geometry; invalid pixels are NaN.
+  EXPECT_EQ(depth.range_m.size(), capture.top.color.size());
+  EXPECT_TRUE(std::isnan(depth.range_m.at<float>(0, 0)));  // the zenith cap
+}
+
+TEST(SphericalStereo, FurnitureRoomAndASeamThatIsNoBarrier) {
+  const StereoCapture capture = render("lounge_furniture", 1024);
+  const SphericalStereoOptions options;
+  const SphericalDepth depth = computeSphericalDepth(capture.top.color, capture.bottom.color, 0.2, options);
+  const DepthScore s = score(depth, capture.top.range_m, options.polar_cap_deg);
+  std::cout << "lounge 1024x512: valid " << 100.0 * s.valid_fraction << " %, median " << 100.0 * s.median
+            << " %, p90 " << 100.0 * s.p90 << " %\n";
+  EXPECT_GE(s.valid_fraction, 0.95);
+  EXPECT_LE(s.median, 0.02);
+  EXPECT_LE(s.p90, 0.05);
+  // The columns either side of the +-180 degree seam are measured like any others.
+  int seam_valid = 0, rows = 0;
+  for (int v = 128; v < 384; ++v, ++rows) {
+    seam_valid += depth.valid.at<std::uint8_t>(v, 0) != 0 && depth.valid.at<std::uint8_t>(v, 1023) != 0;
+  }
+  EXPECT_GE(seam_valid, rows * 9 / 10);
+}
+
+TEST(SphericalStereo, BadInput) {
+  const cv::Mat textured = [] {
+    cv::Mat m(64, 128, CV_8UC3);
+    cv::randu(m, 0, 255);
+    return m;
+  }();
+  expectInputError([&] { computeSphericalDepth(cv::Mat(), textured, 0.2); }, {"empty"});
+  expectInputError([&] { computeSphericalDepth(textured, cv::Mat(32, 64, CV_8UC3, cv::Scalar(9)), 0.2); },
+                   {"differ in size", "128x64", "64x32"});
+  expectInputError([&] { computeSphericalDepth(cv::Mat(64, 100, CV_8UC3), cv::Mat(64, 100, CV_8UC3), 0.2); },
+                   {"twice as wide", "100x64"});
+  expectInputError([&] { computeSphericalDepth(textured, cv::Mat(64, 128, CV_8UC3, cv::Scalar::all(0)), 0.2); }, {"bottom", "black"});
+  expectInputError([&] { computeSphericalDepth(cv::Mat(64, 128, CV_8UC3, cv::Scalar::all(255)), textured, 0.2); }, {"top", "saturated"});
+  expectInputError([&] { computeSphericalDepth(textured, textured, 0.0); }, {"baseline"});
+  expectInputError([&] { computeSphericalDepth(textured, textured, std::nan("")); }, {"baseline"});
+  cv::Mat grey;
+  cv::cvtColor(textured, grey, cv::COLOR_BGR2GRAY);
+  expectInputError([&] { computeSphericalDepth(textured, grey, 0.2); }, {"type"});
+  SphericalStereoOptions bad;
+  bad.block_size = 4;
+  expectInputError([&] { computeSphericalDepth(textured, textured, 0.2, bad); }, {"block_size"});
+}
