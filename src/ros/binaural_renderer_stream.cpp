@@ -31,10 +31,12 @@ void BinauralRendererServer::audioLoop() {
     const double now = ::ros::Time::now().toSec();
     const core::StreamPacer::Step step = pacer_->next(now);
     if (step.kind == core::StreamPacer::Step::kWait) {
-      // Sleep in short wall-clock steps: under simulated time the clock may stop, jump
-      // or run at another rate, and the loop must notice shutdown promptly.
-      const double wait_s = std::clamp(step.until - now, 0.0, 0.002);
-      ::ros::WallDuration(std::max(wait_s, 0.0001)).sleep();
+      // On the wall clock, sleep until the chunk is due (at most 50 ms, to notice shutdown).
+      // Under simulated time the clock may stop, jump or run at another rate: poll it in
+      // 2 ms wall-clock steps.
+      const double cap_s = ::ros::Time::isSimTime() ? 0.002 : 0.05;
+      const double wait_s = std::clamp(step.until - now, 0.0001, cap_s);
+      ::ros::WallDuration(wait_s).sleep();
       continue;
     }
     if (pacer_->chunkIndex() == 0 && step.dropped == 0) {
