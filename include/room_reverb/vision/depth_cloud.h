@@ -1,0 +1,24 @@
+#pragma once
+// The point cloud of a spherical depth image: each valid pixel of the top camera's range
+// image as a point in the rig frame (the top camera is at +b/2 on the rig's z axis, with
+// the rig's axes), coloured from the top image and, where a label image is given, with its
+// surface hint.
+#include <opencv2/core.hpp>
+
+#include "room_reverb/vision/point_cloud.h"
+#include "room_reverb/vision/spherical_stereo.h"
+
+namespace room_reverb::core {
+
+struct DepthCloudOptions {
+  int stride = 1;              // every stride-th pixel along both axes (a lighter cloud)
+  bool include_filled = true;  // points from hole filling too
+};
+
+// InputError when the depth and the colour image differ in size, the colour image is not
+// 8-bit BGR or grey, `hints` (optional, CV_16UC1 SurfaceHint values) differs in size, the
+// baseline is not positive, or the stride is below 1.
+PointCloud depthToPointCloud(const SphericalDepth& depth, const cv::Mat& top_color, double baseline_m,
+                             const DepthCloudOptions& options = {}, const cv::Mat& hints = cv::Mat());
+
+}  // namespace room_reverb::core

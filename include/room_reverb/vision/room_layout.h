@@ -1,0 +1,136 @@
+#pragma once
+// The room's geometry from a point cloud of the visual route: where the walls, floor and
+// ceiling are relative to the rig, and the furniture as labelled upright cuboids.
+//
+// Input: a cloud in the `rig` frame (origin at the camera pair's centre), levelled (z up,
+// from the capture's gravity alignment) but with the rig's yaw relative to the walls
+// unknown. The room is taken to be a box (a Manhattan world: four walls at right angles,
+// a horizontal floor, a horizontal ceiling or none).
+//
+// Steps (each in its own file under src/core/vision/):
+//  1. Voxel grid (voxel_grid.h): one centroid per occupied voxel, so plane support is
+//     area, not the range-dependent point density of stereo.
+//  2. Floor and ceiling (room_box_fit.h): peaks of the histogram of heights; the floor is
+//     the lowest dense plane below the rig, the ceiling the highest above it, if there is
+//     one strong enough (else has_ceiling = false).
+//  3. Yaw (manhattan_frame.h): the rotation that makes the plan view sharpest (points
+//     between floor and ceiling), refined by line fits to the walls' points. Target: well
+//     under 1 degree.
+//  4. Walls (room_box_fit.h): on each side of the rig along each wall direction, the
+//     innermost dense plane that stops more of the rig's rays than get past it (not the
+//     extreme point: stereo strays and facades seen through windows lie beyond the walls;
+//     not a sideboard's front: the wall behind it stops more rays). Positions are
+//     weighted medians in windows that grow with the wall's distance (depth noise grows
+//     with range).
+//  5. Room frame: see RoomLayout::room_from_rig.
+//  6. Objects (furniture_fit.h: object_clusters.h, cuboid_fit.h, hidden_sides.h,
+//     furniture_labels.h): voxels inside the box and clear of its faces by each face's
+//     noise margin, grouped into connected clusters; each large enough cluster becomes an
+//     upright cuboid (yaw from the closeness of its points to a rectangle's sides, or the
+//     walls'), its hidden sides carved out against the rays that passed behind them (on
+//     the floor, against a wall when nothing shows they are not), and named by its size.
+//
+// Cost: linear in the points; about 0.4 s for a million points on one core.
+//
+// Materials are not chosen here: every surface and object gets an empty material name
+// with confidence 0 (a placeholder the material step fills, using point_surface and
+// point_object to find each face's and object's points and colours). Until then the model
+// is not a valid room.yaml (saveRoomModel rejects empty materials).
+#include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "room_reverb/acoustics/room_model.h"
+#include "room_reverb/vision/oriented_box_iou.h"
+#include "room_reverb/vision/point_cloud.h"
+
+namespace room_reverb::core {
+
+struct RoomLayoutOptions {
+  // Voxel edge [m]: the resolution of everything; smaller is slower and needs a denser
+  // cloud.
+  double voxel_size_m = 0.05;
+  // Points farther from the rig are ignored [m] (stereo reports sky and glass at huge depths).
+  double max_range_m = 40.0;
+  // Fewer points than this is an error: a room's planes cannot be told from noise.
+  std::size_t min_points = 2000;
+  // 1-sigma depth noise of the cloud as a fraction of the range (stereo calibration).
+  // Sets how thick a plane looks: a face at distance d is taken to be +-noise_sigmas *
+  // range_noise_fraction * d thick (but at least min_face_margin_m), both when fitting it
+  // and when cutting it away from the furniture.
+  double range_noise_fraction = 0.01;
+  double noise_sigmas = 3.0;
+  double min_face_margin_m = 0.06;
+  // A plane needs this much area [m^2] (counted in voxels) and this density contrast to its
+  // surroundings (see PlaneHistogram::peaks in src/core/vision/plane_histogram.h).
+  double min_plane_area_m2 = 0.5;
+  double min_plane_contrast = 3.0;
+  // A plane is a candidate for a wall or the floor if it has at least this fraction of the
+  // strongest plane's support on its side of the rig (a wall partly hidden by a wardrobe
+  // is still the wall).
+  double outer_plane_fraction = 0.3;
+  // The room has a ceiling if the strongest plane above the rig has at least this fraction
+  // of the floor's support.
+  double ceiling_min_support_fraction = 0.15;
+  // Objects: occupied voxels closer than object_gap_m [m] (rounded to whole voxels, at
+  // least one) belong to the same cluster; clusters of fewer voxels than
+  // min_object_voxels, or whose largest side is shorter than min_object_extent_m [m], are
+  // dropped.
+  double object_gap_m = 0.1;
+  std::size_t min_object_voxels = 30;
+  double min_object_extent_m = 0.15;
+  // An object's face this close [m] beyond the cut of a room face is moved onto it (the
+  // bottom onto the floor; a side onto the wall it stands against).
+  double object_contact_m = 0.1;
+  // An object's yaw (the one at which its points lie closest to the sides of their
+  // rectangle) is snapped to the walls' directions if within object_manhattan_snap_rad
+  // [rad] of them, or if the fit square to the walls scores within
+  // object_manhattan_tolerance (a fraction) of the best: most furniture stands square to
+  // the walls, and a poorly seen object decides nothing.
+  double object_manhattan_snap_rad = 0.0873;  // 5 degrees
+  double object_manhattan_tolerance = 0.05;
+  // Two clusters whose cuboids share this fraction of the smaller one's volume are merged
+  // into one object (an object seen in parts).
+  double object_merge_overlap = 0.25;
+  // Object extents are taken between these quantiles of its points (and 1 - it).
+  double object_extent_quantile = 0.01;
+  // Sides of an object the rig cannot see (see src/core/vision/hidden_sides.h): moved onto
+  // a wall up to this far [m] behind them if no ray was seen between; an object thinner
+  // than object_min_depth_m towards a hidden side is deepened to it as far as the rays
+  // allow; object_free_rays rays through a region prove it empty.
+  double object_max_gap_to_wall_m = 1.0;
+  double object_min_depth_m = 0.4;
+  std::size_t object_free_rays = 5;
+  // Fill RoomLayout::point_surface and point_object (one int per input point each).
+  bool assign_points = true;
+};
+
+struct RoomLayout {
+  // size_m, has_ceiling (size_m.z() is then the walls' top), objects (label, centre, size,
+  // yaw, confidence; material empty), the rig pose in the room frame, and all six surfaces
+  // (five without a ceiling) with material "" and confidence 0.
+  RoomModel model;
+  // p_room = room_from_rig * p_rig. The room frame: origin at the floor corner where the
+  // walls x_min and y_min meet, x and y along the walls, z up. Of the four wall directions,
+  // x is the one closest to the rig's +x, so a rig set up roughly square to the room keeps
+  // x as "forward"; the rig's yaw in the room is then in [-45, 45) degrees (at exactly 45
+  // degrees either choice is as good).
+  Eigen::Isometry3d room_from_rig = Eigen::Isometry3d::Identity();
+  // The rig's yaw in the room frame [rad], in [-pi/4, pi/4).
+  double rig_yaw_rad = 0.0;
+  // How much of each face was seen (kRoomSurfaceNames order), in voxels (area / voxel^2).
+  std::array<double, 6> surface_support{};
+  // Per input point: the face it lies on (index into kRoomSurfaceNames) or -1; the object
+  // it belongs to (index into model.objects) or -1. Empty unless options.assign_points.
+  std::vector<std::int32_t> point_surface;
+  std::vector<std::int32_t> point_object;
+};
+
+// Throws InputError for an empty cloud, fewer than options.min_points points, a
+// non-finite point, non-positive or non-finite options, and a cloud that shows no room:
+// no floor plane below the rig, or a side without a wall (a random blob of points, a
+// single plane).
+RoomLayout fitRoomLayout(const PointCloud& cloud, const RoomLayoutOptions& options = {});
+
+}  // namespace room_reverb::core

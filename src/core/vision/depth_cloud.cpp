@@ -1,0 +1,51 @@
+#include "room_reverb/vision/depth_cloud.h"
+
+#include <cmath>
+
+#include "room_reverb/common/error.h"
+#include "room_reverb/vision/equirect.h"
+
+namespace room_reverb::core {
+
+PointCloud depthToPointCloud(const SphericalDepth& depth, const cv::Mat& top_color, double baseline_m,
+                             const DepthCloudOptions& options, const cv::Mat& hints) {
+  if (depth.range_m.empty() || depth.range_m.type() != CV_32FC1 || depth.valid.size() != depth.range_m.size()) {
+    throw InputError("depth cloud: the depth image is empty or malformed");
+  }
+  if (top_color.size() != depth.range_m.size()) throw InputError("depth cloud: the colour image and the depth differ in size");
+  if (top_color.type() != CV_8UC3 && top_color.type() != CV_8UC1) throw InputError("depth cloud: colour must be 8-bit BGR or grey");
+  if (!hints.empty() && (hints.size() != depth.range_m.size() || hints.type() != CV_16UC1)) {
+    throw InputError("depth cloud: the hint image must be CV_16UC1 of the depth's size");
+  }
+  if (!(baseline_m > 0.0) || !std::isfinite(baseline_m)) throw InputError("depth cloud: the baseline must be positive");
+  if (options.stride < 1) throw InputError("depth cloud: stride must be at least 1");
+
+  const EquirectGeometry g{depth.range_m.cols, depth.range_m.rows};
+  const Eigen::Vector3d camera(0.0, 0.0, baseline_m / 2.0);
+  PointCloud cloud;
+  cloud.frame = "rig";
+  cloud.has_color = true;
+  for (int v = 0; v < g.height; v += options.stride) {
+    for (int u = 0; u < g.width; u += options.stride) {
+      if (depth.valid.at<std::uint8_t>(v, u) == 0) continue;
+      if (!options.include_filled && !depth.filled.empty() && depth.filled.at<std::uint8_t>(v, u) != 0) continue;
+      const float range = depth.range_m.at<float>(v, u);
+      if (!std::isfinite(range)) continue;
+      CloudPoint point;
+      point.p = (camera + static_cast<double>(range) * equirectPixelDirection(g, u, v)).cast<float>();
+      if (top_color.channels() == 3) {
+        const cv::Vec3b bgr = top_color.at<cv::Vec3b>(v, u);
+        point.b = bgr[0];
+        point.g = bgr[1];
+        point.r = bgr[2];
+      } else {
+        point.r = point.g = point.b = top_color.at<std::uint8_t>(v, u);
+      }
+      if (!hints.empty()) point.hint = hints.at<std::uint16_t>(v, u);
+      cloud.points.push_back(point);
+    }
+  }
+  return cloud;
+}
+
+}  // namespace room_reverb::core

@@ -1,0 +1,162 @@
+#include "hidden_sides.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "room_reverb/vision/oriented_box_iou.h"
+
+namespace room_reverb::core::layout {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kPi = 3.14159265358979323846;
+
+// Where the segment a -> b first enters the axis-aligned box [lo, hi]: its parameter in
+// [0, 1], or infinity if it misses (slab method).
+double segmentEntry(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& lo,
+                    const Eigen::Vector3d& hi) {
+  const Eigen::Vector3d d = b - a;
+  double enter = 0.0, leave = 1.0;
+  for (int k = 0; k < 3; ++k) {
+    if (std::abs(d[k]) < 1e-12) {
+      if (a[k] < lo[k] || a[k] > hi[k]) return kInf;
+      continue;
+    }
+    double t0 = (lo[k] - a[k]) / d[k], t1 = (hi[k] - a[k]) / d[k];
+    if (t0 > t1) std::swap(t0, t1);
+    enter = std::max(enter, t0);
+    leave = std::min(leave, t1);
+    if (enter > leave) return kInf;
+  }
+  return enter;
+}
+
+// How far (from the region's near end, along `axis` with `sign`) rays first enter the
+// region [lo, hi]: the free_rays-th smallest, or infinity if fewer rays cross it.
+// Everything is in the box's local frame; the box is [box_lo, box_hi].
+// A ray that passes through the box itself contradicts the box (the point was seen
+// through it: a stereo mismatch) and proves nothing about the space behind it.
+double carvedDepth(const std::vector<Eigen::Vector3d>& observed_local, const Eigen::Vector3d& rig_local,
+                   const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const Eigen::Vector3d& box_lo,
+                   const Eigen::Vector3d& box_hi, int axis, int sign, const HiddenSideParams& params) {
+  std::vector<double> entries;
+  const double near_end = sign > 0 ? lo[axis] : hi[axis];
+  for (const auto& q : observed_local) {
+    // The ray is known empty only up to the point's noise short of it.
+    const Eigen::Vector3d ray = q - rig_local;
+    const double length = ray.norm();
+    const double trusted = length * (1.0 - params.noise_sigmas * params.noise_fraction);
+    if (trusted <= 0.0) continue;
+    const Eigen::Vector3d end = rig_local + ray * (trusted / length);
+    const double t = segmentEntry(rig_local, end, lo, hi);
+    if (!std::isfinite(t) || std::isfinite(segmentEntry(rig_local, end, box_lo, box_hi))) continue;
+    const Eigen::Vector3d at = rig_local + t * (end - rig_local);
+    entries.push_back(std::max(0.0, sign * (at[axis] - near_end)));
+  }
+  if (entries.size() < params.free_rays) return kInf;
+  const auto kth = entries.begin() + static_cast<std::ptrdiff_t>(params.free_rays - 1);
+  std::nth_element(entries.begin(), kth, entries.end());
+  return *kth;
+}
+
+// How far the box's side (local axis, sign) can move before its footprint leaves the room.
+double roomLimit(const CuboidObject& box, int axis, int sign, const Eigen::Vector3d& room) {
+  const Eigen::Vector2d u(std::cos(box.yaw_rad), std::sin(box.yaw_rad));
+  const Eigen::Vector2d v(-u.y(), u.x());
+  const Eigen::Vector2d direction = sign * (axis == 0 ? u : v);
+  const auto corners = cuboidFootprint(box);
+  double limit = kInf;
+  for (const auto& c : corners) {
+    // Only the corners on the moving side (ahead of the centre along the direction).
+    if ((c - box.center_m.head<2>()).dot(direction) <= 0.0) continue;
+    for (int k = 0; k < 2; ++k) {
+      if (direction[k] > 1e-9) limit = std::min(limit, (room[k] - c[k]) / direction[k]);
+      if (direction[k] < -1e-9) limit = std::min(limit, (0.0 - c[k]) / direction[k]);
+    }
+  }
+  return std::max(0.0, limit);
+}
+
+}  // namespace
+
+CuboidObject extendHiddenSides(CuboidObject box, const std::vector<Eigen::Vector3d>& observed,
+                               const HiddenSideParams& params) {
+  // Work in the box's frame as fitted (centre at the origin, axes along its sides); the
+  // box's bounds in it grow, the frame stays.
+  const Eigen::Matrix3d to_local = Eigen::AngleAxisd(-box.yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Vector3d origin = box.center_m;
+  const auto local = [&](const Eigen::Vector3d& p) -> Eigen::Vector3d { return to_local * (p - origin); };
+  std::vector<Eigen::Vector3d> observed_local;
+  observed_local.reserve(observed.size());
+  for (const auto& q : observed) observed_local.push_back(local(q));
+  const Eigen::Vector3d rig = local(params.rig_position);
+  // The carved regions stay clear of the box's other faces by their noise, lest rays to
+  // the floor just in front of a face measured a little too far out prove its underside
+  // empty.
+  const double noise = params.noise_sigmas * params.noise_fraction * (params.rig_position - origin).norm();
+  const double inset = std::max(params.inset_m, noise);
+  Eigen::Vector3d bmin = -0.5 * box.size_m, bmax = 0.5 * box.size_m;
+  // Only a box square to the walls can stand flush against one.
+  const double quarter = 0.5 * kPi;
+  const bool square = std::abs(box.yaw_rad - quarter * std::round(box.yaw_rad / quarter)) < 1e-6;
+  // The box's solid core (rays through it contradict it), the box shrunk by the inset but
+  // never inside out: a box thinner than that keeps its mid plane.
+  const auto core = [&](Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
+    for (int k = 0; k < 3; ++k) {
+      const double middle = 0.5 * (bmin[k] + bmax[k]);
+      lo[k] = std::min(bmin[k] + inset, middle), hi[k] = std::max(bmax[k] - inset, middle);
+    }
+  };
+  Eigen::Vector3d core_lo, core_hi;
+
+  // Bottom: the floor under it is hidden unless rays reached below it.
+  const double floor_local = -origin.z();
+  if (bmin.z() - floor_local > 1e-9) {
+    const Eigen::Vector3d lo(std::min(bmin.x() + inset, -0.01), std::min(bmin.y() + inset, -0.01), floor_local);
+    const Eigen::Vector3d hi(std::max(bmax.x() - inset, 0.01), std::max(bmax.y() - inset, 0.01), bmin.z());
+    core(core_lo, core_hi);
+    if (!std::isfinite(carvedDepth(observed_local, rig, lo, hi, core_lo, core_hi, 2, 1, params))) {
+      bmin.z() = floor_local;
+    }
+  }
+
+  for (int axis = 0; axis < 2; ++axis) {
+    for (int sign = -1; sign <= 1; sign += 2) {
+      const int other = 1 - axis;
+      const double face = sign > 0 ? bmax[axis] : bmin[axis];
+      // A side is hidden unless the rig is in front of it.
+      if (sign * (rig[axis] - face) > 0.0) continue;
+      CuboidObject current = box;
+      current.center_m = origin + to_local.transpose() * (0.5 * (bmin + bmax));
+      current.size_m = bmax - bmin;
+      const double to_room = roomLimit(current, axis, sign, params.room_size);
+      const double reach = std::min(to_room, params.max_to_wall_m);
+      if (reach <= 1e-6) continue;
+      Eigen::Vector3d lo, hi;
+      lo[axis] = sign > 0 ? face : face - reach;
+      hi[axis] = sign > 0 ? face + reach : face;
+      const double middle_other = 0.5 * (bmin[other] + bmax[other]), middle_z = 0.5 * (bmin.z() + bmax.z());
+      lo[other] = std::min(bmin[other] + inset, middle_other - 0.01);
+      hi[other] = std::max(bmax[other] - inset, middle_other + 0.01);
+      lo.z() = std::min(bmin.z() + inset, middle_z - 0.01), hi.z() = std::max(bmax.z() - inset, middle_z + 0.01);
+      core(core_lo, core_hi);
+      const double carved = carvedDepth(observed_local, rig, lo, hi, core_lo, core_hi, axis, sign, params);
+      const double depth = bmax[axis] - bmin[axis];
+      double grow = 0.0;
+      if (square && carved >= reach && to_room <= params.max_to_wall_m) {
+        grow = to_room;  // nothing seen between it and the wall: it stands against the wall
+      } else if (depth < params.min_depth_m) {
+        grow = std::min({params.min_depth_m - depth, carved, reach});
+      }
+      if (grow <= 0.0) continue;
+      (sign > 0 ? bmax[axis] : bmin[axis]) += sign * grow;
+    }
+  }
+  box.center_m = origin + to_local.transpose() * (0.5 * (bmin + bmax));
+  box.size_m = bmax - bmin;
+  return box;
+}
+
+}  // namespace room_reverb::core::layout

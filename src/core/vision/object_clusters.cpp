@@ -1,0 +1,40 @@
+#include "object_clusters.h"
+
+#include <algorithm>
+
+namespace room_reverb::core::layout {
+
+std::vector<std::vector<std::uint32_t>> connectedVoxelClusters(const VoxelGrid& grid,
+                                                               const std::vector<bool>& candidate,
+                                                               std::size_t min_voxels, int reach) {
+  const auto& voxels = grid.voxels();
+  std::vector<bool> visited(voxels.size(), false);
+  std::vector<std::vector<std::uint32_t>> clusters;
+  std::vector<std::uint32_t> stack;
+  for (std::uint32_t seed = 0; seed < voxels.size(); ++seed) {
+    if (!candidate[seed] || visited[seed]) continue;
+    std::vector<std::uint32_t> cluster;
+    visited[seed] = true;
+    stack.assign(1, seed);
+    while (!stack.empty()) {
+      const std::uint32_t v = stack.back();
+      stack.pop_back();
+      cluster.push_back(v);
+      for (int dx = -reach; dx <= reach; ++dx) {
+        for (int dy = -reach; dy <= reach; ++dy) {
+          for (int dz = -reach; dz <= reach; ++dz) {
+            const std::uint32_t n = grid.find(voxels[v].cell + Eigen::Vector3i(dx, dy, dz));
+            if (n == VoxelGrid::kNoVoxel || visited[n] || !candidate[n]) continue;
+            visited[n] = true;
+            stack.push_back(n);
+          }
+        }
+      }
+    }
+    if (cluster.size() >= min_voxels) clusters.push_back(std::move(cluster));
+  }
+  std::sort(clusters.begin(), clusters.end(), [](const auto& a, const auto& b) { return a.size() > b.size(); });
+  return clusters;
+}
+
+}  // namespace room_reverb::core::layout

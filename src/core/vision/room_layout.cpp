@@ -1,0 +1,240 @@
+#include "room_reverb/vision/room_layout.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "furniture_fit.h"
+#include "manhattan_frame.h"
+#include "room_box_fit.h"
+#include "room_reverb/common/error.h"
+#include "voxel_grid.h"
+
+namespace room_reverb::core {
+
+namespace {
+
+using layout::AlignedBox;
+
+void checkOptions(const RoomLayoutOptions& o) {
+  const auto positive = [](double v, const char* name) {
+    if (!(v > 0.0) || !std::isfinite(v)) {
+      throw InputError(std::string("room layout options: ") + name + " must be positive and finite");
+    }
+  };
+  const auto non_negative = [](double v, const char* name) {
+    if (!(v >= 0.0) || !std::isfinite(v)) {
+      throw InputError(std::string("room layout options: ") + name + " must be non-negative and finite");
+    }
+  };
+  positive(o.voxel_size_m, "voxel_size_m");
+  positive(o.max_range_m, "max_range_m");
+  non_negative(o.range_noise_fraction, "range_noise_fraction");
+  positive(o.noise_sigmas, "noise_sigmas");
+  positive(o.min_face_margin_m, "min_face_margin_m");
+  positive(o.min_plane_area_m2, "min_plane_area_m2");
+  positive(o.min_plane_contrast, "min_plane_contrast");
+  positive(o.outer_plane_fraction, "outer_plane_fraction");
+  non_negative(o.ceiling_min_support_fraction, "ceiling_min_support_fraction");
+  non_negative(o.min_object_extent_m, "min_object_extent_m");
+  non_negative(o.object_gap_m, "object_gap_m");
+  non_negative(o.object_contact_m, "object_contact_m");
+  non_negative(o.object_manhattan_snap_rad, "object_manhattan_snap_rad");
+  non_negative(o.object_manhattan_tolerance, "object_manhattan_tolerance");
+  non_negative(o.object_merge_overlap, "object_merge_overlap");
+  non_negative(o.object_max_gap_to_wall_m, "object_max_gap_to_wall_m");
+  non_negative(o.object_min_depth_m, "object_min_depth_m");
+  if (o.object_free_rays < 1) throw InputError("room layout options: object_free_rays must be at least 1");
+  if (!(o.object_extent_quantile >= 0.0 && o.object_extent_quantile < 0.5)) {
+    throw InputError("room layout options: object_extent_quantile must be in [0, 0.5)");
+  }
+  if (o.voxel_size_m * (1 << 20) < o.max_range_m) {
+    throw InputError("room layout options: voxel_size_m too small for max_range_m (over 2^20 voxels across)");
+  }
+}
+
+layout::BoxFitParams boxFitParams(const RoomLayoutOptions& o) {
+  layout::BoxFitParams p;
+  p.spread = {o.min_face_margin_m, o.range_noise_fraction, o.noise_sigmas};
+  p.min_plane_support = o.min_plane_area_m2 / (o.voxel_size_m * o.voxel_size_m);
+  p.min_plane_contrast = o.min_plane_contrast;
+  p.outer_plane_fraction = o.outer_plane_fraction;
+  p.ceiling_min_support_fraction = o.ceiling_min_support_fraction;
+  return p;
+}
+
+Eigen::Vector3d rotateZ(const Eigen::Vector3d& p, double c, double s) {
+  return {c * p.x() - s * p.y(), s * p.x() + c * p.y(), p.z()};
+}
+
+std::vector<Eigen::Vector3d> rotatedByMinus(const std::vector<Eigen::Vector3d>& points, double yaw) {
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(points.size());
+  const double c = std::cos(yaw), s = -std::sin(yaw);
+  for (const auto& p : points) out.push_back(rotateZ(p, c, s));
+  return out;
+}
+
+// Each wall's points (plan, rig frame) for the yaw refinement: structure voxels between
+// floor and ceiling within the wall's window and between the walls across it.
+std::vector<layout::WallPoints> wallPoints(const std::vector<Eigen::Vector3d>& rig_points,
+                                           const std::vector<Eigen::Vector3d>& aligned, const AlignedBox& box,
+                                           const layout::PlaneSpread& spread) {
+  std::vector<layout::WallPoints> walls(4);
+  const double z_lo = box.floor_z + box.margin(0, spread);
+  const double z_hi = box.has_ceiling ? box.top_z - box.margin(1, spread) : std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < aligned.size(); ++i) {
+    const Eigen::Vector3d& a = aligned[i];
+    if (a.z() <= z_lo || a.z() >= z_hi) continue;
+    for (int face = 2; face < 6; ++face) {
+      const int axis = (face - 2) / 2, other = 1 - axis;
+      const double lo = box.facePosition(2 + 2 * other) + box.margin(2 + 2 * other, spread);
+      const double hi = box.facePosition(3 + 2 * other) - box.margin(3 + 2 * other, spread);
+      if (std::abs(a[axis] - box.facePosition(face)) <= box.margin(face, spread) && a[other] > lo && a[other] < hi) {
+        walls[face - 2].plan.push_back(rig_points[i].head<2>());
+      }
+    }
+  }
+  return walls;
+}
+
+// The raw points not hinted to be furniture in the aligned frame (rotated by -yaw into
+// the walls' axes), each weighted by one over its voxel's count.
+std::vector<layout::WeightedPoint> alignedRaw(const PointCloud& cloud, const layout::VoxelGrid& grid, double yaw) {
+  const auto& voxels = grid.voxels();
+  const float c = static_cast<float>(std::cos(-yaw)), s = static_cast<float>(std::sin(-yaw));
+  std::vector<layout::WeightedPoint> raw;
+  raw.reserve(cloud.points.size());
+  for (std::size_t i = 0; i < cloud.points.size(); ++i) {
+    const std::uint32_t v = grid.pointVoxel()[i];
+    if (v == layout::VoxelGrid::kNoVoxel || voxels[v].hint == layout::VoxelHint::object) continue;
+    const Eigen::Vector3f& p = cloud.points[i].p;
+    const Eigen::Vector3f aligned(c * p.x() - s * p.y(), s * p.x() + c * p.y(), p.z());
+    raw.push_back({aligned, 1.0f / static_cast<float>(voxels[v].count)});
+  }
+  return raw;
+}
+
+layout::FurnitureParams furnitureParams(const RoomLayoutOptions& o, const layout::RoomFrame& frame) {
+  layout::FurnitureParams p;
+  p.cuboid.room_size = frame.size;
+  p.cuboid.face_margin = frame.margin;
+  p.cuboid.extent_quantile = o.object_extent_quantile;
+  p.cuboid.manhattan_snap_rad = o.object_manhattan_snap_rad;
+  p.cuboid.manhattan_tolerance = o.object_manhattan_tolerance;
+  p.cuboid.contact_m = o.object_contact_m;
+  p.cuboid.rig_position = frame.rig_position;
+  p.cuboid.noise_fraction = o.range_noise_fraction;
+  p.hidden.rig_position = frame.rig_position;
+  p.hidden.room_size = frame.size;
+  p.hidden.noise_fraction = o.range_noise_fraction;
+  p.hidden.noise_sigmas = o.noise_sigmas;
+  p.hidden.inset_m = 0.5 * o.voxel_size_m;
+  p.hidden.max_to_wall_m = o.object_max_gap_to_wall_m;
+  p.hidden.min_depth_m = o.object_min_depth_m;
+  p.hidden.free_rays = o.object_free_rays;
+  p.min_voxels = o.min_object_voxels;
+  p.link_voxels = std::max(1, static_cast<int>(std::lround(o.object_gap_m / o.voxel_size_m)));
+  p.min_extent_m = o.min_object_extent_m;
+  p.merge_overlap = o.object_merge_overlap;
+  return p;
+}
+
+}  // namespace
+
+RoomLayout fitRoomLayout(const PointCloud& cloud, const RoomLayoutOptions& options) {
+  checkOptions(options);
+  checkPointCloud(cloud, options.min_points);
+  const layout::VoxelGrid grid(cloud, options.voxel_size_m, options.max_range_m);
+  const auto& voxels = grid.voxels();
+  const layout::BoxFitParams params = boxFitParams(options);
+  const layout::PlaneSpread& spread = params.spread;
+
+  // Planes are fitted to every voxel not hinted to be furniture.
+  std::vector<Eigen::Vector3d> structure;
+  structure.reserve(voxels.size());
+  for (const auto& v : voxels) {
+    if (v.hint != layout::VoxelHint::object) structure.push_back(v.centroid);
+  }
+  if (structure.size() < 100) {
+    throw InputError("room layout: only " + std::to_string(structure.size()) +
+                     " occupied voxels within max_range_m; the cloud is too sparse or too small to hold a room");
+  }
+  std::vector<double> heights;
+  heights.reserve(structure.size());
+  for (const auto& p : structure) heights.push_back(p.z());
+  const layout::HorizontalPlanes planes = layout::findHorizontalPlanes(heights, params);
+
+  // Yaw from the points between floor and ceiling (the floor's and ceiling's outlines are
+  // sharp too, but the walls are what the room frame is aligned to).
+  std::vector<Eigen::Vector2d> plan;
+  const double band_lo = planes.floor_z + params.band_margin_m;
+  const double band_hi =
+      planes.has_ceiling ? planes.ceiling_z - params.band_margin_m : std::numeric_limits<double>::infinity();
+  for (const auto& p : structure) {
+    if (p.z() > band_lo && p.z() < band_hi) plan.push_back(p.head<2>());
+  }
+  if (plan.size() < 100) {
+    throw InputError(
+        "room layout: (almost) no points between floor and ceiling, so no walls; the cloud must show the walls");
+  }
+  double yaw = layout::sharpestPlanYaw(plan, 0.5 * options.voxel_size_m);
+  AlignedBox box =
+      layout::fitAlignedBox(rotatedByMinus(structure, yaw), alignedRaw(cloud, grid, yaw), planes, params);
+  yaw = layout::refineYawFromWalls(yaw, wallPoints(structure, rotatedByMinus(structure, yaw), box, spread));
+  // The room's x: the wall direction nearest the rig's +x, i.e. the rig's yaw in the room
+  // in [-pi/4, pi/4).
+  const double rig_yaw = layout::wrapQuarterTurn(-yaw);
+  yaw = -rig_yaw;
+  const auto raw = alignedRaw(cloud, grid, yaw);
+  box = layout::fitAlignedBox(rotatedByMinus(structure, yaw), raw, planes, params);
+
+  if (!box.has_ceiling) box.top_z = layout::wallTopEdge(raw, box, spread);
+
+  std::array<double, 6> margin{};
+  for (int f = 0; f < 6; ++f) margin[f] = box.margin(f, spread);
+  const layout::RoomFrame frame(rig_yaw, -Eigen::Vector3d(box.x_lo, box.y_lo, box.floor_z),
+                                Eigen::Vector3d(box.x_hi - box.x_lo, box.y_hi - box.y_lo, box.top_z - box.floor_z),
+                                box.has_ceiling, margin);
+
+  RoomLayout result;
+  RoomModel& model = result.model;
+  model.frame = "room";
+  model.size_m = frame.size;
+  model.has_ceiling = box.has_ceiling;
+  for (const char* name : kRoomSurfaceNames) {
+    if (std::string(name) == "ceiling" && !box.has_ceiling) continue;
+    model.surfaces[name] = SurfaceAssignment{"", 0.0};  // placeholder: the material step names it
+  }
+  model.rig_position_m = frame.rig_position;
+  model.rig_rotation = Eigen::Quaterniond(Eigen::AngleAxisd(rig_yaw, Eigen::Vector3d::UnitZ()));
+  result.rig_yaw_rad = rig_yaw;
+  result.room_from_rig =
+      Eigen::Translation3d(frame.rig_position) * Eigen::AngleAxisd(rig_yaw, Eigen::Vector3d::UnitZ());
+  result.surface_support = box.support;
+
+  const layout::Furniture furniture = layout::fitFurniture(cloud, grid, frame, furnitureParams(options, frame));
+  model.objects = furniture.objects;
+
+  if (options.assign_points) {
+    const double max_range2 = options.max_range_m * options.max_range_m;
+    result.point_surface.assign(cloud.points.size(), -1);
+    result.point_object.assign(cloud.points.size(), -1);
+    for (std::size_t i = 0; i < cloud.points.size(); ++i) {
+      const Eigen::Vector3d rig_point = cloud.points[i].p.cast<double>();
+      if (rig_point.squaredNorm() > max_range2) continue;
+      const Eigen::Vector3d p = frame.toRoom(rig_point);
+      const std::uint32_t v = grid.pointVoxel()[i];
+      const std::int32_t object = v == layout::VoxelGrid::kNoVoxel ? -1 : furniture.voxel_object[v];
+      if (object >= 0 && frame.clearOfFaces(p)) {
+        result.point_object[i] = object;
+      } else {
+        result.point_surface[i] = frame.faceOf(p);
+      }
+    }
+  }
+  return result;
+}
+
+}  // namespace room_reverb::core
