@@ -11,17 +11,12 @@
 #include "room_reverb/binaural/hrtf_set.h"
 #include "room_reverb/binaural/offline_render.h"
 #include "room_reverb/common/error.h"
+#include "room_reverb/ros/parameters.h"
 #include "room_reverb/ros/audio_conversions.h"
 
 namespace room_reverb::ros_bridge {
 namespace {
 
-int positiveInt(::ros::NodeHandle& nh, const std::string& name, int fallback) {
-  int value = fallback;
-  nh.param(name, value, fallback);
-  if (value <= 0) throw core::InputError("parameter ~" + name + " must be positive (got " + std::to_string(value) + ")");
-  return value;
-}
 
 }  // namespace
 
@@ -31,13 +26,13 @@ BinauralRendererServer::BinauralRendererServer(::ros::NodeHandle& nh, ::ros::Nod
   private_nh.param<std::string>("frame_id", frame_id_, "head");
   private_nh.param<std::string>("hrtf_file", hrtf_file, "");
   private_nh.param<std::string>("decoder", decoder_name, "magls");
-  const int order = positiveInt(private_nh, "order", 3);
+  const int order = positiveIntParam(private_nh, "order", 3);
   if (order > 3) throw core::InputError("parameter ~order must be 1 to 3");
-  block_frames_ = static_cast<std::size_t>(positiveInt(private_nh, "block_frames", 256));
-  chunk_blocks_ = static_cast<std::size_t>(positiveInt(private_nh, "chunk_blocks", 2));
+  block_frames_ = static_cast<std::size_t>(positiveIntParam(private_nh, "block_frames", 256));
+  chunk_blocks_ = static_cast<std::size_t>(positiveIntParam(private_nh, "chunk_blocks", 2));
   core::BinauralStreamOptions stream_options;
   stream_options.block_size = block_frames_;
-  stream_options.crossfade_blocks = static_cast<std::size_t>(positiveInt(private_nh, "crossfade_blocks", 4));
+  stream_options.crossfade_blocks = static_cast<std::size_t>(positiveIntParam(private_nh, "crossfade_blocks", 4));
   private_nh.param("max_response_s", stream_options.max_response_s, 4.0);
   const double chunk_period_s = static_cast<double>(block_frames_ * chunk_blocks_) / core::kInternalSampleRateHz;
   pacer_options_.chunk_period_s = chunk_period_s;
@@ -45,7 +40,7 @@ BinauralRendererServer::BinauralRendererServer(::ros::NodeHandle& nh, ::ros::Nod
   private_nh.param("max_lag_s", pacer_options_.max_lag_s, 0.25);
   private_nh.param("status_period_s", status_period_s_, 1.0);
   if (!(status_period_s_ > 0.0)) throw core::InputError("parameter ~status_period_s must be positive");
-  rsao_seed_ = static_cast<std::uint32_t>(positiveInt(private_nh, "rsao_seed", 1));
+  rsao_seed_ = static_cast<std::uint32_t>(positiveIntParam(private_nh, "rsao_seed", 1));
   private_nh.param<std::string>("simulator_service", simulator_service_, "room_simulator/simulate");
   private_nh.param<std::string>("source_file", source_file, "");
   double prebuffer_s = 0.05, max_queued_s = 1.0;

@@ -4,6 +4,7 @@
 #include <optional>
 
 #include "room_reverb/common/error.h"
+#include "room_reverb/ros/parameters.h"
 #include "room_reverb/metrics/impulse_response_metrics.h"
 #include "room_reverb/ros/audio_conversions.h"
 #include "room_reverb/ros/room_conversions.h"
@@ -11,12 +12,6 @@
 namespace room_reverb::ros_bridge {
 namespace {
 
-int positiveParam(::ros::NodeHandle& nh, const std::string& name, int fallback) {
-  int value = fallback;
-  nh.param(name, value, fallback);
-  if (value <= 0) throw core::InputError("parameter ~" + name + " must be positive (got " + std::to_string(value) + ")");
-  return value;
-}
 
 }  // namespace
 
@@ -24,9 +19,9 @@ SimulationServer::SimulationServer(::ros::NodeHandle& private_nh) {
   std::string mode, materials_file;
   private_nh.param<std::string>("default_mode", mode, "accurate");
   defaults_.mode = core::parseSimulationMode(mode);
-  defaults_.image_source_order = positiveParam(private_nh, "image_source_order", 3);
-  defaults_.rays.ray_count = static_cast<std::size_t>(positiveParam(private_nh, "rays", 100000));
-  defaults_.rays.seed = static_cast<std::uint32_t>(positiveParam(private_nh, "seed", 1));
+  defaults_.image_source_order = positiveIntParam(private_nh, "image_source_order", 3);
+  defaults_.rays.ray_count = static_cast<std::size_t>(positiveIntParam(private_nh, "rays", 100000));
+  defaults_.rays.seed = static_cast<std::uint32_t>(positiveIntParam(private_nh, "seed", 1));
   private_nh.param("threads", defaults_.rays.threads, 0);
   private_nh.param("ambisonic_order", defaults_.ambisonic_order, 1);
   if (defaults_.ambisonic_order < 0 || defaults_.ambisonic_order > 3) throw core::InputError("parameter ~ambisonic_order must be 0 to 3");

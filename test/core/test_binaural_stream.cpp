@@ -20,10 +20,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-const BinauralDecoder& decoder() {
-  static const BinauralDecoder d = makeBinauralDecoder(room_reverb::test::sphericalHeadHrtfSet(), 3);
-  return d;
-}
+const BinauralDecoder& decoder() { return room_reverb::test::sphericalHeadDecoder(3); }
 
 // A third-order room: a plane wave from `direction` after 5 ms, then a decaying diffuse tail.
 AudioBuffer room(const Eigen::Vector3d& direction, std::uint32_t seed, double duration_s = 0.3) {

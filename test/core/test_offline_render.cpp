@@ -18,10 +18,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-const BinauralDecoder& decoder3() {
-  static const BinauralDecoder d = makeBinauralDecoder(room_reverb::test::sphericalHeadHrtfSet(), 3);
-  return d;
-}
+const BinauralDecoder& decoder3() { return room_reverb::test::sphericalHeadDecoder(3); }
 
 // A plane wave from azimuth `deg` at 2 ms, as AmbiX of `order`.
 AudioBuffer planeWave(double deg, int order, double rate = 48000.0) {

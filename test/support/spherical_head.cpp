@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <map>
 
 #include "room_reverb/audio/fft.h"
 #include "room_reverb/binaural/loudspeaker_layout.h"
@@ -74,6 +75,13 @@ core::HrtfSet sphericalHeadHrtfSet(std::size_t direction_count) {
   hrirs.reserve(directions.size());
   for (const auto& direction : directions) hrirs.push_back(sphericalHeadHrir(direction));
   return core::HrtfSet(kRate, std::move(directions), std::move(hrirs), "spherical head (Brown & Duda 1998)");
+}
+
+const core::BinauralDecoder& sphericalHeadDecoder(int order) {
+  static std::map<int, core::BinauralDecoder> decoders;
+  auto it = decoders.find(order);
+  if (it == decoders.end()) it = decoders.emplace(order, core::makeBinauralDecoder(sphericalHeadHrtfSet(), order)).first;
+  return it->second;
 }
 
 }  // namespace room_reverb::test

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <cstddef>
 
+#include "room_reverb/binaural/binaural_decoder.h"
 #include "room_reverb/binaural/hrtf_set.h"
 
 namespace room_reverb::test {
@@ -26,5 +27,8 @@ double sphericalHeadItdS(const Eigen::Vector3d& direction);
 
 // The model rendered on `direction_count` near-uniform (Fibonacci) directions at 48 kHz.
 core::HrtfSet sphericalHeadHrtfSet(std::size_t direction_count = 1000);
+
+// The default (MagLS) decoder of that set at `order`, made once per order and kept.
+const core::BinauralDecoder& sphericalHeadDecoder(int order);
 
 }  // namespace room_reverb::test
