@@ -10,11 +10,6 @@
 #include "room_reverb/ros/room_conversions.h"
 
 namespace room_reverb::ros_bridge {
-namespace {
-
-
-}  // namespace
-
 SimulationServer::SimulationServer(::ros::NodeHandle& private_nh) {
   std::string mode, materials_file;
   private_nh.param<std::string>("default_mode", mode, "accurate");
