@@ -15,6 +15,7 @@
 #include "room_reverb/ros/audio_conversions.h"
 
 namespace room_reverb::ros_bridge {
+
 BinauralRendererServer::BinauralRendererServer(::ros::NodeHandle& nh, ::ros::NodeHandle& private_nh)
     : nh_(nh) {
   std::string hrtf_file, decoder_name, source_file, room_file, room_format;

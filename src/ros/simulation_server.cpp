@@ -10,6 +10,7 @@
 #include "room_reverb/ros/room_conversions.h"
 
 namespace room_reverb::ros_bridge {
+
 SimulationServer::SimulationServer(::ros::NodeHandle& private_nh) {
   std::string mode, materials_file;
   private_nh.param<std::string>("default_mode", mode, "accurate");
