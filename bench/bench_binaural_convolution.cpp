@@ -19,8 +19,6 @@
 //                  do): what the audio callback must allow for.
 #include <benchmark/benchmark.h>
 
-#include <time.h>
-
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -28,9 +26,11 @@
 
 #include "room_reverb/ambisonics/rotation.h"
 #include "room_reverb/audio/partitioned_convolver.h"
+#include "bench_clock.h"
 
 namespace {
 
+using room_reverb::bench::threadCpuSeconds;
 using room_reverb::core::AudioBuffer;
 using room_reverb::core::FilterMatrix;
 using room_reverb::core::PartitionedConvolver;
@@ -62,12 +62,6 @@ AudioBuffer noiseBlock(std::size_t channels) {
     for (float& sample : channel) sample = normal(rng);
   }
   return block;
-}
-
-double threadCpuSeconds() {
-  timespec now{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
-  return now.tv_sec + 1e-9 * now.tv_nsec;
 }
 
 // Runs `block` once per iteration and sets the counters described above.

@@ -8,8 +8,6 @@
 //   cpu_share  thread CPU time per chunk / chunk duration: the share of one core.
 #include <benchmark/benchmark.h>
 
-#include <time.h>
-
 #include <cmath>
 #include <random>
 #include <vector>
@@ -17,9 +15,11 @@
 #include "room_reverb/binaural/binaural_stream.h"
 #include "room_reverb/binaural/hrtf_set.h"
 #include "room_reverb/binaural/source_feed.h"
+#include "bench_clock.h"
 
 namespace {
 
+using room_reverb::bench::threadCpuSeconds;
 using namespace room_reverb::core;
 
 constexpr std::size_t kBlock = 256;
@@ -35,12 +35,6 @@ AudioBuffer decayingNoise(std::size_t channels, double seconds, std::uint32_t se
     for (std::size_t n = 0; n < frames; ++n) c[n] = static_cast<float>(0.1 * normal(rng) * std::exp(-0.5 * delta * n));
   }
   return b;
-}
-
-double threadCpuSeconds() {
-  timespec now{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
-  return now.tv_sec + 1e-9 * now.tv_nsec;
 }
 
 void BM_RendererChunk(benchmark::State& state) {

@@ -108,11 +108,7 @@ void BinauralRendererServer::note(const std::string& message, bool warning) {
 }
 
 void BinauralRendererServer::offerRoom(StreamRoom room) {
-  if (core::ambixOrder(room.ambix) > decoder_.order) {
-    rejectRoom("an order-" + std::to_string(core::ambixOrder(room.ambix)) + " room is above the decoder's order " +
-               std::to_string(decoder_.order));
-    return;
-  }
+  // Its order is checked when the audio thread sets it (BinauralStream::setRoom).
   for (const std::string& n : room.notes) note(n, false);
   auto shared = std::make_shared<const StreamRoom>(std::move(room));
   std::lock_guard<std::mutex> lock(mutex_);

@@ -27,6 +27,9 @@ double cpuSeconds(clockid_t clock) {
 
 void BinauralRendererServer::audioLoop() {
   const double chunk_period_s = pacer_options_.chunk_period_s;
+  const auto status_period_chunks = std::max<std::uint64_t>(1, std::llround(status_period_s_ / chunk_period_s));
+  cpu_thread_mark_ = cpuSeconds(CLOCK_THREAD_CPUTIME_ID);
+  cpu_process_mark_ = cpuSeconds(CLOCK_PROCESS_CPUTIME_ID);
   while (running_ && ::ros::ok()) {
     const double now = ::ros::Time::now().toSec();
     const core::StreamPacer::Step step = pacer_->next(now);
@@ -38,10 +41,6 @@ void BinauralRendererServer::audioLoop() {
       const double wait_s = std::clamp(step.until - now, 0.0001, cap_s);
       ::ros::WallDuration(wait_s).sleep();
       continue;
-    }
-    if (pacer_->chunkIndex() == 0 && step.dropped == 0) {
-      status_chunk_ = 0;
-      chunks_at_mark_ = 0;
     }
     if (step.dropped > 0) {
       const std::size_t frames = static_cast<std::size_t>(step.dropped) * block_frames_ * chunk_blocks_;
@@ -67,10 +66,9 @@ void BinauralRendererServer::audioLoop() {
       ROS_WARN_THROTTLE(5.0, "binaural_renderer: chunk %llu was published late",
                         static_cast<unsigned long long>(index));
     }
-    if (index >= status_chunk_) {
-      publishStatus();
-      status_chunk_ = index + std::max<std::uint64_t>(1, std::llround(status_period_s_ / chunk_period_s));
-    }
+    // A status after the first chunk, then every status_period_s of stream published.
+    const std::uint64_t published = pacer_->counters().published;
+    if (published == 1 || published >= chunks_at_mark_ + status_period_chunks) publishStatus();
   }
 }
 
@@ -151,14 +149,14 @@ void BinauralRendererServer::publishStatus() {
   const double thread_cpu = cpuSeconds(CLOCK_THREAD_CPUTIME_ID);
   const double process_cpu = cpuSeconds(CLOCK_PROCESS_CPUTIME_ID);
   const double stream_s = static_cast<double>(pacing.published - chunks_at_mark_) * pacer_options_.chunk_period_s;
-  if (stream_s > 0.0 && chunks_at_mark_ > 0) {
+  if (stream_s > 0.0) {
     status.render_cpu_share = (thread_cpu - cpu_thread_mark_) / stream_s;
     status.process_cpu_share = (process_cpu - cpu_process_mark_) / stream_s;
   }
   status.worst_chunk_render_s = worst_chunk_s_;
   cpu_thread_mark_ = thread_cpu;
   cpu_process_mark_ = process_cpu;
-  chunks_at_mark_ = std::max<std::uint64_t>(pacing.published, 1);
+  chunks_at_mark_ = pacing.published;
   worst_chunk_s_ = 0.0;
   status_publisher_.publish(status);
 }
@@ -194,9 +192,6 @@ bool BinauralRendererServer::renderToFile(room_reverb::RenderToFile::Request& re
       room = std::make_shared<const StreamRoom>(roomFromFile(request.ambisonic_rir_file, "ambix", rsao_seed_));
     } else {
       room = std::make_shared<const StreamRoom>(roomFromFile(request.rsao_file, "rsao", rsao_seed_));
-    }
-    if (core::ambixOrder(room->ambix) > decoder_.order) {
-      throw core::InputError("the room's order is above the node's decoder order " + std::to_string(decoder_.order));
     }
     const core::AudioBuffer source = core::toInternalRate(core::mixToMono(core::readAudioFile(request.source_file)));
     const core::BinauralRender render =

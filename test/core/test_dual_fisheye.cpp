@@ -134,6 +134,8 @@ TEST(DualFisheye, StitchingARenderedCaptureMatchesTheEquirectRender) {
   // as if the lenses were ideal (centred, untilted) must be clearly worse in the tail.
   errors(fisheyeToEquirect(capture.top.fisheye, scaledDualFisheye(idealDualFisheye(1024), 256), 512), away_ideal,
          seam_ideal);
+  // Measured 4.3 grey levels at 512 wide on this scene (its tiles' grout lines are the
+  // sharpest detail); the ideal calibration gives more than 1.4 times that.
   EXPECT_LE(percentile(away, 0.9), 5.0);
   EXPECT_GT(percentile(away_ideal, 0.9), 1.4 * percentile(away, 0.9));
 }

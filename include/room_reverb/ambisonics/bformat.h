@@ -27,6 +27,10 @@ AudioBuffer ambixToFuma(const AudioBuffer& ambix);
 // Either conversion, or a copy when `from` equals AmbiX.
 AudioBuffer toAmbix(const AudioBuffer& buffer, AmbisonicFormat from);
 
+// The ambisonic order of an AmbiX buffer (1, 4, 9, 16 channels: 0-3); InputError naming
+// the channel count otherwise.
+int ambixOrder(const AudioBuffer& ambix);
+
 // Diagnostic for a stated convention: in a diffuse field the energy of X+Y+Z over W is 1
 // for SN3D and 2 for FuMa (whose W is 3 dB down). Returns that ratio over the late part
 // (after `skip_s`) of a first-order RIR; both formats put W first, so the order of the

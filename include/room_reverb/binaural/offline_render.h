@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "room_reverb/ambisonics/bformat.h"
 #include "room_reverb/audio/audio_buffer.h"
 #include "room_reverb/binaural/binaural_decoder.h"
 
@@ -21,9 +22,6 @@ namespace room_reverb::core {
 // a note appended to `notes`. InputError for an unknown layout, a channel count the layout
 // does not allow, or an invalid buffer (validateAudioBuffer: empty, non-finite...).
 AudioBuffer ambixRoomResponse(const AudioBuffer& response, const std::string& layout, std::vector<std::string>& notes);
-
-// The ambisonic order of an AmbiX buffer (1, 4, 9, 16 channels: 0-3); InputError otherwise.
-int ambixOrder(const AudioBuffer& ambix);
 
 // The binaural room impulse response (left, right) of an AmbiX room response for a head
 // in orientation `head_in_room` (rotation.h): the field is turned for the head, then

@@ -90,7 +90,7 @@ class BinauralRendererServer {
   std::unique_ptr<core::LoopedSource> looped_source_;
   std::vector<float> source_block_, left_, right_;
   room_reverb::AudioBuffer chunk_message_;
-  std::uint64_t status_chunk_ = 0;  // the chunk index of the next status
+  // At the last status: processor times and chunks published; the longest chunk since.
   double cpu_thread_mark_ = 0.0, cpu_process_mark_ = 0.0, worst_chunk_s_ = 0.0;
   std::uint64_t chunks_at_mark_ = 0;
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "room_reverb/ambisonics/spherical_harmonics.h"
 #include "room_reverb/common/error.h"
 
 namespace room_reverb::core {
@@ -60,6 +61,14 @@ AudioBuffer ambixToFuma(const AudioBuffer& ambix) {
   fuma.channels[2] = ambix.channels[kAcnY];
   fuma.channels[3] = ambix.channels[kAcnZ];
   return fuma;
+}
+
+int ambixOrder(const AudioBuffer& ambix) {
+  for (int n = 0; n <= kMaxAmbisonicOrder; ++n) {
+    if (ambix.channelCount() == static_cast<std::size_t>(ambisonicChannelCount(n))) return n;
+  }
+  throw InputError("the room response has " + std::to_string(ambix.channelCount()) +
+                   " channels; AmbiX of order 0-3 has 1, 4, 9 or 16");
 }
 
 AudioBuffer toAmbix(const AudioBuffer& buffer, AmbisonicFormat from) {

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "room_reverb/ambisonics/bformat.h"
 #include "room_reverb/ambisonics/rotation.h"
 #include "room_reverb/ambisonics/spherical_harmonics.h"
 #include "room_reverb/common/error.h"
@@ -49,15 +50,12 @@ std::string BinauralStream::setRoom(const AudioBuffer& response) {
     throw InputError("binaural stream: the room response is at " + std::to_string(response.sample_rate_hz) +
                      " Hz; resample it to 48000 Hz");
   }
-  const std::size_t count = response.channelCount();
-  bool valid = false;
-  for (int n = 0; n <= decoder_.order; ++n) valid = valid || count == static_cast<std::size_t>(ambisonicChannelCount(n));
-  if (!valid) {
-    std::ostringstream os;
-    os << "binaural stream: a room response of " << count << " channels is not AmbiX of order 0 to "
-       << decoder_.order << " (1, 4, 9 or 16 channels up to the decoder's order)";
-    throw InputError(os.str());
+  const int order = ambixOrder(response);
+  if (order > decoder_.order) {
+    throw InputError("binaural stream: an order-" + std::to_string(order) + " room response cannot go through the order-" +
+                     std::to_string(decoder_.order) + " decoder");
   }
+  const std::size_t count = response.channelCount();
   std::string warning;
   const auto limit = static_cast<std::size_t>(options_.max_response_s * kInternalSampleRateHz);
   FilterMatrix filters(1, std::vector<std::vector<float>>(channels_, std::vector<float>{0.0f}));

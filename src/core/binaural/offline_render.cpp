@@ -13,14 +13,6 @@
 
 namespace room_reverb::core {
 
-int ambixOrder(const AudioBuffer& ambix) {
-  for (int n = 0; n <= kMaxAmbisonicOrder; ++n) {
-    if (ambix.channelCount() == static_cast<std::size_t>(ambisonicChannelCount(n))) return n;
-  }
-  throw InputError("the room response has " + std::to_string(ambix.channelCount()) +
-                   " channels; AmbiX of order 0-3 has 1, 4, 9 or 16");
-}
-
 AudioBuffer ambixRoomResponse(const AudioBuffer& response, const std::string& layout, std::vector<std::string>& notes) {
   validateAudioBuffer(response, "the room response");
   AudioBuffer ambix;
