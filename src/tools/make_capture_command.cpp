@@ -3,10 +3,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
-#include <opencv2/imgcodecs.hpp>
 
 #include "arguments.h"
 #include "command.h"
+#include "image_files.h"
 #include "room_reverb/acoustics/material.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/vision/capture_generator.h"
@@ -46,16 +46,6 @@ CAM_object.png (16-bit ids, 65535 sky), CAM_fisheye.png with --fisheye, and scen
 (the scene as rendered, with the id -> name lists and the camera centres).
 Exit status: 0 on success, 2 with one line on stderr for bad input.
 )";
-
-void writeImage(const std::filesystem::path& path, const cv::Mat& image) {
-  bool written = false;
-  try {
-    written = cv::imwrite(path.string(), image);
-  } catch (const cv::Exception& e) {
-    throw InputError(path.string() + ": cannot write the image (" + e.msg + ")");
-  }
-  if (!written) throw InputError(path.string() + ": cannot write the image");
-}
 
 std::uint64_t seedValue(const Arguments& args, std::uint64_t fallback) {
   if (!args.has("seed")) return fallback;
@@ -99,11 +89,11 @@ int runMakeCapture(const std::vector<std::string>& raw) {
   const StereoCapture capture = renderCapture(scene.room, library, options);
   for (const auto& [name, camera] : {std::pair<const char*, const CameraCapture*>{"top", &capture.top}, {"bottom", &capture.bottom}}) {
     const std::string cam = name;
-    writeImage(out / (cam + ".png"), camera->color);
-    writeImage(out / (cam + "_range.tiff"), camera->range_m);
-    writeImage(out / (cam + "_material.png"), camera->material_id);
-    writeImage(out / (cam + "_object.png"), camera->object_id);
-    if (!camera->fisheye.empty()) writeImage(out / (cam + "_fisheye.png"), camera->fisheye);
+    writeImage((out / (cam + ".png")).string(), camera->color);
+    writeImage((out / (cam + "_range.tiff")).string(), camera->range_m);
+    writeImage((out / (cam + "_material.png")).string(), camera->material_id);
+    writeImage((out / (cam + "_object.png")).string(), camera->object_id);
+    if (!camera->fisheye.empty()) writeImage((out / (cam + "_fisheye.png")).string(), camera->fisheye);
   }
   saveCaptureScene((out / "scene.yaml").string(), scene, &capture);
   std::cout << "wrote " << out.string() << ": top and bottom " << options.width << " x " << options.width / 2

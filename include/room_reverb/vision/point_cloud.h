@@ -36,4 +36,9 @@ struct PointCloud {
 // non-finite coordinate (the message gives the first bad point's index).
 void checkPointCloud(const PointCloud& cloud, std::size_t min_points);
 
+// Writes the cloud as a binary PCD v0.7 file (PCL's format: fields x y z rgb label, rgb
+// packed as PCL packs it, label = the SurfaceHint), readable by pcl_viewer and CloudCompare.
+// InputError if the file cannot be written.
+void savePointCloudPcd(const std::string& path, const PointCloud& cloud);
+
 }  // namespace room_reverb::core

@@ -1,0 +1,47 @@
+#pragma once
+// The visual route in one call (the paper's section 3): a vertical stereo pair of
+// equirectangular images -> spherical depth -> point cloud -> room layout of labelled
+// cuboids -> a material per face and object. What `room_reverb room-model` and the
+// room_model node's ~build run; each step is its own header (spherical_stereo.h,
+// depth_cloud.h, room_layout.h, surface_materials.h).
+#include <opencv2/core.hpp>
+
+#include "room_reverb/vision/depth_cloud.h"
+#include "room_reverb/vision/point_cloud.h"
+#include "room_reverb/vision/room_layout.h"
+#include "room_reverb/vision/spherical_stereo.h"
+
+namespace room_reverb::core {
+
+struct VisualRouteOptions {
+  SphericalStereoOptions stereo;
+  DepthCloudOptions cloud;
+  RoomLayoutOptions layout;
+};
+
+struct VisualRouteTimes {
+  double stereo_s = 0.0;     // pair -> range image
+  double cloud_s = 0.0;      // range image -> point cloud
+  double layout_s = 0.0;     // cloud -> cuboids
+  double materials_s = 0.0;  // cuboids -> materials
+};
+
+struct VisualRoute {
+  SphericalDepth depth;
+  PointCloud cloud;
+  RoomLayout layout;  // layout.model is a complete room model (every face and object has a material)
+  VisualRouteTimes times;
+};
+
+// The room model from a cloud (rig frame, levelled) and the top camera's colour image of
+// the same pair (for the materials). InputError as fitRoomLayout and the material step
+// report them (no room in the cloud, an image that is not 2:1 8-bit).
+RoomLayout roomLayoutFromCloud(const PointCloud& cloud, const cv::Mat& top_color, double baseline_m,
+                               const VisualRouteOptions& options, VisualRouteTimes* times = nullptr);
+
+// The whole route. InputError for a pair the stereo refuses (sizes, not 2:1, black or
+// saturated, a baseline that is not positive) and as roomLayoutFromCloud.
+VisualRoute runVisualRoute(const cv::Mat& top, const cv::Mat& bottom, double baseline_m,
+                           const VisualRouteOptions& options = {});
+
+}  // namespace room_reverb::core

@@ -1,0 +1,169 @@
+#include "room_reverb/ros/room_model_server.h"
+
+#include <geometry_msgs/TransformStamped.h>
+#include <room_reverb/RoomModel.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "room_reverb/common/error.h"
+#include "room_reverb/ros/cloud_conversions.h"
+#include "room_reverb/ros/image_conversions.h"
+#include "room_reverb/ros/room_conversions.h"
+#include "room_reverb/ros/room_markers.h"
+#include "room_reverb/ros/stereo_config.h"
+
+namespace room_reverb::ros_bridge {
+
+namespace {
+
+geometry_msgs::TransformStamped roomToRig(const core::RoomLayout& layout, const std::string& room,
+                                          const std::string& rig, const ::ros::Time& stamp) {
+  geometry_msgs::TransformStamped t;
+  t.header.stamp = stamp;
+  t.header.frame_id = room;
+  t.child_frame_id = rig;
+  const Eigen::Vector3d p = layout.room_from_rig.translation();
+  const Eigen::Quaterniond q(layout.room_from_rig.rotation());
+  t.transform.translation.x = p.x();
+  t.transform.translation.y = p.y();
+  t.transform.translation.z = p.z();
+  t.transform.rotation.x = q.x();
+  t.transform.rotation.y = q.y();
+  t.transform.rotation.z = q.z();
+  t.transform.rotation.w = q.w();
+  return t;
+}
+
+void readLayoutParams(const ::ros::NodeHandle& nh, core::RoomLayoutOptions& o) {
+  nh.param("voxel_size_m", o.voxel_size_m, o.voxel_size_m);
+  nh.param("max_range_m", o.max_range_m, o.max_range_m);
+  nh.param("range_noise_fraction", o.range_noise_fraction, o.range_noise_fraction);
+  nh.param("min_object_extent_m", o.min_object_extent_m, o.min_object_extent_m);
+  int min_points = static_cast<int>(o.min_points);
+  nh.param("min_points", min_points, min_points);
+  if (min_points < 1) throw core::InputError("parameter ~min_points must be at least 1");
+  o.min_points = static_cast<std::size_t>(min_points);
+}
+
+}  // namespace
+
+RoomModelServer::RoomModelServer(::ros::NodeHandle nh, ::ros::NodeHandle private_nh) : nh_(nh), private_nh_(private_nh) {
+  private_nh_.param("baseline_m", baseline_m_, 0.2);
+  if (!(baseline_m_ > 0.0) || !std::isfinite(baseline_m_)) {
+    throw core::InputError("parameter ~baseline_m must be a positive distance in metres (got " +
+                           std::to_string(baseline_m_) + ")");
+  }
+  private_nh_.param<std::string>("rig_frame", rig_frame_, "rig");
+  private_nh_.param<std::string>("room_frame", room_frame_, "room");
+  private_nh_.param<std::string>("output_file", output_file_, "");
+  private_nh_.param("build_on_cloud", build_on_cloud_, false);
+  options_.stereo = stereoOptionsFromConfig(stereoConfigFromParams(private_nh_));
+  readLayoutParams(private_nh_, options_.layout);
+
+  room_pub_ = private_nh_.advertise<room_reverb::RoomModel>("room", 1, true);
+  marker_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>("markers", 1, true);
+  cloud_sub_ = nh_.subscribe("points", 1, &RoomModelServer::onCloud, this);
+  image_sub_ = nh_.subscribe("top/image_equirect", 1, &RoomModelServer::onImage, this);
+  service_ = private_nh_.advertiseService("build", &RoomModelServer::build, this);
+}
+
+void RoomModelServer::onImage(const sensor_msgs::ImageConstPtr& image) {
+  std::lock_guard<std::mutex> lock(latest_mutex_);
+  latest_image_ = image;
+}
+
+void RoomModelServer::onCloud(const sensor_msgs::PointCloud2ConstPtr& cloud) {
+  {
+    std::lock_guard<std::mutex> lock(latest_mutex_);
+    latest_cloud_ = cloud;
+  }
+  if (!build_on_cloud_) return;
+  room_reverb::BuildRoomModel::Request request;
+  room_reverb::BuildRoomModel::Response response;
+  build(request, response);
+  if (!response.success) ROS_WARN("room_model: build on the new cloud failed: %s", response.message.c_str());
+}
+
+bool RoomModelServer::build(room_reverb::BuildRoomModel::Request& request,
+                            room_reverb::BuildRoomModel::Response& response) {
+  std::lock_guard<std::mutex> build_lock(build_mutex_);
+  const auto start = std::chrono::steady_clock::now();
+  response.success = false;
+  try {
+    const double baseline = request.baseline_m != 0.0 ? request.baseline_m : baseline_m_;
+    const bool has_top = request.top.width > 0 || !request.top.data.empty();
+    const bool has_bottom = request.bottom.width > 0 || !request.bottom.data.empty();
+    if (has_top != has_bottom) throw core::InputError("give both images (top and bottom) or neither");
+    if (has_top) {
+      const cv::Mat top = cameraImageFromMessage(request.top, "request top image");
+      const cv::Mat bottom = cameraImageFromMessage(request.bottom, "request bottom image");
+      buildFrom(nullptr, top, &bottom, baseline, request.top.header, response);
+    } else {
+      sensor_msgs::PointCloud2ConstPtr cloud_msg;
+      sensor_msgs::ImageConstPtr image_msg;
+      {
+        std::lock_guard<std::mutex> lock(latest_mutex_);
+        cloud_msg = latest_cloud_;
+        image_msg = latest_image_;
+      }
+      if (!cloud_msg) {
+        throw core::InputError("no point cloud received yet on " + nh_.resolveName("points") +
+                               " (or give top and bottom images in the request)");
+      }
+      if (!image_msg) throw core::InputError("no image received yet on " + nh_.resolveName("top/image_equirect"));
+      const core::PointCloud cloud = cloudFromMessage(*cloud_msg);
+      if (!cloud.frame.empty() && cloud.frame != rig_frame_) {
+        throw core::InputError("the cloud is in frame '" + cloud.frame + "', expected the rig frame '" + rig_frame_ + "'");
+      }
+      const cv::Mat top = cameraImageFromMessage(*image_msg, "top/image_equirect");
+      buildFrom(&cloud, top, nullptr, baseline, cloud_msg->header, response);
+    }
+    response.success = true;
+  } catch (const core::InputError& e) {
+    response.message = e.what();
+  } catch (const cv::Exception& e) {
+    response.message = std::string("OpenCV: ") + e.what();
+  }
+  response.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!response.success) ROS_WARN("room_model: ~build failed: %s", response.message.c_str());
+  return true;
+}
+
+void RoomModelServer::buildFrom(const core::PointCloud* cloud, const cv::Mat& top, const cv::Mat* bottom,
+                                double baseline_m, const std_msgs::Header& header,
+                                room_reverb::BuildRoomModel::Response& response) {
+  core::RoomLayout layout;
+  if (cloud != nullptr) {
+    layout = core::roomLayoutFromCloud(*cloud, top, baseline_m, options_);
+    response.cloud_points = static_cast<std::uint32_t>(cloud->points.size());
+  } else {
+    core::VisualRoute route = core::runVisualRoute(top, *bottom, baseline_m, options_);
+    response.cloud_points = static_cast<std::uint32_t>(route.cloud.points.size());
+    layout = std::move(route.layout);
+  }
+  if (!output_file_.empty()) core::saveRoomModel(output_file_, layout.model);
+  publish(layout, header.stamp.isZero() ? ::ros::Time::now() : header.stamp, response);
+}
+
+void RoomModelServer::publish(const core::RoomLayout& layout, const ::ros::Time& stamp,
+                              room_reverb::BuildRoomModel::Response& response) {
+  response.room = toMessage(layout.model);
+  response.room.header.stamp = stamp;
+  response.room.header.frame_id = room_frame_;
+  response.room_to_rig = roomToRig(layout, room_frame_, rig_frame_, stamp);
+  room_pub_.publish(response.room);
+  marker_pub_.publish(roomMarkers(layout.model, room_frame_, stamp));
+  tf_broadcaster_.sendTransform(response.room_to_rig);
+  const Eigen::Vector3d& s = layout.model.size_m;
+  char summary[200];
+  std::snprintf(summary, sizeof(summary), "room %.2f x %.2f x %.2f m%s, %zu objects, rig yaw %.1f deg", s.x(), s.y(),
+                s.z(), layout.model.has_ceiling ? "" : " (no ceiling)", layout.model.objects.size(),
+                layout.rig_yaw_rad * 180.0 / M_PI);
+  response.message = summary;
+  ROS_INFO("room_model: %s", summary);
+}
+
+}  // namespace room_reverb::ros_bridge

@@ -1,0 +1,108 @@
+// room_reverb room-model: the visual route on files. A vertical stereo pair of 360°
+// images -> spherical depth -> point cloud -> room model of labelled cuboids with
+// materials, written as the room.yaml that `room_reverb simulate --room` reads.
+#include <cmath>
+#include <iostream>
+#include <opencv2/imgproc.hpp>
+
+#include "arguments.h"
+#include "command.h"
+#include "image_files.h"
+#include "room_reverb/acoustics/room_model.h"
+#include "room_reverb/common/error.h"
+#include "room_reverb/vision/dual_fisheye.h"
+#include "room_reverb/vision/visual_route.h"
+
+namespace room_reverb::tool {
+namespace {
+
+using namespace room_reverb::core;
+
+const char* kHelp = R"(usage: room_reverb room-model --top TOP.png --bottom BOTTOM.png --out ROOM.yaml
+                              [--baseline M] [--fisheye] [--calibration FILE] [--width W]
+                              [--cloud CLOUD.pcd] [--range RANGE.tiff]
+
+The paper's visual route on a capture from two vertically aligned 360° cameras: spherical
+stereo along the image columns, the point cloud in the rig frame, the room box (walls,
+floor, ceiling if any) and furniture cuboids fitted to it, and a material for each from
+its colour and texture. The images are equirectangular (2:1, the upper camera's as TOP),
+or dual-fisheye with --fisheye. `room_reverb make-capture` renders test pairs.
+
+  --top FILE, --bottom FILE   the upper and lower camera's images (same size)
+  --out FILE                  the room model (room.yaml of DESIGN.md)
+  --baseline M                vertical distance between the camera centres [m]; default 0.2
+  --fisheye                   the images are dual-fisheye (2S x S); stitched first
+  --calibration FILE          dual-fisheye calibration (default config/dual_fisheye.yaml)
+  --width W                   equirect width after stitching [px]; default 2 S
+  --cloud FILE                also write the point cloud (binary PCD, rig frame)
+  --range FILE                also write the top camera's range image (32-bit float TIFF,
+                              metres, NaN where invalid)
+
+Prints the room's size, the objects with their materials and the time of each step.
+Exit status: 0 on success, 2 with one line on stderr for bad input (unreadable or
+mismatched images, images that are not 2:1, black or saturated, a baseline that is not
+positive, a capture that shows no room).
+)";
+
+cv::Mat readCameraImage(const std::string& path) {
+  cv::Mat image = readImage(path);
+  if (image.depth() != CV_8U) throw InputError(path + ": needs an 8-bit image (got another bit depth)");
+  if (image.channels() == 4) cv::cvtColor(image, image, cv::COLOR_BGRA2BGR);
+  return image;
+}
+
+void printRoom(const RoomLayout& layout, const VisualRouteTimes& t, std::size_t points) {
+  const RoomModel& m = layout.model;
+  std::cout << "room " << m.size_m.x() << " x " << m.size_m.y() << " x " << m.size_m.z() << " m"
+            << (m.has_ceiling ? "" : " (no ceiling)") << ", rig at (" << m.rig_position_m.transpose()
+            << ") m, yaw " << layout.rig_yaw_rad * 180.0 / M_PI << " deg, " << points << " points\n";
+  for (const char* name : kRoomSurfaceNames) {
+    const auto it = m.surfaces.find(name);
+    if (it == m.surfaces.end()) continue;
+    std::cout << "  " << name << ": " << it->second.material << " (confidence " << it->second.confidence << ")\n";
+  }
+  for (const CuboidObject& o : m.objects) {
+    std::cout << "  object " << o.label << ": " << o.size_m.x() << " x " << o.size_m.y() << " x " << o.size_m.z()
+              << " m at (" << o.center_m.transpose() << "), " << o.material << " (confidence " << o.confidence << ")\n";
+  }
+  std::cout << "time: stereo " << t.stereo_s << " s, cloud " << t.cloud_s << " s, layout " << t.layout_s
+            << " s, materials " << t.materials_s << " s\n";
+}
+
+int runRoomModel(const std::vector<std::string>& raw) {
+  const Arguments args(raw, {"top", "bottom", "out", "baseline", "calibration", "width", "cloud", "range"}, {"fisheye"});
+  if (!args.positional().empty()) throw UsageError("unexpected argument '" + args.positional().front() + "'");
+  for (const char* required : {"top", "bottom", "out"}) {
+    if (!args.has(required)) throw UsageError(std::string("--") + required + " is required");
+  }
+  const double baseline = args.doubleValue("baseline", 0.2);
+  if (!(baseline > 0.0) || !std::isfinite(baseline)) {
+    throw InputError("--baseline must be a positive distance in metres (got " + args.value("baseline", "") + ")");
+  }
+  cv::Mat top = readCameraImage(args.value("top", ""));
+  cv::Mat bottom = readCameraImage(args.value("bottom", ""));
+  if (args.has("fisheye")) {
+    const DualFisheyeCalibration calibration =
+        loadDualFisheyeCalibration(args.value("calibration", defaultDualFisheyeCalibrationPath()));
+    if (top.size() != bottom.size()) throw InputError("the top and bottom images differ in size");
+    const int width = args.intValue("width", top.cols);
+    top = fisheyeToEquirect(top, calibration, width);
+    bottom = fisheyeToEquirect(bottom, calibration, width);
+  } else if (args.has("calibration") || args.has("width")) {
+    throw UsageError("--calibration and --width are only used with --fisheye");
+  }
+
+  const VisualRoute route = runVisualRoute(top, bottom, baseline);
+  saveRoomModel(args.value("out", ""), route.layout.model);
+  if (args.has("cloud")) savePointCloudPcd(args.value("cloud", ""), route.cloud);
+  if (args.has("range")) writeImage(args.value("range", ""), route.depth.range_m);
+  printRoom(route.layout, route.times, route.cloud.points.size());
+  std::cout << "wrote " << args.value("out", "") << "\n";
+  return 0;
+}
+
+const CommandRegistration registration({"room-model", "room model (cuboids, materials) from a 360° stereo pair",
+                                        kHelp, runRoomModel});
+
+}  // namespace
+}  // namespace room_reverb::tool
