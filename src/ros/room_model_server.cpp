@@ -67,12 +67,24 @@ RoomModelServer::RoomModelServer(::ros::NodeHandle nh, ::ros::NodeHandle private
   marker_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>("markers", 1, true);
   cloud_sub_ = nh_.subscribe("points", 1, &RoomModelServer::onCloud, this);
   image_sub_ = nh_.subscribe("top/image_equirect", 1, &RoomModelServer::onImage, this);
+  tilt_sub_ = nh_.subscribe("rig_tilt", 1, &RoomModelServer::onTilt, this);
   service_ = private_nh_.advertiseService("build", &RoomModelServer::build, this);
 }
 
 void RoomModelServer::onImage(const sensor_msgs::ImageConstPtr& image) {
   std::lock_guard<std::mutex> lock(latest_mutex_);
   latest_image_ = image;
+}
+
+void RoomModelServer::onTilt(const geometry_msgs::QuaternionStampedConstPtr& tilt) {
+  const auto& q = tilt->quaternion;
+  const Eigen::Quaterniond rotation(q.w, q.x, q.y, q.z);
+  if (!rotation.coeffs().allFinite() || std::abs(rotation.norm() - 1.0) > 1e-3) {
+    ROS_WARN("room_model: ignoring a rig_tilt that is not a unit quaternion");
+    return;
+  }
+  std::lock_guard<std::mutex> lock(latest_mutex_);
+  tilt_ = rotation.normalized().toRotationMatrix();
 }
 
 void RoomModelServer::onCloud(const sensor_msgs::PointCloud2ConstPtr& cloud) {
@@ -100,14 +112,16 @@ bool RoomModelServer::build(room_reverb::BuildRoomModel::Request& request,
     if (has_top) {
       const cv::Mat top = cameraImageFromMessage(request.top, "request top image");
       const cv::Mat bottom = cameraImageFromMessage(request.bottom, "request bottom image");
-      buildFrom(nullptr, top, &bottom, baseline, request.top.header, response);
+      buildFrom(nullptr, top, &bottom, baseline, Eigen::Matrix3d::Identity(), request.top.header, response);
     } else {
       sensor_msgs::PointCloud2ConstPtr cloud_msg;
       sensor_msgs::ImageConstPtr image_msg;
+      Eigen::Matrix3d tilt;
       {
         std::lock_guard<std::mutex> lock(latest_mutex_);
         cloud_msg = latest_cloud_;
         image_msg = latest_image_;
+        tilt = tilt_;
       }
       if (!cloud_msg) {
         throw core::InputError("no point cloud received yet on " + nh_.resolveName("points") +
@@ -119,7 +133,7 @@ bool RoomModelServer::build(room_reverb::BuildRoomModel::Request& request,
         throw core::InputError("the cloud is in frame '" + cloud.frame + "', expected the rig frame '" + rig_frame_ + "'");
       }
       const cv::Mat top = cameraImageFromMessage(*image_msg, "top/image_equirect");
-      buildFrom(&cloud, top, nullptr, baseline, cloud_msg->header, response);
+      buildFrom(&cloud, top, nullptr, baseline, tilt, cloud_msg->header, response);
     }
     response.success = true;
   } catch (const core::InputError& e) {
@@ -133,11 +147,11 @@ bool RoomModelServer::build(room_reverb::BuildRoomModel::Request& request,
 }
 
 void RoomModelServer::buildFrom(const core::PointCloud* cloud, const cv::Mat& top, const cv::Mat* bottom,
-                                double baseline_m, const std_msgs::Header& header,
+                                double baseline_m, const Eigen::Matrix3d& tilt, const std_msgs::Header& header,
                                 room_reverb::BuildRoomModel::Response& response) {
   core::RoomLayout layout;
   if (cloud != nullptr) {
-    layout = core::roomLayoutFromCloud(*cloud, top, baseline_m, options_);
+    layout = core::roomLayoutFromCloud(*cloud, top, baseline_m, options_, tilt);
     response.cloud_points = static_cast<std::uint32_t>(cloud->points.size());
   } else {
     core::VisualRoute route = core::runVisualRoute(top, *bottom, baseline_m, options_);

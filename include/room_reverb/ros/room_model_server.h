@@ -1,8 +1,9 @@
 #pragma once
 // The room_model node: the room as labelled cuboids with materials, from the visual route.
 //
-// Keeps the latest `points` (PointCloud2 from spherical_depth, rig frame) and
-// `top/image_equirect` (for the materials). ~build (room_reverb/BuildRoomModel) fits the
+// Keeps the latest `points` (PointCloud2 from spherical_depth, rig frame),
+// `top/image_equirect` (for the materials) and `rig_tilt` (geometry_msgs/QuaternionStamped
+// from capture_ingest: the rig's tilt, applied to the cloud before the fit; none: upright). ~build (room_reverb/BuildRoomModel) fits the
 // room to them, or runs the whole route on a pair given in the request; with
 // ~build_on_cloud it also builds on every new cloud. Each build publishes
 //   ~room     room_reverb/RoomModel, latched
@@ -10,6 +11,7 @@
 //   TF        room -> rig (static: the rig does not move during a capture)
 // and, with ~output_file, writes the room.yaml. Bad input gives success=false and a
 // message, never a dead node. config/room_model.yaml documents the parameters.
+#include <geometry_msgs/QuaternionStamped.h>
 #include <ros/ros.h>
 #include <room_reverb/BuildRoomModel.h>
 #include <sensor_msgs/Image.h>
@@ -34,9 +36,12 @@ class RoomModelServer {
  private:
   void onCloud(const sensor_msgs::PointCloud2ConstPtr& cloud);
   void onImage(const sensor_msgs::ImageConstPtr& image);
+  void onTilt(const geometry_msgs::QuaternionStampedConstPtr& tilt);
   // Fits, publishes and fills the response; throws InputError / cv::Exception.
+  // `tilt` levels the cloud (identity for a pair in the request: taken as upright).
   void buildFrom(const core::PointCloud* cloud, const cv::Mat& top, const cv::Mat* bottom, double baseline_m,
-                 const std_msgs::Header& header, room_reverb::BuildRoomModel::Response& response);
+                 const Eigen::Matrix3d& tilt, const std_msgs::Header& header,
+                 room_reverb::BuildRoomModel::Response& response);
   void publish(const core::RoomLayout& layout, const ::ros::Time& stamp, room_reverb::BuildRoomModel::Response& response);
 
   ::ros::NodeHandle nh_;
@@ -51,10 +56,12 @@ class RoomModelServer {
   std::mutex latest_mutex_;
   sensor_msgs::PointCloud2ConstPtr latest_cloud_;
   sensor_msgs::ImageConstPtr latest_image_;
+  Eigen::Matrix3d tilt_ = Eigen::Matrix3d::Identity();
   std::mutex build_mutex_;  // one build at a time
 
   ::ros::Subscriber cloud_sub_;
   ::ros::Subscriber image_sub_;
+  ::ros::Subscriber tilt_sub_;
   ::ros::ServiceServer service_;
   ::ros::Publisher room_pub_;
   ::ros::Publisher marker_pub_;

@@ -4,6 +4,7 @@
 // cuboids -> a material per face and object. What `room_reverb room-model` and the
 // room_model node's ~build run; each step is its own header (spherical_stereo.h,
 // depth_cloud.h, room_layout.h, surface_materials.h).
+#include <Eigen/Core>
 #include <opencv2/core.hpp>
 
 #include "room_reverb/vision/depth_cloud.h"
@@ -33,15 +34,20 @@ struct VisualRoute {
   VisualRouteTimes times;
 };
 
-// The room model from a cloud (rig frame, levelled) and the top camera's colour image of
-// the same pair (for the materials). InputError as fitRoomLayout and the material step
-// report them (no room in the cloud, an image that is not 2:1 8-bit).
+// The room model from a cloud in the rig frame and the top camera's colour image of the
+// same pair (for the materials). `tilt` levels the rig frame (ImageLeveling::tilt of
+// vision/image_leveling.h: the cloud is fitted as tilt * p, and the layout's room_from_rig
+// and rig pose include it); identity for a rig standing upright. InputError as
+// fitRoomLayout and the material step report them (no room in the cloud, an image that is
+// not 2:1 8-bit) and for a tilt that is not a rotation.
 RoomLayout roomLayoutFromCloud(const PointCloud& cloud, const cv::Mat& top_color, double baseline_m,
-                               const VisualRouteOptions& options, VisualRouteTimes* times = nullptr);
+                               const VisualRouteOptions& options, const Eigen::Matrix3d& tilt = Eigen::Matrix3d::Identity(),
+                               VisualRouteTimes* times = nullptr);
 
 // The whole route. InputError for a pair the stereo refuses (sizes, not 2:1, black or
 // saturated, a baseline that is not positive) and as roomLayoutFromCloud.
 VisualRoute runVisualRoute(const cv::Mat& top, const cv::Mat& bottom, double baseline_m,
-                           const VisualRouteOptions& options = {});
+                           const VisualRouteOptions& options = {},
+                           const Eigen::Matrix3d& tilt = Eigen::Matrix3d::Identity());
 
 }  // namespace room_reverb::core

@@ -2,6 +2,8 @@
 
 #include <chrono>
 
+#include "rotation_check.h"
+
 namespace room_reverb::core {
 
 namespace {
@@ -10,20 +12,34 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+bool isIdentity(const Eigen::Matrix3d& r) { return (r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-12; }
+
 }  // namespace
 
 RoomLayout roomLayoutFromCloud(const PointCloud& cloud, const cv::Mat& top_color, double baseline_m,
-                               const VisualRouteOptions& options, VisualRouteTimes* times) {
+                               const VisualRouteOptions& options, const Eigen::Matrix3d& tilt, VisualRouteTimes* times) {
   (void)top_color;
   (void)baseline_m;
+  vision_detail::requireRotation(tilt, "visual route: rig tilt");
   auto start = std::chrono::steady_clock::now();
-  RoomLayout layout = fitRoomLayout(cloud, options.layout);
+  RoomLayout layout;
+  if (isIdentity(tilt)) {
+    layout = fitRoomLayout(cloud, options.layout);
+  } else {
+    PointCloud level = cloud;
+    const Eigen::Matrix3f tilt_f = tilt.cast<float>();
+    for (CloudPoint& point : level.points) point.p = tilt_f * point.p;
+    layout = fitRoomLayout(level, options.layout);
+    // The fit's rig frame is the levelled one; the caller's is before the tilt.
+    layout.room_from_rig = layout.room_from_rig * Eigen::Isometry3d(tilt);
+    layout.model.rig_rotation = Eigen::Quaterniond(layout.room_from_rig.rotation()).normalized();
+  }
   if (times != nullptr) times->layout_s = secondsSince(start);
   return layout;
 }
 
 VisualRoute runVisualRoute(const cv::Mat& top, const cv::Mat& bottom, double baseline_m,
-                           const VisualRouteOptions& options) {
+                           const VisualRouteOptions& options, const Eigen::Matrix3d& tilt) {
   VisualRoute route;
   auto start = std::chrono::steady_clock::now();
   route.depth = computeSphericalDepth(top, bottom, baseline_m, options.stereo);
@@ -31,7 +47,7 @@ VisualRoute runVisualRoute(const cv::Mat& top, const cv::Mat& bottom, double bas
   start = std::chrono::steady_clock::now();
   route.cloud = depthToPointCloud(route.depth, top, baseline_m, options.cloud);
   route.times.cloud_s = secondsSince(start);
-  route.layout = roomLayoutFromCloud(route.cloud, top, baseline_m, options, &route.times);
+  route.layout = roomLayoutFromCloud(route.cloud, top, baseline_m, options, tilt, &route.times);
   return route;
 }
 

@@ -1,0 +1,82 @@
+#include "room_reverb/vision/capture_ingest.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include "room_reverb/common/error.h"
+#include "room_reverb/vision/equirect_rotation.h"
+
+namespace room_reverb::core {
+
+CaptureImageFormat parseCaptureImageFormat(const std::string& text, const std::string& what) {
+  if (text == "equirect") return CaptureImageFormat::kEquirect;
+  if (text == "dual_fisheye") return CaptureImageFormat::kDualFisheye;
+  throw InputError(what + ": unknown image format '" + text + "' (equirect or dual_fisheye)");
+}
+
+LevelingSource parseLevelingSource(const std::string& text, const std::string& what) {
+  if (text == "none") return LevelingSource::kNone;
+  if (text == "image") return LevelingSource::kImage;
+  if (text == "imu") return LevelingSource::kImu;
+  if (text == "imu_and_image") return LevelingSource::kImuAndImage;
+  throw InputError(what + ": unknown leveling '" + text + "' (none, image, imu or imu_and_image)");
+}
+
+namespace {
+
+void checkPair(const cv::Mat& top, const cv::Mat& bottom) {
+  if (top.empty() || bottom.empty()) throw InputError("capture: an image is empty");
+  if (top.size() != bottom.size()) {
+    throw InputError("capture: the top and bottom images differ in size (" + std::to_string(top.cols) + "x" +
+                     std::to_string(top.rows) + " and " + std::to_string(bottom.cols) + "x" +
+                     std::to_string(bottom.rows) + ")");
+  }
+  if (top.type() != bottom.type()) throw InputError("capture: the top and bottom images differ in type");
+  if (top.cols != 2 * top.rows) {
+    throw InputError("capture: the images must be twice as wide as high (equirect or dual fisheye); these are " +
+                     std::to_string(top.cols) + "x" + std::to_string(top.rows));
+  }
+}
+
+}  // namespace
+
+IngestedCapture ingestCapture(const cv::Mat& top, const cv::Mat& bottom, const CaptureIngestOptions& options,
+                              const std::optional<Eigen::Quaterniond>& imu_camera_to_world) {
+  checkPair(top, bottom);
+  if (options.width < 0 || options.width % 2 != 0) throw InputError("capture: the output width must be even and >= 0");
+  const bool uses_imu = options.leveling == LevelingSource::kImu || options.leveling == LevelingSource::kImuAndImage;
+  if (uses_imu && !imu_camera_to_world) throw InputError("capture: IMU leveling needs the IMU's orientation");
+
+  IngestedCapture out;
+  const int width = options.width > 0 ? options.width : top.cols;
+  if (options.format == CaptureImageFormat::kDualFisheye) {
+    out.top = fisheyeToEquirect(top, options.calibration, width);
+    out.bottom = fisheyeToEquirect(bottom, options.calibration, width);
+  } else if (width != top.cols) {
+    cv::resize(top, out.top, cv::Size(width, width / 2), 0, 0, cv::INTER_AREA);
+    cv::resize(bottom, out.bottom, cv::Size(width, width / 2), 0, 0, cv::INTER_AREA);
+  } else {
+    out.top = top;
+    out.bottom = bottom;
+  }
+
+  switch (options.leveling) {
+    case LevelingSource::kNone:
+      return out;
+    case LevelingSource::kImu:
+      out.leveling = levelingFromImu(*imu_camera_to_world);
+      return out;  // no yaw: the images stay as they are
+    case LevelingSource::kImage:
+    case LevelingSource::kImuAndImage: {
+      ManhattanImageOptions manhattan = options.manhattan;
+      if (uses_imu) manhattan.known_up = cameraUpFromImu(*imu_camera_to_world);
+      out.manhattan = estimateManhattanFrame(std::vector<cv::Mat>{out.top, out.bottom}, manhattan);
+      out.leveling = splitLeveling(out.manhattan->camera_to_manhattan);
+      break;
+    }
+  }
+  out.top = rotateEquirect(out.top, out.leveling.image_rotation, cv::INTER_LINEAR);
+  out.bottom = rotateEquirect(out.bottom, out.leveling.image_rotation, cv::INTER_LINEAR);
+  return out;
+}
+
+}  // namespace room_reverb::core
