@@ -62,6 +62,13 @@ RoomModelServer::RoomModelServer(::ros::NodeHandle nh, ::ros::NodeHandle private
   private_nh_.param("build_on_cloud", build_on_cloud_, false);
   options_.stereo = stereoOptionsFromConfig(stereoConfigFromParams(private_nh_));
   readLayoutParams(private_nh_, options_.layout);
+  std::string classifier_file, families_file;
+  private_nh_.param<std::string>("material_classifier_file", classifier_file, "");
+  private_nh_.param<std::string>("material_families_file", families_file, "");
+  options_.classifier = std::make_shared<const core::MaterialClassifier>(core::MaterialClassifier::load(
+      classifier_file.empty() ? core::MaterialClassifier::defaultPath() : classifier_file));
+  options_.families = std::make_shared<const core::MaterialFamilyTable>(core::loadMaterialFamilyTable(
+      families_file.empty() ? core::defaultMaterialFamilyTablePath() : families_file, core::MaterialLibrary::loadDefault()));
 
   room_pub_ = private_nh_.advertise<room_reverb::RoomModel>("room", 1, true);
   marker_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>("markers", 1, true);

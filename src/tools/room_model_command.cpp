@@ -10,7 +10,7 @@
 #include "image_files.h"
 #include "room_reverb/acoustics/room_model.h"
 #include "room_reverb/common/error.h"
-#include "room_reverb/vision/dual_fisheye.h"
+#include "room_reverb/vision/capture_ingest.h"
 #include "room_reverb/vision/visual_route.h"
 
 namespace room_reverb::tool {
@@ -20,7 +20,7 @@ using namespace room_reverb::core;
 
 const char* kHelp = R"(usage: room_reverb room-model --top TOP.png --bottom BOTTOM.png --out ROOM.yaml
                               [--baseline M] [--fisheye] [--calibration FILE] [--width W]
-                              [--cloud CLOUD.pcd] [--range RANGE.tiff]
+                              [--leveling image|none] [--cloud CLOUD.pcd] [--range RANGE.tiff]
 
 The paper's visual route on a capture from two vertically aligned 360° cameras: spherical
 stereo along the image columns, the point cloud in the rig frame, the room box (walls,
@@ -33,7 +33,11 @@ or dual-fisheye with --fisheye. `room_reverb make-capture` renders test pairs.
   --baseline M                vertical distance between the camera centres [m]; default 0.2
   --fisheye                   the images are dual-fisheye (2S x S); stitched first
   --calibration FILE          dual-fisheye calibration (default config/dual_fisheye.yaml)
-  --width W                   equirect width after stitching [px]; default 2 S
+  --width W                   equirect width to work at [px], even; default the input's
+                              (2 S for dual fisheye)
+  --leveling MODE             image (default): the pair is turned about the baseline to the
+                              room's walls and the rig's tilt found from the images' straight
+                              edges, then taken out of the cloud; none: the rig stood upright
   --cloud FILE                also write the point cloud (binary PCD, rig frame)
   --range FILE                also write the top camera's range image (32-bit float TIFF,
                               metres, NaN where invalid)
@@ -70,7 +74,8 @@ void printRoom(const RoomLayout& layout, const VisualRouteTimes& t, std::size_t 
 }
 
 int runRoomModel(const std::vector<std::string>& raw) {
-  const Arguments args(raw, {"top", "bottom", "out", "baseline", "calibration", "width", "cloud", "range"}, {"fisheye"});
+  const Arguments args(raw, {"top", "bottom", "out", "baseline", "calibration", "width", "leveling", "cloud", "range"},
+                       {"fisheye"});
   if (!args.positional().empty()) throw UsageError("unexpected argument '" + args.positional().front() + "'");
   for (const char* required : {"top", "bottom", "out"}) {
     if (!args.has(required)) throw UsageError(std::string("--") + required + " is required");
@@ -79,20 +84,27 @@ int runRoomModel(const std::vector<std::string>& raw) {
   if (!(baseline > 0.0) || !std::isfinite(baseline)) {
     throw InputError("--baseline must be a positive distance in metres (got " + args.value("baseline", "") + ")");
   }
-  cv::Mat top = readCameraImage(args.value("top", ""));
-  cv::Mat bottom = readCameraImage(args.value("bottom", ""));
-  if (args.has("fisheye")) {
-    const DualFisheyeCalibration calibration =
-        loadDualFisheyeCalibration(args.value("calibration", defaultDualFisheyeCalibrationPath()));
-    if (top.size() != bottom.size()) throw InputError("the top and bottom images differ in size");
-    const int width = args.intValue("width", top.cols);
-    top = fisheyeToEquirect(top, calibration, width);
-    bottom = fisheyeToEquirect(bottom, calibration, width);
-  } else if (args.has("calibration") || args.has("width")) {
-    throw UsageError("--calibration and --width are only used with --fisheye");
+  CaptureIngestOptions ingest;
+  ingest.leveling = parseLevelingSource(args.value("leveling", "image"), "--leveling");
+  if (ingest.leveling != LevelingSource::kNone && ingest.leveling != LevelingSource::kImage) {
+    throw UsageError("--leveling takes image or none (an IMU's orientation is for the capture_ingest node)");
   }
-
-  const VisualRoute route = runVisualRoute(top, bottom, baseline);
+  ingest.width = args.intValue("width", 0);
+  if (args.has("fisheye")) {
+    ingest.format = CaptureImageFormat::kDualFisheye;
+    ingest.calibration = loadDualFisheyeCalibration(args.value("calibration", defaultDualFisheyeCalibrationPath()));
+  } else if (args.has("calibration")) {
+    throw UsageError("--calibration is only used with --fisheye");
+  }
+  const IngestedCapture pair =
+      ingestCapture(readCameraImage(args.value("top", "")), readCameraImage(args.value("bottom", "")), ingest);
+  if (pair.manhattan) {
+    std::cout << "levelled: turned " << pair.leveling.yaw_rad * 180.0 / M_PI << " deg about the baseline, rig tilt "
+              << pair.leveling.tilt_rad * 180.0 / M_PI << " deg (" << pair.manhattan->segments << " line segments)\n";
+  }
+  VisualRouteOptions options;
+  loadDefaultMaterialModels(options);
+  const VisualRoute route = runVisualRoute(pair.top, pair.bottom, baseline, options, pair.leveling.tilt);
   saveRoomModel(args.value("out", ""), route.layout.model);
   if (args.has("cloud")) savePointCloudPcd(args.value("cloud", ""), route.cloud);
   if (args.has("range")) writeImage(args.value("range", ""), route.depth.range_m);

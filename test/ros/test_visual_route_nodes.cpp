@@ -23,6 +23,7 @@
 #include "room_reverb/ros/image_conversions.h"
 #include "room_reverb/vision/capture_generator.h"
 #include "room_reverb/vision/capture_scene.h"
+#include "room_reverb/vision/texture_family.h"
 
 namespace {
 
@@ -114,6 +115,20 @@ void expectMeetingRoom(const room_reverb::BuildRoomModel::Response& response, co
               0.0, 0.05)
       << how;
   EXPECT_GT(response.cloud_points, 100000u) << how;
+  // Materials: every face's look (texture family) as rendered; two materials of one family
+  // look alike, so the family is what a camera can tell.
+  const std::pair<std::string, std::string> faces[] = {
+      {"floor", response.room.floor_material},         {"ceiling", response.room.ceiling_material},
+      {"wall_x_min", response.room.wall_x_min_material}, {"wall_x_max", response.room.wall_x_max_material},
+      {"wall_y_min", response.room.wall_y_min_material}, {"wall_y_max", response.room.wall_y_max_material}};
+  for (const auto& [face, material] : faces) {
+    ASSERT_FALSE(material.empty()) << how << " " << face;
+    EXPECT_EQ(core::textureFamilyFor(material).family, core::textureFamilyFor(truth.surfaces.at(face).material).family)
+        << how << " " << face << ": " << material << " for " << truth.surfaces.at(face).material;
+  }
+  ASSERT_EQ(response.room.surface_confidence.size(), 6u);
+  for (const double c : response.room.surface_confidence) EXPECT_GT(c, 0.3) << how;
+  for (const auto& object : response.room.objects) EXPECT_FALSE(object.material.empty()) << how << " " << object.label;
   ::testing::Test::RecordProperty(how + "_seconds", std::to_string(response.seconds));
   ::testing::Test::RecordProperty(how + "_message", response.message);
 }

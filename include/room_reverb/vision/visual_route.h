@@ -11,6 +11,9 @@
 #include "room_reverb/vision/point_cloud.h"
 #include "room_reverb/vision/room_layout.h"
 #include "room_reverb/vision/spherical_stereo.h"
+#include "room_reverb/vision/surface_materials.h"
+
+#include <memory>
 
 namespace room_reverb::core {
 
@@ -18,7 +21,17 @@ struct VisualRouteOptions {
   SphericalStereoOptions stereo;
   DepthCloudOptions cloud;
   RoomLayoutOptions layout;
+  SurfaceMaterialOptions materials;
+  // The material classifier and the family -> material table. Null: the shipped ones
+  // (config/material_classifier.yml.gz, config/material_families.yaml) are loaded on each
+  // call; callers that build more than one room load them once (loadDefaultMaterialModels).
+  std::shared_ptr<const MaterialClassifier> classifier;
+  std::shared_ptr<const MaterialFamilyTable> families;
 };
+
+// Fills options.classifier and options.families with the shipped models (InputError if
+// they cannot be read).
+void loadDefaultMaterialModels(VisualRouteOptions& options);
 
 struct VisualRouteTimes {
   double stereo_s = 0.0;     // pair -> range image
@@ -31,6 +44,7 @@ struct VisualRoute {
   SphericalDepth depth;
   PointCloud cloud;
   RoomLayout layout;  // layout.model is a complete room model (every face and object has a material)
+  std::vector<SurfaceMaterialDecision> materials;  // how each face's and object's material was chosen
   VisualRouteTimes times;
 };
 
@@ -42,7 +56,8 @@ struct VisualRoute {
 // not 2:1 8-bit) and for a tilt that is not a rotation.
 RoomLayout roomLayoutFromCloud(const PointCloud& cloud, const cv::Mat& top_color, double baseline_m,
                                const VisualRouteOptions& options, const Eigen::Matrix3d& tilt = Eigen::Matrix3d::Identity(),
-                               VisualRouteTimes* times = nullptr);
+                               VisualRouteTimes* times = nullptr,
+                               std::vector<SurfaceMaterialDecision>* materials = nullptr);
 
 // The whole route. InputError for a pair the stereo refuses (sizes, not 2:1, black or
 // saturated, a baseline that is not positive) and as roomLayoutFromCloud.

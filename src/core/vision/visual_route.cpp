@@ -16,10 +16,15 @@ bool isIdentity(const Eigen::Matrix3d& r) { return (r - Eigen::Matrix3d::Identit
 
 }  // namespace
 
+void loadDefaultMaterialModels(VisualRouteOptions& options) {
+  options.classifier = std::make_shared<const MaterialClassifier>(MaterialClassifier::load(MaterialClassifier::defaultPath()));
+  options.families = std::make_shared<const MaterialFamilyTable>(
+      loadMaterialFamilyTable(defaultMaterialFamilyTablePath(), MaterialLibrary::loadDefault()));
+}
+
 RoomLayout roomLayoutFromCloud(const PointCloud& cloud, const cv::Mat& top_color, double baseline_m,
-                               const VisualRouteOptions& options, const Eigen::Matrix3d& tilt, VisualRouteTimes* times) {
-  (void)top_color;
-  (void)baseline_m;
+                               const VisualRouteOptions& options, const Eigen::Matrix3d& tilt, VisualRouteTimes* times,
+                               std::vector<SurfaceMaterialDecision>* materials) {
   vision_detail::requireRotation(tilt, "visual route: rig tilt");
   auto start = std::chrono::steady_clock::now();
   RoomLayout layout;
@@ -35,6 +40,17 @@ RoomLayout roomLayoutFromCloud(const PointCloud& cloud, const cv::Mat& top_color
     layout.model.rig_rotation = Eigen::Quaterniond(layout.room_from_rig.rotation()).normalized();
   }
   if (times != nullptr) times->layout_s = secondsSince(start);
+
+  start = std::chrono::steady_clock::now();
+  VisualRouteOptions loaded;
+  if (!options.classifier || !options.families) loadDefaultMaterialModels(loaded);
+  const MaterialClassifier& classifier = options.classifier ? *options.classifier : *loaded.classifier;
+  const MaterialFamilyTable& families = options.families ? *options.families : *loaded.families;
+  // The image is the (unlevelled) top camera's; layout.room_from_rig includes the tilt, so
+  // the step's rays from the camera land where the image saw them.
+  auto decisions = assignSurfaceMaterials(layout, top_color, baseline_m, classifier, families, options.materials);
+  if (materials != nullptr) *materials = std::move(decisions);
+  if (times != nullptr) times->materials_s = secondsSince(start);
   return layout;
 }
 
@@ -47,7 +63,7 @@ VisualRoute runVisualRoute(const cv::Mat& top, const cv::Mat& bottom, double bas
   start = std::chrono::steady_clock::now();
   route.cloud = depthToPointCloud(route.depth, top, baseline_m, options.cloud);
   route.times.cloud_s = secondsSince(start);
-  route.layout = roomLayoutFromCloud(route.cloud, top, baseline_m, options, tilt, &route.times);
+  route.layout = roomLayoutFromCloud(route.cloud, top, baseline_m, options, tilt, &route.times, &route.materials);
   return route;
 }
 

@@ -1,0 +1,138 @@
+// room_reverb room-model, run as a user would on image files: a generated capture (as
+// equirect images and as dual-fisheye ones) to a room.yaml within the tolerances,
+// with the optional cloud and range files, and every bad input an exit 2 with one line.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <string>
+
+#include "room_reverb/acoustics/room_model.h"
+#include "room_reverb/vision/capture_scene.h"
+#include "test_files.h"
+#include "tool_run.h"
+
+using namespace room_reverb::core;
+using room_reverb::test::expectOneLineError;
+using room_reverb::test::runTool;
+using room_reverb::test::tempPath;
+
+namespace {
+
+const std::string kMr = std::string(ROOM_REVERB_SOURCE_DIR) + "/data/captures/mr.yaml";
+
+// The MR capture at 1024 x 512 (equirect and fisheye), rendered once by make-capture.
+const std::string& capture() {
+  static const std::string dir = [] {
+    const std::string out = tempPath("room_model_tool_mr").string();
+    const auto run = runTool("make-capture --scene " + kMr + " --out " + out + " --width 1024 --fisheye");
+    EXPECT_EQ(run.exit_code, 0) << run.err;
+    return out;
+  }();
+  return dir;
+}
+
+// `relative`: the size tolerance as a fraction (the 1 %, or more where said why).
+void expectMeetingRoom(const std::string& room_yaml, const std::string& how, double relative = 0.01) {
+  const RoomModel truth = loadCaptureScene(kMr).room;
+  const RoomModel got = loadRoomModel(room_yaml);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(got.size_m[k], truth.size_m[k], std::max(0.03, relative * truth.size_m[k])) << how << " axis " << k;
+  }
+  EXPECT_NEAR((got.rig_position_m - truth.rig_position_m).norm(), 0.0, 0.05) << how;
+  for (const auto& [face, assignment] : got.surfaces) EXPECT_FALSE(assignment.material.empty()) << how << " " << face;
+  for (const auto& object : got.objects) EXPECT_FALSE(object.material.empty()) << how << " " << object.label;
+}
+
+std::string writeImage(const std::string& name, const cv::Mat& image) {
+  const std::string path = tempPath(name).string();
+  cv::imwrite(path, image);
+  return path;
+}
+
+}  // namespace
+
+TEST(RoomModelTool, EquirectPairToRoomYamlCloudAndRange) {
+  const std::string dir = capture();
+  const std::string out = tempPath("room_model_tool_mr.yaml").string();
+  const std::string cloud = tempPath("room_model_tool_mr.pcd").string();
+  const std::string range = tempPath("room_model_tool_mr_range.tiff").string();
+  const auto run = runTool("room-model --top " + dir + "/top.png --bottom " + dir + "/bottom.png --baseline 0.2 --out " +
+                           out + " --cloud " + cloud + " --range " + range);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("wrote " + out), std::string::npos) << run.out;
+  expectMeetingRoom(out, "equirect");
+
+  std::ifstream pcd(cloud, std::ios::binary);
+  std::string line, points_line;
+  while (std::getline(pcd, line) && line != "DATA binary") {
+    if (line.rfind("POINTS ", 0) == 0) points_line = line;
+  }
+  ASSERT_EQ(line, "DATA binary");
+  const long points = std::stol(points_line.substr(7));
+  EXPECT_GT(points, 1024L * 512 * 6 / 10);
+  const auto header_end = pcd.tellg();
+  pcd.seekg(0, std::ios::end);
+  EXPECT_EQ(static_cast<long>(pcd.tellg() - header_end), points * 20);
+
+  const cv::Mat r = cv::imread(range, cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(r.type(), CV_32FC1);
+  EXPECT_EQ(r.size(), cv::Size(1024, 512));
+}
+
+TEST(RoomModelTool, DualFisheyePairIsStitchedFirst) {
+  const std::string dir = capture();
+  const std::string out = tempPath("room_model_tool_fisheye.yaml").string();
+  const auto run = runTool("room-model --fisheye --top " + dir + "/top_fisheye.png --bottom " + dir +
+                           "/bottom_fisheye.png --out " + out);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  // Two 512-pixel fisheyes stitched and levelled to 1024 x 512 are softer than a 1024
+  // equirect render: the 5.6 m axis comes out 5-6 cm short (measured), just over 1 %. The
+  // 1 % check of the fisheye route runs at 2048 in the rostest (test/ros/visual_route.test).
+  expectMeetingRoom(out, "fisheye", 0.02);
+}
+
+TEST(RoomModelTool, BadInputIsOneLineAndExitTwo) {
+  const std::string dir = capture();
+  const std::string top = dir + "/top.png", bottom = dir + "/bottom.png";
+  const std::string out = " --out " + tempPath("room_model_tool_bad.yaml").string();
+  expectOneLineError(runTool("room-model --top /nonexistent.png --bottom " + bottom + out), "no such image");
+  expectOneLineError(runTool("room-model --top " + top + out), "--bottom");
+
+  const cv::Mat image = cv::imread(top);
+  cv::Mat small;
+  cv::resize(image, small, cv::Size(512, 256));
+  expectOneLineError(runTool("room-model --top " + top + " --bottom " + writeImage("rm_small.png", small) + out),
+                     "differ in size");
+  const std::string square = writeImage("rm_square.png", image(cv::Rect(0, 0, 512, 512)).clone());
+  expectOneLineError(runTool("room-model --top " + square + " --bottom " + square + out), "twice as wide");
+  // Black and saturated pairs: without levelling the stereo says so; with it, the images'
+  // missing edges are reported first.
+  const std::string black = writeImage("rm_black.png", cv::Mat(512, 1024, CV_8UC3, cv::Scalar::all(0)));
+  expectOneLineError(runTool("room-model --leveling none --top " + black + " --bottom " + black + out), "black");
+  expectOneLineError(runTool("room-model --top " + black + " --bottom " + black + out), "segments");
+  const std::string white = writeImage("rm_white.png", cv::Mat(512, 1024, CV_8UC3, cv::Scalar::all(255)));
+  expectOneLineError(runTool("room-model --leveling none --top " + white + " --bottom " + white + out), "saturated");
+  expectOneLineError(runTool("room-model --top " + top + " --bottom " + bottom + " --baseline 0" + out), "baseline");
+  expectOneLineError(runTool("room-model --top " + top + " --bottom " + bottom + " --calibration x.yaml" + out),
+                     "--fisheye");
+  expectOneLineError(runTool("room-model --top " + top + " --bottom " + bottom + " --leveling sideways" + out),
+                     "unknown leveling");
+  const std::string text = tempPath("rm_not_an_image.png").string();
+  std::ofstream(text) << "not an image";
+  expectOneLineError(runTool("room-model --top " + text + " --bottom " + bottom + out), "not an image");
+
+  // Two unrelated noise images: the stereo finds depths, but no room in them (a cloud
+  // with no floor or walls).
+  cv::Mat noise_a(512, 1024, CV_8UC3), noise_b(512, 1024, CV_8UC3);
+  cv::randu(noise_a, 0, 256);
+  cv::randu(noise_b, 0, 256);
+  const auto run = runTool("room-model --top " + writeImage("rm_noise_a.png", noise_a) + " --bottom " +
+                           writeImage("rm_noise_b.png", noise_b) + out);
+  EXPECT_EQ(run.exit_code, 2) << run.out << run.err;
+  EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+}
