@@ -7,6 +7,14 @@
 //   median_pct     median relative range error on valid pixels [%]
 //   p90_pct        90th percentile of it [%]
 //   points         points in the cloud
+// and times the second half, the point cloud to a room model with materials
+// (roomLayoutFromCloud: layout fit plus material step), with its accuracy as counters:
+//   size_err_cm    largest error of the room's three dimensions [cm] (ceiling-less: two)
+//   yaw_err_deg    rig yaw error [deg]
+//   iou_min        lowest 3D IoU of a true object at least 0.5 m in its largest side with
+//                  the best fitted cuboid (1 when the scene has none)
+//   material_pct   share of the true box faces' area whose material has the true look
+//                  (texture family) [%]
 // Run: scripts/bench (all benchmarks) or .ws/devel/lib/room_reverb/bench_visual_route
 #include <benchmark/benchmark.h>
 
@@ -18,7 +26,10 @@
 
 #include "room_reverb/vision/capture_scene.h"
 #include "room_reverb/vision/depth_cloud.h"
+#include "room_reverb/vision/oriented_box_iou.h"
 #include "room_reverb/vision/spherical_stereo.h"
+#include "room_reverb/vision/texture_family.h"
+#include "room_reverb/vision/visual_route.h"
 
 namespace {
 
@@ -27,15 +38,38 @@ using namespace room_reverb::core;
 constexpr double kPi = 3.14159265358979323846;
 const std::vector<std::string> kScenes = {"mr", "kt", "plain_office", "lounge_furniture", "yawed_rig_studio", "courtyard"};
 
+CaptureScene scene(const std::string& name) {
+  CaptureScene s = loadCaptureScene(std::string(ROOM_REVERB_SOURCE_DIR) + "/data/captures/" + name + ".yaml");
+  s.options.width = 2048;
+  return s;
+}
+
 const StereoCapture& capture(const std::string& name) {
   static std::map<std::string, StereoCapture> cache;
   auto it = cache.find(name);
   if (it == cache.end()) {
-    CaptureScene scene = loadCaptureScene(std::string(ROOM_REVERB_SOURCE_DIR) + "/data/captures/" + name + ".yaml");
-    scene.options.width = 2048;
-    it = cache.emplace(name, renderCapture(scene.room, MaterialLibrary::loadDefault(), scene.options)).first;
+    const CaptureScene s = scene(name);
+    it = cache.emplace(name, renderCapture(s.room, MaterialLibrary::loadDefault(), s.options)).first;
   }
   return it->second;
+}
+
+const PointCloud& stereoCloud(const std::string& name) {
+  static std::map<std::string, PointCloud> cache;
+  auto it = cache.find(name);
+  if (it == cache.end()) {
+    const StereoCapture& c = capture(name);
+    const SphericalDepth depth = computeSphericalDepth(c.top.color, c.bottom.color, 0.2);
+    it = cache.emplace(name, depthToPointCloud(depth, c.top.color, 0.2)).first;
+  }
+  return it->second;
+}
+
+double yawOf(const Eigen::Quaterniond& q) { return 2.0 * std::atan2(q.z(), q.w()); }
+
+double faceArea(const Eigen::Vector3d& size, int k) {
+  if (k < 2) return size.x() * size.y();
+  return (k < 4 ? size.y() : size.x()) * size.z();
 }
 
 void BM_PairToPointCloud(benchmark::State& state) {
@@ -72,6 +106,50 @@ void BM_PairToPointCloud(benchmark::State& state) {
   state.counters["points"] = static_cast<double>(cloud.points.size());
 }
 BENCHMARK(BM_PairToPointCloud)->DenseRange(0, static_cast<int>(kScenes.size()) - 1)->Unit(benchmark::kMillisecond)
+    ->Iterations(3)->UseRealTime();
+
+void BM_PointCloudToRoomModel(benchmark::State& state) {
+  const std::string name = kScenes[static_cast<std::size_t>(state.range(0))];
+  const CaptureScene truth = scene(name);
+  const StereoCapture& c = capture(name);
+  const PointCloud& cloud = stereoCloud(name);
+  state.SetLabel(name);
+  VisualRouteOptions options;
+  loadDefaultMaterialModels(options);
+  RoomLayout layout;
+  for (auto _ : state) {
+    layout = roomLayoutFromCloud(cloud, c.top.color, 0.2, options);
+    benchmark::DoNotOptimize(layout.model.objects.data());
+  }
+  const RoomModel& got = layout.model;
+  double size_err = 0.0;
+  for (int k = 0; k < (truth.room.has_ceiling ? 3 : 2); ++k) {
+    size_err = std::max(size_err, std::abs(got.size_m[k] - truth.room.size_m[k]));
+  }
+  double iou_min = 1.0;
+  for (const CuboidObject& object : truth.room.objects) {
+    if (object.size_m.maxCoeff() < 0.5) continue;
+    double best = 0.0;
+    for (const CuboidObject& fitted : got.objects) best = std::max(best, orientedBoxIoU3d(object, fitted));
+    iou_min = std::min(iou_min, best);
+  }
+  double right = 0.0, total = 0.0;
+  for (int k = 0; k < 6; ++k) {
+    const auto t = truth.room.surfaces.find(kRoomSurfaceNames[static_cast<std::size_t>(k)]);
+    const auto g = got.surfaces.find(kRoomSurfaceNames[static_cast<std::size_t>(k)]);
+    if (t == truth.room.surfaces.end()) continue;
+    const double area = faceArea(truth.room.size_m, k);
+    total += area;
+    if (g != got.surfaces.end() && textureFamilyFor(g->second.material).family == textureFamilyFor(t->second.material).family) {
+      right += area;
+    }
+  }
+  state.counters["size_err_cm"] = 100.0 * size_err;
+  state.counters["yaw_err_deg"] = std::abs(layout.rig_yaw_rad - yawOf(truth.room.rig_rotation)) * 180.0 / kPi;
+  state.counters["iou_min"] = iou_min;
+  state.counters["material_pct"] = 100.0 * right / std::max(total, 1e-9);
+}
+BENCHMARK(BM_PointCloudToRoomModel)->DenseRange(0, static_cast<int>(kScenes.size()) - 1)->Unit(benchmark::kMillisecond)
     ->Iterations(3)->UseRealTime();
 
 }  // namespace
