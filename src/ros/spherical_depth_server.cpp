@@ -40,7 +40,7 @@ SphericalDepthServer::SphericalDepthServer(::ros::NodeHandle nh, ::ros::NodeHand
   private_nh_.param<std::string>("top_camera_frame", top_frame_, "rig_top_camera");
   private_nh_.param<std::string>("bottom_camera_frame", bottom_frame_, "rig_bottom_camera");
   cloud_options_.stride = positiveIntParam(private_nh_, "cloud_stride", 1);
-  private_nh_.param("include_filled", cloud_options_.include_filled, true);
+  private_nh_.param("include_filled", cloud_options_.include_filled, false);
   const int queue = positiveIntParam(private_nh_, "queue_size", 2);
 
   stereo_options_ = stereoOptionsFromConfig(stereoConfigFromParams(private_nh_));

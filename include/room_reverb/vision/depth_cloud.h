@@ -12,7 +12,11 @@ namespace room_reverb::core {
 
 struct DepthCloudOptions {
   int stride = 1;              // every stride-th pixel along both axes (a lighter cloud)
-  bool include_filled = true;  // points from hole filling too
+  // Points from hole filling too. Off by default: a filled range is an interpolation
+  // across a hole the matcher could not range, often at an object's edge, and its points
+  // stretch the furniture cuboids of the layout fit (room_layout.h) without adding
+  // anything the measured points around the hole do not show.
+  bool include_filled = false;
 };
 
 // InputError when the depth and the colour image differ in size, the colour image is not

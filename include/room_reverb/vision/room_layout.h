@@ -23,12 +23,17 @@
 //     weighted medians in windows that grow with the wall's distance (depth noise grows
 //     with range).
 //  5. Room frame: see RoomLayout::room_from_rig.
-//  6. Objects (furniture_fit.h: object_clusters.h, cuboid_fit.h, hidden_sides.h,
-//     furniture_labels.h): voxels inside the box and clear of its faces by each face's
-//     noise margin, grouped into connected clusters; each large enough cluster becomes an
-//     upright cuboid (yaw from the closeness of its points to a rectangle's sides, or the
-//     walls'), its hidden sides carved out against the rays that passed behind them (on
-//     the floor, against a wall when nothing shows they are not), and named by its size.
+//  6. Objects (furniture_fit.h: object_clusters.h, cluster_split.h, cuboid_fit.h,
+//     hidden_sides.h, furniture_labels.h): voxels inside the box and clear of its faces by
+//     each face's noise margin (the calibrated noise, or the spread the face's own points
+//     show where that is more: face_spread.h), grouped into connected clusters; a cluster
+//     is split where only thin bridges of smeared or stray stereo points join its pieces,
+//     and clusters are joined where they are one piece seen in parts (their cuboids
+//     overlap, or hardly a ray passes through the cuboid of both); each large enough
+//     cluster becomes an upright cuboid (yaw from the closeness of its points to a
+//     rectangle's sides, or the walls'), its hidden sides carved out against the rays that
+//     passed behind them (on the floor, against a wall when nothing shows they are not),
+//     and named by its size.
 //
 // Cost: linear in the points; about 0.4 s for a million points on one core.
 //
@@ -58,7 +63,8 @@ struct RoomLayoutOptions {
   // 1-sigma depth noise of the cloud as a fraction of the range (stereo calibration).
   // Sets how thick a plane looks: a face at distance d is taken to be +-noise_sigmas *
   // range_noise_fraction * d thick (but at least min_face_margin_m), both when fitting it
-  // and when cutting it away from the furniture.
+  // and when cutting it away from the furniture (there thicker if the face's points
+  // spread more).
   double range_noise_fraction = 0.01;
   double noise_sigmas = 3.0;
   double min_face_margin_m = 0.06;

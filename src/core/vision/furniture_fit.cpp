@@ -1,5 +1,6 @@
 #include "furniture_fit.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -48,24 +49,24 @@ std::size_t root(std::vector<std::size_t>& parent, std::size_t i) {
   return i;
 }
 
-// The clusters with every pair whose boxes share merge_overlap of the smaller one's
-// volume joined (transitively).
-Clusters mergedClusters(const Clusters& clusters, const std::vector<CuboidObject>& boxes, double merge_overlap) {
-  std::vector<std::size_t> parent(clusters.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  for (std::size_t a = 0; a < clusters.size(); ++a) {
-    for (std::size_t b = a + 1; b < clusters.size(); ++b) {
-      if (sharedFraction(boxes[a], boxes[b]) >= merge_overlap) parent[root(parent, b)] = root(parent, a);
-    }
-  }
-  Clusters groups(clusters.size());
-  for (std::size_t k = 0; k < clusters.size(); ++k) {
-    auto& into = groups[root(parent, k)];
-    into.insert(into.end(), clusters[k].begin(), clusters[k].end());
-  }
-  groups.erase(std::remove_if(groups.begin(), groups.end(), [](const auto& g) { return g.empty(); }), groups.end());
-  return groups;
+// The room-frame bounding boxes of two point sets are within `gap` of each other.
+bool near(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, double gap) {
+  const auto bounds = [](const std::vector<Eigen::Vector3d>& points) {
+    Eigen::AlignedBox3d box;
+    for (const auto& p : points) box.extend(p);
+    return box;
+  };
+  const Eigen::AlignedBox3d ba = bounds(a), bb = bounds(b);
+  return !ba.isEmpty() && !bb.isEmpty() && ba.exteriorDistance(bb) <= gap;
 }
+
+// Clusters with what the fit knows of them.
+struct Pieces {
+  Clusters clusters;                                 // voxel indices
+  std::vector<std::int32_t> voxel_cluster;           // per voxel: its cluster or -1
+  std::vector<std::vector<Eigen::Vector3d>> points;  // raw points, room frame, clear of the faces
+  std::vector<CuboidObject> boxes;                   // fitted, hidden sides extended
+};
 
 // Fits a cuboid to each cluster: its raw points (room frame, clear of the room's faces),
 // then its hidden sides carved against every other voxel the rig saw in the room.
@@ -84,34 +85,66 @@ class ClusterFitter {
 
   const std::vector<Eigen::Vector3d>& roomCentroids() const { return room_centroid_; }
 
-  // Boxes of the clusters (a zero box for a cluster without points); sets voxel_cluster.
-  std::vector<CuboidObject> fit(const Clusters& clusters, std::vector<std::int32_t>& voxel_cluster) const {
-    voxel_cluster.assign(grid_.voxels().size(), -1);
-    for (std::size_t k = 0; k < clusters.size(); ++k) {
-      for (std::uint32_t v : clusters[k]) voxel_cluster[v] = static_cast<std::int32_t>(k);
+  // The clusters' points and boxes.
+  Pieces fit(Clusters clusters) const {
+    Pieces p;
+    p.clusters = std::move(clusters);
+    p.voxel_cluster.assign(grid_.voxels().size(), -1);
+    for (std::size_t k = 0; k < p.clusters.size(); ++k) {
+      for (std::uint32_t v : p.clusters[k]) p.voxel_cluster[v] = static_cast<std::int32_t>(k);
     }
-    std::vector<std::vector<Eigen::Vector3d>> points(clusters.size());
+    p.points.assign(p.clusters.size(), {});
     for (std::size_t i = 0; i < cloud_.points.size(); ++i) {
       const std::uint32_t v = grid_.pointVoxel()[i];
-      if (v == VoxelGrid::kNoVoxel || voxel_cluster[v] < 0) continue;
-      const Eigen::Vector3d p = frame_.toRoom(cloud_.points[i].p.cast<double>());
-      if (frame_.clearOfFaces(p)) points[voxel_cluster[v]].push_back(p);
+      if (v == VoxelGrid::kNoVoxel || p.voxel_cluster[v] < 0) continue;
+      const Eigen::Vector3d point = frame_.toRoom(cloud_.points[i].p.cast<double>());
+      if (frame_.clearOfFaces(point)) p.points[p.voxel_cluster[v]].push_back(point);
     }
-    std::vector<CuboidObject> boxes(clusters.size());
-    std::vector<Eigen::Vector3d> elsewhere;
-    for (std::size_t k = 0; k < clusters.size(); ++k) {
-      if (points[k].empty()) continue;
-      elsewhere.clear();
-      for (std::uint32_t v : seen_) {
-        if (voxel_cluster[v] != static_cast<std::int32_t>(k)) elsewhere.push_back(room_centroid_[v]);
-      }
-      const CuboidObject seen_part = fitCuboid(points[k], params_.cuboid);
-      boxes[k] = normalisedCuboid(extendHiddenSides(seen_part, elsewhere, params_.hidden));
+    p.boxes.assign(p.clusters.size(), CuboidObject{});  // a zero box for a cluster without points
+    for (std::size_t k = 0; k < p.clusters.size(); ++k) {
+      if (p.points[k].empty()) continue;
+      const auto self = static_cast<std::int32_t>(k);
+      const CuboidObject seen_part = fitCuboid(p.points[k], params_.cuboid);
+      p.boxes[k] = normalisedCuboid(extendHiddenSides(seen_part, elsewhere(p, self, self), params_.hidden));
     }
-    return boxes;
+    return p;
+  }
+
+  // Whether pieces a and b are one object: their boxes share merge_overlap of the smaller
+  // one's volume (an object seen in parts: a table top and its front seen apart through
+  // a sparse row of points), or their points nearly touch and the cuboid of both together
+  // is solid as far as the rig can tell, hardly a ray passing through it (an object cut in
+  // two by the shadow of something in front of it, as a table behind a loudspeaker
+  // stand). Two pieces of furniture side by side are not: the rays to the floor between
+  // them pass through their joint cuboid.
+  bool sameObject(const Pieces& p, std::size_t a, std::size_t b) const {
+    if (sharedFraction(p.boxes[a], p.boxes[b]) >= params_.merge_overlap) return true;
+    if (p.points[a].empty() || p.points[b].empty() || !near(p.points[a], p.points[b], params_.join_gap_m)) {
+      return false;
+    }
+    std::vector<Eigen::Vector3d> both = p.points[a];
+    both.insert(both.end(), p.points[b].begin(), p.points[b].end());
+    const CuboidObject joint = fitCuboid(both, params_.cuboid);
+    const auto ia = static_cast<std::int32_t>(a), ib = static_cast<std::int32_t>(b);
+    const std::size_t through = raysThroughBox(joint, elsewhere(p, ia, ib), params_.hidden);
+    // A few rays through it are strays (a mismatch reported beyond the surface it
+    // missed): as many as a small fraction of the voxels seen of the two.
+    const auto seen_voxels = static_cast<double>(p.clusters[a].size() + p.clusters[b].size());
+    const double strays = params_.join_stray_fraction * seen_voxels;
+    return static_cast<double>(through) < std::max(static_cast<double>(params_.hidden.free_rays), strays);
   }
 
  private:
+  // The voxels seen in the room outside the pieces a and b (room frame).
+  std::vector<Eigen::Vector3d> elsewhere(const Pieces& p, std::int32_t a, std::int32_t b) const {
+    std::vector<Eigen::Vector3d> out;
+    out.reserve(seen_.size());
+    for (std::uint32_t v : seen_) {
+      if (p.voxel_cluster[v] != a && p.voxel_cluster[v] != b) out.push_back(room_centroid_[v]);
+    }
+    return out;
+  }
+
   const PointCloud& cloud_;
   const VoxelGrid& grid_;
   const RoomFrame& frame_;
@@ -119,6 +152,26 @@ class ClusterFitter {
   std::vector<Eigen::Vector3d> room_centroid_;
   std::vector<std::uint32_t> seen_;
 };
+
+// The clusters with every pair the fitter takes for one object joined (transitively).
+Clusters mergedClusters(const Pieces& pieces, const ClusterFitter& fitter) {
+  const Clusters& clusters = pieces.clusters;
+  std::vector<std::size_t> parent(clusters.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  for (std::size_t a = 0; a < clusters.size(); ++a) {
+    for (std::size_t b = a + 1; b < clusters.size(); ++b) {
+      if (root(parent, a) == root(parent, b)) continue;
+      if (fitter.sameObject(pieces, a, b)) parent[root(parent, b)] = root(parent, a);
+    }
+  }
+  Clusters groups(clusters.size());
+  for (std::size_t k = 0; k < clusters.size(); ++k) {
+    auto& into = groups[root(parent, k)];
+    into.insert(into.end(), clusters[k].begin(), clusters[k].end());
+  }
+  groups.erase(std::remove_if(groups.begin(), groups.end(), [](const auto& g) { return g.empty(); }), groups.end());
+  return groups;
+}
 
 }  // namespace
 
@@ -130,32 +183,34 @@ Furniture fitFurniture(const PointCloud& cloud, const VoxelGrid& grid, const Roo
   for (std::size_t v = 0; v < voxels.size(); ++v) {
     candidate[v] = voxels[v].hint != VoxelHint::structure && frame.clearOfFaces(fitter.roomCentroids()[v]);
   }
-  Clusters clusters = connectedVoxelClusters(grid, candidate, params.min_voxels, params.link_voxels);
-  std::vector<std::int32_t> voxel_cluster;
-  std::vector<CuboidObject> boxes = fitter.fit(clusters, voxel_cluster);
-  // Clusters whose cuboids overlap are parts of one object seen in pieces: fitted again
-  // as one.
-  Clusters merged = mergedClusters(clusters, boxes, params.merge_overlap);
-  if (merged.size() < clusters.size()) {
-    clusters = std::move(merged);
-    boxes = fitter.fit(clusters, voxel_cluster);
-  }
+  Clusters clusters =
+      splitClustersAtNecks(grid, connectedVoxelClusters(grid, candidate, params.min_voxels, params.link_voxels),
+                           params.link_voxels, params.split);
+  // A split can leave a piece (a bridge's stub) below the size of an object.
+  clusters.erase(std::remove_if(clusters.begin(), clusters.end(),
+                                [&](const auto& c) { return c.size() < params.min_voxels; }),
+                 clusters.end());
+  Pieces pieces = fitter.fit(std::move(clusters));
+  // Parts of one object seen in pieces are fitted again as one.
+  Clusters merged = mergedClusters(pieces, fitter);
+  if (merged.size() < pieces.clusters.size()) pieces = fitter.fit(std::move(merged));
 
   Furniture furniture;
-  std::vector<std::int32_t> cluster_object(clusters.size(), -1);
-  for (std::size_t k = 0; k < clusters.size(); ++k) {
-    CuboidObject object = boxes[k];
+  std::vector<std::int32_t> cluster_object(pieces.clusters.size(), -1);
+  for (std::size_t k = 0; k < pieces.clusters.size(); ++k) {
+    CuboidObject object = pieces.boxes[k];
     if (object.size_m.maxCoeff() < params.min_extent_m || (object.size_m.array() <= 0.0).any()) continue;
     const bool on_floor = object.center_m.z() - 0.5 * object.size_m.z() <= 1e-9;
     object.label = furnitureLabel(object, on_floor, againstWall(object, frame.size));
     object.material = "";  // placeholder: the material step names it
-    object.confidence = objectConfidence(clusters[k].size(), object.label);
+    object.confidence = objectConfidence(pieces.clusters[k].size(), object.label);
     cluster_object[k] = static_cast<std::int32_t>(furniture.objects.size());
     furniture.objects.push_back(object);
   }
   furniture.voxel_object.assign(voxels.size(), -1);
   for (std::size_t v = 0; v < voxels.size(); ++v) {
-    if (voxel_cluster[v] >= 0) furniture.voxel_object[v] = cluster_object[voxel_cluster[v]];
+    const std::int32_t k = pieces.voxel_cluster[v];
+    if (k >= 0) furniture.voxel_object[v] = cluster_object[static_cast<std::size_t>(k)];
   }
   return furniture;
 }

@@ -33,6 +33,26 @@ double segmentEntry(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Ei
   return enter;
 }
 
+// The end of the stretch of the ray rig -> q that is known empty: short of q by the
+// point's noise; false if nothing of it is.
+bool trustedEnd(const Eigen::Vector3d& rig, const Eigen::Vector3d& q, const HiddenSideParams& params,
+                Eigen::Vector3d& end) {
+  const Eigen::Vector3d ray = q - rig;
+  const double length = ray.norm();
+  const double trusted = length * (1.0 - params.noise_sigmas * params.noise_fraction);
+  if (trusted <= 0.0) return false;
+  end = rig + ray * (trusted / length);
+  return true;
+}
+
+// How far inside a box's faces its solid core starts: the carving inset, or the depth
+// noise at the box's range if that is more (rays to points a little too far out must not
+// prove a face's inside empty).
+double insetAt(const Eigen::Vector3d& center, const HiddenSideParams& params) {
+  const double noise = params.noise_sigmas * params.noise_fraction * (params.rig_position - center).norm();
+  return std::max(params.inset_m, noise);
+}
+
 // How far (from the region's near end, along `axis` with `sign`) rays first enter the
 // region [lo, hi]: the free_rays-th smallest, or infinity if fewer rays cross it.
 // Everything is in the box's local frame; the box is [box_lo, box_hi].
@@ -43,13 +63,9 @@ double carvedDepth(const std::vector<Eigen::Vector3d>& observed_local, const Eig
                    const Eigen::Vector3d& box_hi, int axis, int sign, const HiddenSideParams& params) {
   std::vector<double> entries;
   const double near_end = sign > 0 ? lo[axis] : hi[axis];
+  Eigen::Vector3d end;
   for (const auto& q : observed_local) {
-    // The ray is known empty only up to the point's noise short of it.
-    const Eigen::Vector3d ray = q - rig_local;
-    const double length = ray.norm();
-    const double trusted = length * (1.0 - params.noise_sigmas * params.noise_fraction);
-    if (trusted <= 0.0) continue;
-    const Eigen::Vector3d end = rig_local + ray * (trusted / length);
+    if (!trustedEnd(rig_local, q, params, end)) continue;
     const double t = segmentEntry(rig_local, end, lo, hi);
     if (!std::isfinite(t) || std::isfinite(segmentEntry(rig_local, end, box_lo, box_hi))) continue;
     const Eigen::Vector3d at = rig_local + t * (end - rig_local);
@@ -95,8 +111,7 @@ CuboidObject extendHiddenSides(CuboidObject box, const std::vector<Eigen::Vector
   // The carved regions stay clear of the box's other faces by their noise, lest rays to
   // the floor just in front of a face measured a little too far out prove its underside
   // empty.
-  const double noise = params.noise_sigmas * params.noise_fraction * (params.rig_position - origin).norm();
-  const double inset = std::max(params.inset_m, noise);
+  const double inset = insetAt(origin, params);
   Eigen::Vector3d bmin = -0.5 * box.size_m, bmax = 0.5 * box.size_m;
   // Only a box square to the walls can stand flush against one.
   const double quarter = 0.5 * kPi;
@@ -157,6 +172,21 @@ CuboidObject extendHiddenSides(CuboidObject box, const std::vector<Eigen::Vector
   box.center_m = origin + to_local.transpose() * (0.5 * (bmin + bmax));
   box.size_m = bmax - bmin;
   return box;
+}
+
+std::size_t raysThroughBox(const CuboidObject& box, const std::vector<Eigen::Vector3d>& observed,
+                           const HiddenSideParams& params) {
+  const Eigen::Matrix3d to_local = Eigen::AngleAxisd(-box.yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Vector3d rig = to_local * (params.rig_position - box.center_m);
+  // The core never turns inside out: a box thinner than twice the inset keeps its mid plane.
+  const Eigen::Vector3d half = (0.5 * box.size_m.array() - insetAt(box.center_m, params)).max(0.0).matrix();
+  std::size_t count = 0;
+  Eigen::Vector3d end;
+  for (const auto& q : observed) {
+    if (!trustedEnd(rig, to_local * (q - box.center_m), params, end)) continue;
+    count += std::isfinite(segmentEntry(rig, end, -half, half));
+  }
+  return count;
 }
 
 }  // namespace room_reverb::core::layout

@@ -35,4 +35,10 @@ struct HiddenSideParams {
 CuboidObject extendHiddenSides(CuboidObject box, const std::vector<Eigen::Vector3d>& observed,
                                const HiddenSideParams& params);
 
+// How many of the rig's rays to `observed` points (room frame) pass through the box's
+// solid core (the box shrunk by the inset): each is a sighting through space the box
+// claims is solid. A ray counts only up to its point's noise short of it.
+std::size_t raysThroughBox(const CuboidObject& box, const std::vector<Eigen::Vector3d>& observed,
+                           const HiddenSideParams& params);
+
 }  // namespace room_reverb::core::layout

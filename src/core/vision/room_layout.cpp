@@ -5,6 +5,7 @@
 #include <limits>
 #include <string>
 
+#include "face_spread.h"
 #include "furniture_fit.h"
 #include "manhattan_frame.h"
 #include "room_box_fit.h"
@@ -192,8 +193,11 @@ RoomLayout fitRoomLayout(const PointCloud& cloud, const RoomLayoutOptions& optio
 
   if (!box.has_ceiling) box.top_z = layout::wallTopEdge(raw, box, spread);
 
+  // Furniture is cut away from each face by the face's thickness: the calibrated noise,
+  // or more where the face's own points show more (a plain wall, a smaller image).
+  const std::array<double, 6> measured = layout::measuredFaceSpreads(raw, box, spread);
   std::array<double, 6> margin{};
-  for (int f = 0; f < 6; ++f) margin[f] = box.margin(f, spread);
+  for (int f = 0; f < 6; ++f) margin[f] = std::max(box.margin(f, spread), spread.sigmas * measured[f]);
   const layout::RoomFrame frame(rig_yaw, -Eigen::Vector3d(box.x_lo, box.y_lo, box.floor_z),
                                 Eigen::Vector3d(box.x_hi - box.x_lo, box.y_hi - box.y_lo, box.top_z - box.floor_z),
                                 box.has_ceiling, margin);
