@@ -59,6 +59,7 @@ RoomModelServer::RoomModelServer(::ros::NodeHandle nh, ::ros::NodeHandle private
   private_nh_.param<std::string>("rig_frame", rig_frame_, "rig");
   private_nh_.param<std::string>("room_frame", room_frame_, "room");
   private_nh_.param<std::string>("output_file", output_file_, "");
+  private_nh_.param<std::string>("cloud_file", cloud_file_, "");
   private_nh_.param("build_on_cloud", build_on_cloud_, false);
   options_.stereo = stereoOptionsFromConfig(stereoConfigFromParams(private_nh_));
   readLayoutParams(private_nh_, options_.layout);
@@ -160,9 +161,11 @@ void RoomModelServer::buildFrom(const core::PointCloud* cloud, const cv::Mat& to
   if (cloud != nullptr) {
     layout = core::roomLayoutFromCloud(*cloud, top, baseline_m, options_, tilt);
     response.cloud_points = static_cast<std::uint32_t>(cloud->points.size());
+    if (!cloud_file_.empty()) core::savePointCloudPcd(cloud_file_, *cloud);
   } else {
     core::VisualRoute route = core::runVisualRoute(top, *bottom, baseline_m, options_);
     response.cloud_points = static_cast<std::uint32_t>(route.cloud.points.size());
+    if (!cloud_file_.empty()) core::savePointCloudPcd(cloud_file_, route.cloud);
     layout = std::move(route.layout);
   }
   if (!output_file_.empty()) core::saveRoomModel(output_file_, layout.model);

@@ -9,7 +9,7 @@
 //   ~room     room_reverb/RoomModel, latched
 //   ~markers  visualization_msgs/MarkerArray, latched (ros/room_markers.h)
 //   TF        room -> rig (static: the rig does not move during a capture)
-// and, with ~output_file, writes the room.yaml. Bad input gives success=false and a
+// and, with ~output_file, writes the room.yaml (with ~cloud_file, the cloud as PCD). Bad input gives success=false and a
 // message, never a dead node. config/room_model.yaml documents the parameters.
 #include <geometry_msgs/QuaternionStamped.h>
 #include <ros/ros.h>
@@ -50,6 +50,7 @@ class RoomModelServer {
   std::string rig_frame_;
   std::string room_frame_;
   std::string output_file_;
+  std::string cloud_file_;
   bool build_on_cloud_ = false;
   core::VisualRouteOptions options_;
 
