@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "room_reverb/common/error.h"
 #include "room_reverb/vision/capture_scene.h"
 #include "room_reverb/vision/depth_cloud.h"
 #include "room_reverb/vision/oriented_box_iou.h"
@@ -118,7 +119,12 @@ void BM_PointCloudToRoomModel(benchmark::State& state) {
   loadDefaultMaterialModels(options);
   RoomLayout layout;
   for (auto _ : state) {
-    layout = roomLayoutFromCloud(cloud, c.top.color, 0.2, options);
+    try {
+      layout = roomLayoutFromCloud(cloud, c.top.color, 0.2, options);
+    } catch (const InputError& e) {
+      state.SkipWithError(e.what());  // the courtyard: its facades are not found as walls (issue 6 note)
+      return;
+    }
     benchmark::DoNotOptimize(layout.model.objects.data());
   }
   const RoomModel& got = layout.model;
