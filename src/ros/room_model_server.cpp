@@ -11,6 +11,7 @@
 #include "room_reverb/common/error.h"
 #include "room_reverb/ros/cloud_conversions.h"
 #include "room_reverb/ros/image_conversions.h"
+#include "room_reverb/ros/parameters.h"
 #include "room_reverb/ros/room_conversions.h"
 #include "room_reverb/ros/room_markers.h"
 #include "room_reverb/ros/stereo_config.h"
@@ -51,11 +52,7 @@ void readLayoutParams(const ::ros::NodeHandle& nh, core::RoomLayoutOptions& o) {
 }  // namespace
 
 RoomModelServer::RoomModelServer(::ros::NodeHandle nh, ::ros::NodeHandle private_nh) : nh_(nh), private_nh_(private_nh) {
-  private_nh_.param("baseline_m", baseline_m_, 0.2);
-  if (!(baseline_m_ > 0.0) || !std::isfinite(baseline_m_)) {
-    throw core::InputError("parameter ~baseline_m must be a positive distance in metres (got " +
-                           std::to_string(baseline_m_) + ")");
-  }
+  baseline_m_ = positiveDoubleParam(private_nh_, "baseline_m", 0.2);
   private_nh_.param<std::string>("rig_frame", rig_frame_, "rig");
   private_nh_.param<std::string>("room_frame", room_frame_, "room");
   private_nh_.param<std::string>("output_file", output_file_, "");

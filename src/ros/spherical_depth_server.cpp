@@ -31,11 +31,7 @@ geometry_msgs::TransformStamped cameraTransform(const std::string& rig, const st
 
 SphericalDepthServer::SphericalDepthServer(::ros::NodeHandle nh, ::ros::NodeHandle private_nh)
     : nh_(nh), private_nh_(private_nh) {
-  private_nh_.param("baseline_m", baseline_m_, 0.2);
-  if (!(baseline_m_ > 0.0) || !std::isfinite(baseline_m_)) {
-    throw core::InputError("parameter ~baseline_m must be a positive distance in metres (got " +
-                           std::to_string(baseline_m_) + ")");
-  }
+  baseline_m_ = positiveDoubleParam(private_nh_, "baseline_m", 0.2);
   private_nh_.param<std::string>("rig_frame", rig_frame_, "rig");
   private_nh_.param<std::string>("top_camera_frame", top_frame_, "rig_top_camera");
   private_nh_.param<std::string>("bottom_camera_frame", bottom_frame_, "rig_bottom_camera");
