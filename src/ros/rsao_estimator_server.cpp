@@ -26,6 +26,31 @@ void requirePositive(bool ok, const std::string& name) {
   if (!ok) throw core::InputError("parameter ~" + name + " must be positive");
 }
 
+// A sphere and its name at a position in `frame`.
+void appendPositionMarker(visualization_msgs::MarkerArray& array, const std::string& frame, int id,
+                          const geometry_msgs::Point& at, const std::string& name, const std_msgs::ColorRGBA& rgba) {
+  visualization_msgs::Marker sphere;
+  sphere.header.frame_id = frame;
+  sphere.ns = "source_listener";
+  sphere.id = id;
+  sphere.type = visualization_msgs::Marker::SPHERE;
+  sphere.action = visualization_msgs::Marker::ADD;
+  sphere.pose.position = at;
+  sphere.pose.orientation.w = 1.0;
+  sphere.scale.x = sphere.scale.y = sphere.scale.z = 0.25;
+  sphere.color = rgba;
+  array.markers.push_back(sphere);
+  visualization_msgs::Marker label = sphere;
+  label.ns = "source_listener_labels";
+  label.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
+  label.pose.position.z += 0.3;
+  label.scale.x = label.scale.y = 0.0;
+  label.scale.z = 0.15;
+  label.color = color(1.0, 1.0, 1.0);
+  label.text = name;
+  array.markers.push_back(label);
+}
+
 }  // namespace
 
 visualization_msgs::MarkerArray rsaoMarkers(const core::Rsao& rsao, const std::string& frame_id,
@@ -74,6 +99,7 @@ visualization_msgs::MarkerArray rsaoMarkers(const core::Rsao& rsao, const std::s
 
 RsaoEstimatorServer::RsaoEstimatorServer(::ros::NodeHandle& private_nh) {
   private_nh.param<std::string>("frame_id", frame_id_, "rig");
+  private_nh.param<std::string>("room_frame", room_frame_, "room");
   int max_reflections = 20;
   private_nh.param("max_reflections", max_reflections, 20);
   if (max_reflections < 0) throw core::InputError("parameter ~max_reflections must be 0 or more");
@@ -144,7 +170,15 @@ bool RsaoEstimatorServer::estimate(room_reverb::EstimateRsao::Request& request,
     response.success = true;
     response.message = rsao.warnings.empty() ? "" : "warnings: " + rsao.warnings.front();
     rsao_publisher_.publish(response.rsao);
-    marker_publisher_.publish(rsaoMarkers(rsao, response.rsao.header.frame_id, marker_distance_scale_, marker_max_sphere_m_));
+    visualization_msgs::MarkerArray markers =
+        rsaoMarkers(rsao, response.rsao.header.frame_id, marker_distance_scale_, marker_max_sphere_m_);
+    if (request.file.empty() && request.impulse_response.positions_known) {
+      // The measurement's loudspeaker and microphone, where the room frame has them.
+      appendPositionMarker(markers, room_frame_, 0, request.impulse_response.source_position, "source", color(1.0, 0.5, 0.0));
+      appendPositionMarker(markers, room_frame_, 1, request.impulse_response.receiver_position, "listener",
+                           color(0.2, 0.6, 1.0));
+    }
+    marker_publisher_.publish(markers);
   } catch (const std::exception& e) {
     response = room_reverb::EstimateRsao::Response();
     response.success = false;

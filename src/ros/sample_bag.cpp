@@ -126,7 +126,7 @@ SampleBagReport writeSampleBag(const SampleBagOptions& o) {
   room_reverb::ImpulseResponse ir;
   ir.audio = toMessage(rir.impulse_response, "ambix");
   ir.audio.header.stamp = capture_time;
-  ir.audio.header.frame_id = "room";
+  ir.audio.header.frame_id = "rig";  // the microphone's frame: the RSAO's directions are in it
   ir.source_position = point(pair.source_m);
   ir.receiver_position = point(pair.receiver_m);
   ir.positions_known = true;

@@ -35,6 +35,7 @@ class RsaoEstimatorServer {
  private:
   core::RsaoOptions defaults_;
   std::string frame_id_;
+  std::string room_frame_;
   double marker_distance_scale_ = 1.0;
   double marker_max_sphere_m_ = 0.5;
   ::ros::Publisher rsao_publisher_;
