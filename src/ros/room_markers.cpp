@@ -110,8 +110,9 @@ visualization_msgs::MarkerArray roomMarkers(const core::RoomModel& model, const 
     m.scale.x = extent.x();
     m.scale.y = extent.y();
     m.scale.z = extent.z();
-    // The floor opaque, walls see-through, the ceiling faint: the inside stays visible.
-    setColor(m, it->second.material, k == 0 ? 0.9f : (k == 1 ? 0.15f : 0.35f));
+    // The floor opaque (a translucent floor is drawn over the objects standing on it), walls
+    // see-through, the ceiling faint: the inside stays visible.
+    setColor(m, it->second.material, k == 0 ? 1.0f : (k == 1 ? 0.15f : 0.35f));
     array.markers.push_back(m);
     Eigen::Vector3d text_at = centre;
     if (k >= 2) text_at.z() = 0.75 * model.size_m.z();
