@@ -133,12 +133,22 @@ bool RoomModelServer::build(room_reverb::BuildRoomModel::Request& request,
                                " (or give top and bottom images in the request)");
       }
       if (!image_msg) throw core::InputError("no image received yet on " + nh_.resolveName("top/image_equirect"));
+      // With ~build_on_cloud the latest cloud was usually built on arrival: answer with that
+      // room instead of fitting the same cloud again.
+      if (last_built_.cloud == cloud_msg && last_built_.image == image_msg && last_built_.tilt == tilt &&
+          last_built_.baseline_m == baseline) {
+        response = last_built_.response;
+        response.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        return true;
+      }
       const core::PointCloud cloud = cloudFromMessage(*cloud_msg);
       if (!cloud.frame.empty() && cloud.frame != rig_frame_) {
         throw core::InputError("the cloud is in frame '" + cloud.frame + "', expected the rig frame '" + rig_frame_ + "'");
       }
       const cv::Mat top = cameraImageFromMessage(*image_msg, "top/image_equirect");
       buildFrom(&cloud, top, nullptr, baseline, tilt, cloud_msg->header, response);
+      response.success = true;
+      last_built_ = {cloud_msg, image_msg, tilt, baseline, response};
     }
     response.success = true;
   } catch (const core::InputError& e) {

@@ -26,6 +26,20 @@ void requirePositive(bool ok, const std::string& name) {
   if (!ok) throw core::InputError("parameter ~" + name + " must be positive");
 }
 
+// A white text label `lift_m` above a marker, in its frame.
+visualization_msgs::Marker labelAbove(const visualization_msgs::Marker& marker, const std::string& ns, double lift_m,
+                                      const std::string& text) {
+  visualization_msgs::Marker label = marker;
+  label.ns = ns;
+  label.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
+  label.pose.position.z += lift_m;
+  label.scale.x = label.scale.y = 0.0;
+  label.scale.z = 0.12;
+  label.color = color(1.0, 1.0, 1.0);
+  label.text = text;
+  return label;
+}
+
 // A sphere and its name at a position in `frame`.
 void appendPositionMarker(visualization_msgs::MarkerArray& array, const std::string& frame, int id,
                           const geometry_msgs::Point& at, const std::string& name, const std_msgs::ColorRGBA& rgba) {
@@ -40,15 +54,7 @@ void appendPositionMarker(visualization_msgs::MarkerArray& array, const std::str
   sphere.scale.x = sphere.scale.y = sphere.scale.z = 0.25;
   sphere.color = rgba;
   array.markers.push_back(sphere);
-  visualization_msgs::Marker label = sphere;
-  label.ns = "source_listener_labels";
-  label.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
-  label.pose.position.z += 0.3;
-  label.scale.x = label.scale.y = 0.0;
-  label.scale.z = 0.15;
-  label.color = color(1.0, 1.0, 1.0);
-  label.text = name;
-  array.markers.push_back(label);
+  array.markers.push_back(labelAbove(sphere, "source_listener_labels", 0.3, name));
 }
 
 }  // namespace
@@ -81,18 +87,10 @@ visualization_msgs::MarkerArray rsaoMarkers(const core::Rsao& rsao, const std::s
     sphere.color = k == 0 ? color(0.1, 0.9, 0.2) : color(1.0, strength, 1.0 - strength);
     array.markers.push_back(sphere);
 
-    visualization_msgs::Marker label = sphere;
-    label.ns = "rsao_labels";
-    label.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
-    label.pose.position.z += 0.6 * sphere.scale.z + 0.05;
-    label.scale.x = label.scale.y = 0.0;
-    label.scale.z = 0.12;
-    label.color = color(1.0, 1.0, 1.0);
     char text[64];
     std::snprintf(text, sizeof text, k == 0 ? "direct %.1f ms" : "%.1f ms %.1f dB", 1000.0 * r.time_of_arrival_s,
                   relative_db);
-    label.text = text;
-    array.markers.push_back(label);
+    array.markers.push_back(labelAbove(sphere, "rsao_labels", 0.6 * sphere.scale.z + 0.05, text));
   }
   return array;
 }

@@ -58,7 +58,16 @@ class RoomModelServer {
   sensor_msgs::PointCloud2ConstPtr latest_cloud_;
   sensor_msgs::ImageConstPtr latest_image_;
   Eigen::Matrix3d tilt_ = Eigen::Matrix3d::Identity();
-  std::mutex build_mutex_;  // one build at a time
+  std::mutex build_mutex_;  // one build at a time; guards last_built_
+  // The last build from the subscribed inputs, and what it was built from.
+  struct LastBuild {
+    sensor_msgs::PointCloud2ConstPtr cloud;
+    sensor_msgs::ImageConstPtr image;
+    Eigen::Matrix3d tilt = Eigen::Matrix3d::Identity();
+    double baseline_m = 0.0;
+    room_reverb::BuildRoomModel::Response response;
+  };
+  LastBuild last_built_;
 
   ::ros::Subscriber cloud_sub_;
   ::ros::Subscriber image_sub_;
