@@ -56,6 +56,8 @@ void saveRoomModel(const std::string& path, const RoomModel& model);
 // normals, rotated by its yaw about its centre. Triangle materials are the assigned
 // material names.
 TriangleMesh roomModelToMesh(const RoomModel& model);
+// One object's closed cuboid (outward normals, yaw about its centre) added to a mesh.
+void appendCuboid(TriangleMesh& mesh, const CuboidObject& object);
 
 // The library extended by the model's inline materials; throws InputError if a surface or
 // object names a material neither defines.

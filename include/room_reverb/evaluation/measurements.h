@@ -12,6 +12,7 @@
 #include "room_reverb/acoustics/air_absorption.h"
 #include "room_reverb/acoustics/triangle_mesh.h"
 #include "room_reverb/audio/frequency_bands.h"
+#include "room_reverb/metrics/room_acoustic_parameters.h"
 
 namespace room_reverb::core {
 
@@ -29,9 +30,13 @@ struct MeasurementPair {
 struct MeasuredParameters {
   BandResolution resolution = BandResolution::kOctave;
   std::vector<double> bands_hz;  // nominal centres
-  std::vector<double> t20_s, edt_s, c80_db, d50;
+  std::vector<double> t20_s, t30_s, edt_s, c50_db, c80_db, d50, ts_s, drr_db;
   bool empty() const { return bands_hz.empty(); }
 };
+
+// One measured RIR's parameters as a table (its bands, NaN where a value could not be
+// measured), so a single pair compares like an averaged table.
+MeasuredParameters parametersFromReport(const MetricsReport& report);
 
 struct Measurements {
   std::string room_file;  // absolute path of a room.yaml, or ""

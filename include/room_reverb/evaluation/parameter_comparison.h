@@ -1,7 +1,8 @@
 #pragma once
 // Simulated against measured room-acoustic parameters, band by band, with the error in
-// just-noticeable differences (ISO 3382-1 annex A: 5 % for T20 and EDT, 1 dB for C80,
-// 0.05 for D50), as the BRAS round robins report them.
+// just-noticeable differences (ISO 3382-1 annex A: 5 % for T20, T30 and EDT, 1 dB for
+// C50 and C80, 0.05 for D50, 10 ms for Ts; 1 dB for the DRR, as issue 8 asks), as the BRAS
+// round robins report them.
 #include <array>
 #include <optional>
 #include <string>
@@ -12,18 +13,23 @@
 
 namespace room_reverb::core {
 
-enum class ComparedParameter { kT20, kEdt, kC80, kD50 };
-constexpr std::array<ComparedParameter, 4> kComparedParameters = {ComparedParameter::kT20, ComparedParameter::kEdt,
-                                                                  ComparedParameter::kC80, ComparedParameter::kD50};
-std::string toString(ComparedParameter parameter);  // "T20", "EDT", "C80", "D50"
+enum class ComparedParameter { kT20, kT30, kEdt, kC50, kC80, kD50, kTs, kDrr };
+constexpr std::size_t kComparedParameterCount = 8;
+constexpr std::array<ComparedParameter, kComparedParameterCount> kComparedParameters = {
+    ComparedParameter::kT20, ComparedParameter::kT30, ComparedParameter::kEdt, ComparedParameter::kC50,
+    ComparedParameter::kC80, ComparedParameter::kD50, ComparedParameter::kTs,  ComparedParameter::kDrr};
+std::string toString(ComparedParameter parameter);  // "T20", "T30", "EDT", "C50", "C80", "D50", "Ts", "DRR"
+std::string unitOf(ComparedParameter parameter);    // "s", "dB" or "" (D50 is a fraction)
+// The parameter's value in a band of a metrics report, when it could be measured.
+std::optional<double> parameterValue(const AcousticParameters& band, ComparedParameter parameter);
 double justNoticeableDifference(ComparedParameter parameter);
-// Signed error in JNDs: relative for T20 and EDT, absolute for C80 and D50.
+// Signed error in JNDs: relative for T20, T30 and EDT, absolute for the others.
 double errorInJnd(ComparedParameter parameter, double simulated, double measured);
 
 struct BandComparison {
   double nominal_hz = 0.0;
   // Indexed by ComparedParameter; empty where not measured or not measurable.
-  std::array<std::optional<double>, 4> simulated, measured, error_jnd;
+  std::array<std::optional<double>, kComparedParameterCount> simulated, measured, error_jnd;
   int simulated_count = 0;  // pairs whose simulated value entered the mean (per band, of T20)
 };
 
@@ -38,7 +44,8 @@ std::vector<BandComparison> compareWithMeasured(const std::vector<MetricsReport>
 // with fewer than two thirds in the table are left out.
 std::vector<BandComparison> thirdsToOctaves(const std::vector<BandComparison>& thirds);
 
-// A Markdown table: one row per band, per parameter simulated | measured | error (JND).
+// A Markdown table: one row per band, per parameter simulated | measured | error (JND);
+// parameters that no row measures are left out.
 std::string comparisonToMarkdown(const std::vector<BandComparison>& rows);
 
 }  // namespace room_reverb::core

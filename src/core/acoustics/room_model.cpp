@@ -359,6 +359,19 @@ std::string roomModelToYaml(const RoomModel& model) {
 
 void saveRoomModel(const std::string& path, const RoomModel& model) { writeTextFile(path, roomModelToYaml(model)); }
 
+// A closed cuboid seen from outside, turned by its yaw about a vertical axis through its
+// centre.
+void appendCuboid(TriangleMesh& mesh, const CuboidObject& object) {
+  const Eigen::Matrix3d yaw = Eigen::AngleAxisd(object.yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Vector3d half = 0.5 * object.size_m;
+  const int base = static_cast<int>(mesh.vertices.size());
+  for (int c = 0; c < 8; ++c) mesh.vertices.push_back(object.center_m + yaw * boxCorner(-half, half, c));
+  const int material = mesh.materialIndex(object.material);
+  for (const auto& face : kBoxFacesInward) {
+    appendQuad(mesh, {face[0] + base, face[1] + base, face[2] + base, face[3] + base}, false, material);
+  }
+}
+
 TriangleMesh roomModelToMesh(const RoomModel& model) {
   checkModel(model, "room model");
   TriangleMesh mesh;
@@ -372,18 +385,7 @@ TriangleMesh roomModelToMesh(const RoomModel& model) {
     appendQuad(mesh, kBoxFacesInward[f], true, mesh.materialIndex(model.surfaces.at(name).material));
   }
 
-  // Objects: closed cuboids seen from outside, turned by yaw about a vertical axis through
-  // their centre.
-  for (const CuboidObject& object : model.objects) {
-    const Eigen::Matrix3d yaw = Eigen::AngleAxisd(object.yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    const Eigen::Vector3d half = 0.5 * object.size_m;
-    const int base = static_cast<int>(mesh.vertices.size());
-    for (int c = 0; c < 8; ++c) mesh.vertices.push_back(object.center_m + yaw * boxCorner(-half, half, c));
-    const int material = mesh.materialIndex(object.material);
-    for (const auto& face : kBoxFacesInward) {
-      appendQuad(mesh, {face[0] + base, face[1] + base, face[2] + base, face[3] + base}, false, material);
-    }
-  }
+  for (const CuboidObject& object : model.objects) appendCuboid(mesh, object);
   validateMesh(mesh, "room model");
   return mesh;
 }

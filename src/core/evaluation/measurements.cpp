@@ -1,5 +1,6 @@
 #include "room_reverb/evaluation/measurements.h"
 
+#include <cmath>
 
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/text_file.h"
@@ -84,9 +85,13 @@ class MeasurementsReader : public YamlReader {
       return numbers(r, std::string("parameters.") + name, n);
     };
     p.t20_s = row("t20_s");
+    p.t30_s = row("t30_s");
     p.edt_s = row("edt_s");
+    p.c50_db = row("c50_db");
     p.c80_db = row("c80_db");
     p.d50 = row("d50");
+    p.ts_s = row("ts_s");
+    p.drr_db = row("drr_db");
     const std::vector<double> percent = row("d50_percent");
     if (!percent.empty()) {
       if (!p.d50.empty()) fail(node["d50_percent"], "parameters.d50_percent", "give d50 or d50_percent, not both");
@@ -102,6 +107,24 @@ class MeasurementsReader : public YamlReader {
 };
 
 }  // namespace
+
+MeasuredParameters parametersFromReport(const MetricsReport& report) {
+  MeasuredParameters p;
+  p.resolution = report.resolution;
+  const auto value = [](const std::optional<double>& v) { return v ? *v : std::nan(""); };
+  for (const AcousticParameters& band : report.bands) {
+    p.bands_hz.push_back(band.nominal_hz);
+    p.t20_s.push_back(value(band.t20_s));
+    p.t30_s.push_back(value(band.t30_s));
+    p.edt_s.push_back(value(band.edt_s));
+    p.c50_db.push_back(value(band.c50_db));
+    p.c80_db.push_back(value(band.c80_db));
+    p.d50.push_back(value(band.d50));
+    p.ts_s.push_back(value(band.ts_s));
+    p.drr_db.push_back(value(band.drr_db));
+  }
+  return p;
+}
 
 Measurements parseMeasurements(const std::string& yaml_text, const std::string& base_directory) {
   return MeasurementsReader("measurements", base_directory).parse(yaml_text);

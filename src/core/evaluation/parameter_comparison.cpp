@@ -9,24 +9,22 @@ namespace {
 
 std::size_t indexOf(ComparedParameter p) { return static_cast<std::size_t>(p); }
 
-std::optional<double> simulatedValue(const AcousticParameters& band, ComparedParameter p) {
-  switch (p) {
-    case ComparedParameter::kT20: return band.t20_s;
-    case ComparedParameter::kEdt: return band.edt_s;
-    case ComparedParameter::kC80: return band.c80_db;
-    case ComparedParameter::kD50: return band.d50;
-  }
-  return std::nullopt;
-}
-
 const std::vector<double>& measuredRow(const MeasuredParameters& m, ComparedParameter p) {
   switch (p) {
     case ComparedParameter::kT20: return m.t20_s;
+    case ComparedParameter::kT30: return m.t30_s;
     case ComparedParameter::kEdt: return m.edt_s;
+    case ComparedParameter::kC50: return m.c50_db;
     case ComparedParameter::kC80: return m.c80_db;
     case ComparedParameter::kD50: return m.d50;
+    case ComparedParameter::kTs: return m.ts_s;
+    case ComparedParameter::kDrr: return m.drr_db;
   }
   return m.t20_s;
+}
+
+bool isDecayTime(ComparedParameter p) {
+  return p == ComparedParameter::kT20 || p == ComparedParameter::kT30 || p == ComparedParameter::kEdt;
 }
 
 int thirdCount(const std::vector<BandComparison>& thirds, const FrequencyBand& octave) {
@@ -50,28 +48,54 @@ void setErrors(BandComparison& row) {
 std::string toString(ComparedParameter parameter) {
   switch (parameter) {
     case ComparedParameter::kT20: return "T20";
+    case ComparedParameter::kT30: return "T30";
     case ComparedParameter::kEdt: return "EDT";
+    case ComparedParameter::kC50: return "C50";
     case ComparedParameter::kC80: return "C80";
     case ComparedParameter::kD50: return "D50";
+    case ComparedParameter::kTs: return "Ts";
+    case ComparedParameter::kDrr: return "DRR";
   }
   return "?";
+}
+
+std::string unitOf(ComparedParameter parameter) {
+  if (parameter == ComparedParameter::kD50) return "";
+  if (isDecayTime(parameter) || parameter == ComparedParameter::kTs) return "s";
+  return "dB";
+}
+
+std::optional<double> parameterValue(const AcousticParameters& band, ComparedParameter parameter) {
+  switch (parameter) {
+    case ComparedParameter::kT20: return band.t20_s;
+    case ComparedParameter::kT30: return band.t30_s;
+    case ComparedParameter::kEdt: return band.edt_s;
+    case ComparedParameter::kC50: return band.c50_db;
+    case ComparedParameter::kC80: return band.c80_db;
+    case ComparedParameter::kD50: return band.d50;
+    case ComparedParameter::kTs: return band.ts_s;
+    case ComparedParameter::kDrr: return band.drr_db;
+  }
+  return std::nullopt;
 }
 
 double justNoticeableDifference(ComparedParameter parameter) {
   switch (parameter) {
     case ComparedParameter::kT20:
+    case ComparedParameter::kT30:
     case ComparedParameter::kEdt: return 0.05;  // relative
+    case ComparedParameter::kC50:
     case ComparedParameter::kC80: return 1.0;   // dB
     case ComparedParameter::kD50: return 0.05;  // absolute fraction
+    case ComparedParameter::kTs: return 0.010;  // s
+    case ComparedParameter::kDrr: return 1.0;   // dB
   }
   return 1.0;
 }
 
 double errorInJnd(ComparedParameter parameter, double simulated, double measured) {
   const double jnd = justNoticeableDifference(parameter);
-  if (parameter == ComparedParameter::kT20 || parameter == ComparedParameter::kEdt) {
-    return (simulated - measured) / measured / jnd;
-  }
+  if (isDecayTime(parameter)) return (simulated - measured) / measured / jnd;
   return (simulated - measured) / jnd;
 }
 
@@ -83,13 +107,13 @@ std::vector<BandComparison> compareWithMeasured(const std::vector<MetricsReport>
     row.nominal_hz = measured.bands_hz[m];
     for (ComparedParameter p : kComparedParameters) {
       const std::vector<double>& values = measuredRow(measured, p);
-      if (!values.empty()) row.measured[indexOf(p)] = values[m];
+      if (!values.empty() && std::isfinite(values[m])) row.measured[indexOf(p)] = values[m];
       double sum = 0.0;
       int count = 0;
       for (const MetricsReport& report : simulated_per_pair) {
         for (const AcousticParameters& band : report.bands) {
           if (!sameBand(band.nominal_hz, row.nominal_hz)) continue;
-          if (const auto v = simulatedValue(band, p)) {
+          if (const auto v = parameterValue(band, p)) {
             sum += *v;
             ++count;
           }
@@ -135,14 +159,23 @@ std::vector<BandComparison> thirdsToOctaves(const std::vector<BandComparison>& t
 }
 
 std::string comparisonToMarkdown(const std::vector<BandComparison>& rows) {
+  std::vector<ComparedParameter> shown;
+  for (ComparedParameter p : kComparedParameters) {
+    for (const BandComparison& row : rows) {
+      if (row.measured[indexOf(p)]) {
+        shown.push_back(p);
+        break;
+      }
+    }
+  }
   std::ostringstream os;
   os << "| band Hz |";
-  for (ComparedParameter p : kComparedParameters) {
-    const std::string unit = p == ComparedParameter::kC80 ? " dB" : (p == ComparedParameter::kD50 ? "" : " s");
+  for (ComparedParameter p : shown) {
+    const std::string unit = unitOf(p).empty() ? "" : " " + unitOf(p);
     os << " " << toString(p) << " sim" << unit << " | " << toString(p) << " meas" << unit << " | " << toString(p) << " err JND |";
   }
   os << "\n|---:|";
-  for (std::size_t i = 0; i < kComparedParameters.size(); ++i) os << "---:|---:|---:|";
+  for (std::size_t i = 0; i < shown.size(); ++i) os << "---:|---:|---:|";
   os << "\n";
   const auto cell = [&os](const std::optional<double>& v, int precision) {
     if (v) {
@@ -153,9 +186,9 @@ std::string comparisonToMarkdown(const std::vector<BandComparison>& rows) {
   };
   for (const BandComparison& row : rows) {
     os << "| " << std::fixed << std::setprecision(0) << row.nominal_hz << " |";
-    for (ComparedParameter p : kComparedParameters) {
+    for (ComparedParameter p : shown) {
       const std::size_t i = indexOf(p);
-      const int precision = p == ComparedParameter::kC80 ? 2 : (p == ComparedParameter::kD50 ? 3 : 3);
+      const int precision = unitOf(p) == "dB" ? 2 : 3;
       cell(row.simulated[i], precision);
       cell(row.measured[i], precision);
       if (row.error_jnd[i]) {

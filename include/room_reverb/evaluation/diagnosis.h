@@ -1,0 +1,89 @@
+#pragma once
+// Measured against simulated: what the simulation gets wrong, why, and what fixing it gains.
+//
+// A catalogue of model defects, each a hypothesis with a few parameters (model_extension.h):
+//   air_absorption      ISO 9613-1 air, humidity fitted (decay error growing above 2 kHz)
+//   surface_absorption  one surface's (or material's) absorption per band fitted
+//   scattering          one scattering coefficient for every surface fitted (EDT, C80, D50)
+//   missing_reflector   a panel placed from an unexplained early reflection's time and
+//                       direction (image-source geometry; B-format measurements)
+//   geometry_scale      the room's dimensions scaled (reflection times off by one factor)
+//   coupled_volume      a second, slower decay added to the late response
+//   source_directivity  a cardioid-family source pattern and its axis fitted
+// and the measurement's own limits (clipping, noise floor, B-format convention), which are
+// flagged, never fitted. Each hypothesis is fitted on part of the evidence and its gain is
+// measured on the rest (other pairs; or, with one pair or a table, other parameters), and
+// a cause is named only when that held-out gain stands clear of the noise of the
+// simulation itself (the spread of the held-out error over ray-tracing seeds). Causes are
+// accepted greedily: the best first, then the others are fitted again on top of it.
+#include <map>
+#include <string>
+#include <vector>
+
+#include "room_reverb/evaluation/model_evaluation.h"
+
+namespace room_reverb::core {
+
+extern const std::vector<std::string> kCatalogueCauses;  // the ids above, in that order
+
+struct CauseParameters {
+  std::map<std::string, double> values;               // scalars, SI units named in the key
+  std::map<std::string, std::vector<double>> bands;   // per octave band 63 Hz .. 16 kHz
+  std::map<std::string, std::string> text;
+};
+
+struct NamedCause {
+  std::string cause;
+  std::string target;  // a surface, material or object; "" for none
+  CauseParameters parameters;
+  ModelExtension extension;
+  double error_before_jnd = 0.0;    // all evidence, before this cause (after the ones named before it)
+  double error_after_jnd = 0.0;
+  double heldout_before_jnd = 0.0;  // evidence the fit did not use
+  double heldout_after_jnd = 0.0;
+  double heldoutGainJnd() const { return heldout_before_jnd - heldout_after_jnd; }
+};
+
+// What every hypothesis achieved in the first round, named or not (for the report).
+struct HypothesisTrial {
+  std::string cause, target;
+  bool fitted = false;
+  std::string note;  // why not fitted, or the fitted parameters in words
+  double heldout_gain_jnd = 0.0;
+};
+
+struct DiagnosisOptions {
+  EvaluationSettings evaluation;
+  std::vector<std::string> causes = kCatalogueCauses;  // which hypotheses to try
+  int max_causes = 3;
+  int noise_seeds = 2;                // extra seeds to measure the held-out error's noise
+  double noise_factor = 3.0;          // a gain must exceed this many times the noise...
+  double min_gain_jnd = 0.1;          // ...and this much...
+  double min_relative_gain = 0.08;    // ...and this fraction of the held-out error
+};
+
+struct Diagnosis {
+  double baseline_error_jnd = 0.0;
+  double baseline_heldout_jnd = 0.0;
+  double noise_jnd = 0.0;       // spread of the held-out error over seeds
+  double threshold_jnd = 0.0;   // the gain a cause needs to be named
+  std::vector<NamedCause> causes;  // ranked
+  std::vector<HypothesisTrial> trials;
+  std::vector<MeasurementFlag> flags;
+  ModelExtension extension;     // all named causes together
+  Evaluation before, after;     // the base model and the extended one
+  int simulations = 0;          // model evaluations run
+  double wall_time_s = 0.0;
+};
+
+// InputError for unknown cause ids or a measurement the room cannot hold (pairs outside).
+Diagnosis diagnose(const RoomUnderTest& room, const MeasuredEvidence& evidence, const DiagnosisOptions& options = {});
+
+// diagnosis.json of issue 8 (`extended_room`: the path written, or "" when none).
+std::string diagnosisToJson(const Diagnosis& diagnosis, const std::string& extended_room_path);
+// report.md: what is wrong, why, the fix and its gain, in words and tables; `plots` are the
+// file names of the figures to show.
+std::string diagnosisToMarkdown(const Diagnosis& diagnosis, const std::string& extended_room_path,
+                                const std::vector<std::string>& plots);
+
+}  // namespace room_reverb::core

@@ -1,0 +1,81 @@
+#pragma once
+// Simulating a (possibly extended) model at every measured pair and scoring it against the
+// measurement in just-noticeable differences, on evidence split into a part a fit may use
+// and a part it may not (held out), so that every cause's gain is measured on evidence its
+// parameters never saw.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "room_reverb/acoustics/room_simulation.h"
+#include "room_reverb/evaluation/measured_evidence.h"
+#include "room_reverb/evaluation/model_extension.h"
+
+namespace room_reverb::core {
+
+struct EvaluationSettings {
+  SimulationSettings simulation;  // omni; its seed is the base seed of every evaluation
+  std::vector<double> bands_hz{125, 250, 500, 1000, 2000, 4000, 8000};
+  EarlyEnergyOptions early;
+};
+
+// One number of the comparison: parameter `group` (T20, T30, EDT, C80, D50, DRR or
+// early) in one band (and, for `early`, one window) of one pair (-1: the averaged table).
+struct ErrorTerm {
+  int pair = -1;
+  std::string group;
+  double band_hz = 0.0;
+  int window = -1;
+  double error_jnd = 0.0;  // signed
+  bool held_out = false;
+};
+
+struct PairPrediction {
+  PairEvidence analysis;           // the simulated response analysed as a measured one
+  std::vector<SpecularPath> paths; // the model's specular arrivals at this pair
+};
+
+struct Evaluation {
+  bool valid = false;
+  std::string reason;  // why not (e.g. a pair outside the scaled room)
+  std::vector<PairPrediction> predictions;
+  std::vector<ErrorTerm> terms;
+  double error_jnd = 0.0;          // all evidence
+  double fit_error_jnd = 0.0;      // the part fits may use
+  double heldout_error_jnd = 0.0;  // the part they may not
+};
+
+// Mean absolute error in JND over the terms selected (each term capped at 10 JND, so one
+// wild value cannot outweigh the rest): each parameter group's mean, then the mean over the
+// groups, so that no group counts more for having more numbers.
+double meanAbsoluteError(const std::vector<ErrorTerm>& terms, int selection);  // -1 all, 0 fit, 1 held out
+
+// The error terms of predictions against evidence.
+std::vector<ErrorTerm> errorTerms(const MeasuredEvidence& evidence, const std::vector<PairPrediction>& predictions,
+                                  const EvaluationSettings& settings);
+
+class ModelEvaluator {
+ public:
+  ModelEvaluator(const RoomUnderTest& room, const MeasuredEvidence& evidence, EvaluationSettings settings);
+  // Simulates with the extension; `seed_offset` changes the ray tracing's noise (to measure
+  // the noise of the error itself). Never throws for a model the extension made impossible
+  // (a pair outside the room): returns valid = false with the reason.
+  Evaluation evaluate(const ModelExtension& extension, std::uint32_t seed_offset = 0) const;
+  const RoomUnderTest& room() const { return room_; }
+  const MeasuredEvidence& evidence() const { return evidence_; }
+  const EvaluationSettings& settings() const { return settings_; }
+  int evaluations() const { return evaluations_; }
+
+ private:
+  const RoomUnderTest& room_;
+  const MeasuredEvidence& evidence_;
+  EvaluationSettings settings_;
+  mutable int evaluations_ = 0;
+};
+
+// The coupled-volume extension applied to a response: a second exponential decay of white
+// noise (seeded), starting at the direct sound.
+void addCoupledDecay(std::vector<float>& omni, double sample_rate_hz, std::size_t onset_sample,
+                     const CoupledDecay& decay, std::uint32_t seed);
+
+}  // namespace room_reverb::core

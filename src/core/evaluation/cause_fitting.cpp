@@ -1,0 +1,92 @@
+#include "cause_fitting.h"
+
+#include <cmath>
+#include <limits>
+
+#include "room_reverb/common/error.h"
+
+namespace room_reverb::core {
+namespace {
+
+double fitError(const Evaluation& e) { return e.valid ? e.fit_error_jnd : std::numeric_limits<double>::infinity(); }
+
+}  // namespace
+
+const std::vector<std::string> kCatalogueCauses = {"air_absorption",   "surface_absorption", "scattering",
+                                                   "missing_reflector", "geometry_scale",     "coupled_volume",
+                                                   "source_directivity"};
+
+CauseFitter causeFitter(const std::string& cause) {
+  if (cause == "air_absorption") return fitAirAbsorption;
+  if (cause == "surface_absorption") return fitSurfaceAbsorption;
+  if (cause == "scattering") return fitScattering;
+  if (cause == "missing_reflector") return fitMissingReflector;
+  if (cause == "geometry_scale") return fitGeometryScale;
+  if (cause == "coupled_volume") return fitCoupledVolume;
+  if (cause == "source_directivity") return fitSourceDirectivity;
+  std::string known;
+  for (const std::string& c : kCatalogueCauses) known += (known.empty() ? "" : ", ") + c;
+  throw InputError("unknown cause '" + cause + "'; the catalogue has " + known);
+}
+
+Evaluation evaluateWith(const FitContext& context, const ModelExtension& extension) {
+  ModelExtension combined = context.accepted;
+  combined.add(extension);
+  return context.evaluator.evaluate(combined);
+}
+
+ScalarFit fitScalar(const std::function<Evaluation(double)>& evaluate, double lo, double hi, int grid, int refinements) {
+  if (grid < 3) throw InputError("fitScalar: need at least three grid points");
+  std::vector<double> xs(static_cast<std::size_t>(grid));
+  std::vector<double> errors(xs.size());
+  ScalarFit best;
+  double best_error = std::numeric_limits<double>::infinity();
+  std::size_t best_index = 0;
+  for (std::size_t i = 0; i < xs.size(); ++i) {
+    xs[i] = lo + (hi - lo) * static_cast<double>(i) / static_cast<double>(grid - 1);
+    Evaluation e = evaluate(xs[i]);
+    errors[i] = fitError(e);
+    if (errors[i] < best_error) {
+      best_error = errors[i];
+      best_index = i;
+      best = {xs[i], std::move(e)};
+    }
+  }
+  if (refinements <= 0) return best;
+  // Golden-section search inside the grid cell pair around the best point.
+  double a = xs[best_index > 0 ? best_index - 1 : 0];
+  double b = xs[std::min(best_index + 1, xs.size() - 1)];
+  const double ratio = 0.5 * (std::sqrt(5.0) - 1.0);
+  double c = b - ratio * (b - a), d = a + ratio * (b - a);
+  Evaluation ec = evaluate(c), ed = evaluate(d);
+  for (int step = 0; step < refinements; ++step) {
+    if (fitError(ec) < best_error) { best_error = fitError(ec); best = {c, ec}; }
+    if (fitError(ed) < best_error) { best_error = fitError(ed); best = {d, ed}; }
+    if (step + 1 == refinements) break;
+    if (fitError(ec) < fitError(ed)) {
+      b = d; d = c; ed = std::move(ec);
+      c = b - ratio * (b - a);
+      ec = evaluate(c);
+    } else {
+      a = c; c = d; ec = std::move(ed);
+      d = a + ratio * (b - a);
+      ed = evaluate(d);
+    }
+  }
+  return best;
+}
+
+std::map<double, double> decayBias(const Evaluation& evaluation) {
+  std::map<double, std::pair<double, int>> sums;
+  for (const ErrorTerm& t : evaluation.terms) {
+    if (t.held_out || (t.group != "T20" && t.group != "T30")) continue;
+    auto& [sum, n] = sums[t.band_hz];
+    sum += t.error_jnd * 0.05;  // JND of a decay time: 5 %
+    ++n;
+  }
+  std::map<double, double> bias;
+  for (const auto& [band, s] : sums) bias[band] = s.first / s.second;
+  return bias;
+}
+
+}  // namespace room_reverb::core

@@ -1,0 +1,105 @@
+#include "room_reverb/evaluation/diagnosis.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "cause_fitting.h"
+#include "room_reverb/common/error.h"
+
+namespace room_reverb::core {
+namespace {
+
+std::string describe(const FittedCause& fit) {
+  std::ostringstream os;
+  os.precision(3);
+  if (!fit.target.empty()) os << fit.target << ": ";
+  for (const auto& [key, value] : fit.parameters.values) os << key << " " << value << "; ";
+  for (const auto& [key, values] : fit.parameters.bands) {
+    os << key << " [";
+    for (std::size_t i = 0; i < values.size(); ++i) os << (i ? " " : "") << values[i];
+    os << "]; ";
+  }
+  return os.str();
+}
+
+// The held-out error's spread over ray-tracing seeds: what a gain must stand clear of.
+double heldoutNoise(const ModelEvaluator& evaluator, const Evaluation& base, int seeds) {
+  double noise = 0.0;
+  for (int k = 1; k <= seeds; ++k) {
+    const Evaluation other = evaluator.evaluate({}, static_cast<std::uint32_t>(k));
+    if (other.valid) noise = std::max(noise, std::abs(other.heldout_error_jnd - base.heldout_error_jnd));
+  }
+  return noise;
+}
+
+}  // namespace
+
+Diagnosis diagnose(const RoomUnderTest& room, const MeasuredEvidence& evidence, const DiagnosisOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<std::pair<std::string, CauseFitter>> fitters;
+  for (const std::string& cause : options.causes) fitters.emplace_back(cause, causeFitter(cause));
+
+  const ModelEvaluator evaluator(room, evidence, options.evaluation);
+  Diagnosis diagnosis;
+  diagnosis.flags = evidence.flags;
+  diagnosis.before = evaluator.evaluate({});
+  if (!diagnosis.before.valid) throw InputError("the measured pairs cannot be simulated in this room: " + diagnosis.before.reason);
+  diagnosis.baseline_error_jnd = diagnosis.before.error_jnd;
+  diagnosis.baseline_heldout_jnd = diagnosis.before.heldout_error_jnd;
+  diagnosis.noise_jnd = heldoutNoise(evaluator, diagnosis.before, options.noise_seeds);
+
+  Evaluation current = diagnosis.before;
+  std::vector<std::string> worth_trying;
+  for (const auto& f : fitters) worth_trying.push_back(f.first);
+  for (int round = 0; round < options.max_causes && !worth_trying.empty(); ++round) {
+    const double threshold = std::max({options.noise_factor * diagnosis.noise_jnd, options.min_gain_jnd,
+                                       options.min_relative_gain * current.heldout_error_jnd});
+    if (round == 0) diagnosis.threshold_jnd = threshold;
+    std::optional<FittedCause> best;
+    std::vector<std::string> next_round;
+    for (const auto& [name, fitter] : fitters) {
+      if (std::find(worth_trying.begin(), worth_trying.end(), name) == worth_trying.end()) continue;
+      std::string why;
+      const FitContext context{evaluator, diagnosis.extension, current};
+      std::optional<FittedCause> fit = fitter(context, why);
+      HypothesisTrial trial{name, "", false, why, 0.0};
+      if (fit && fit->evaluation.valid) {
+        trial.fitted = true;
+        trial.target = fit->target;
+        trial.note = describe(*fit);
+        trial.heldout_gain_jnd = current.heldout_error_jnd - fit->evaluation.heldout_error_jnd;
+        if (trial.heldout_gain_jnd > threshold) next_round.push_back(name);
+        if (trial.heldout_gain_jnd > threshold &&
+            (!best || fit->evaluation.heldout_error_jnd < best->evaluation.heldout_error_jnd)) {
+          best = std::move(fit);
+        }
+      } else if (fit) {
+        trial.note = "the fitted model could not be simulated: " + fit->evaluation.reason;
+      }
+      if (round == 0) diagnosis.trials.push_back(trial);
+    }
+    if (!best) break;
+    NamedCause named;
+    named.cause = best->cause;
+    named.target = best->target;
+    named.parameters = best->parameters;
+    named.extension = best->extension;
+    named.error_before_jnd = current.error_jnd;
+    named.heldout_before_jnd = current.heldout_error_jnd;
+    named.error_after_jnd = best->evaluation.error_jnd;
+    named.heldout_after_jnd = best->evaluation.heldout_error_jnd;
+    diagnosis.causes.push_back(named);
+    diagnosis.extension.add(best->extension);
+    current = std::move(best->evaluation);
+    next_round.erase(std::remove(next_round.begin(), next_round.end(), named.cause), next_round.end());
+    worth_trying = next_round;
+  }
+  diagnosis.after = current;
+  diagnosis.simulations = evaluator.evaluations();
+  diagnosis.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return diagnosis;
+}
+
+}  // namespace room_reverb::core

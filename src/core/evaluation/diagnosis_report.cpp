@@ -1,0 +1,144 @@
+// diagnosis.json and report.md of a diagnosis.
+#include <cmath>
+#include <iomanip>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "room_reverb/evaluation/diagnosis.h"
+
+namespace room_reverb::core {
+namespace {
+
+// What each cause means, for readers of the report.
+const std::map<std::string, std::string> kCauseMeaning = {
+    {"air_absorption", "the air absorbs high frequencies differently from the model (humidity fitted, ISO 9613-1)"},
+    {"surface_absorption", "one surface absorbs differently from the material the model gives it"},
+    {"scattering", "the surfaces scatter differently from the model (one coefficient for all)"},
+    {"missing_reflector", "a reflecting surface the model lacks (placed from the reflection's time and direction)"},
+    {"geometry_scale", "the room's dimensions are off by one factor"},
+    {"coupled_volume", "a second, slower decay: a coupled volume the model does not contain"},
+    {"source_directivity", "the source radiates with a directivity the model lacks (cardioid family fitted)"},
+};
+
+double rounded(double v, int digits) {
+  const double scale = std::pow(10.0, digits);
+  return std::round(v * scale) / scale;
+}
+
+nlohmann::json parametersJson(const CauseParameters& p) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [key, value] : p.values) j[key] = rounded(value, 4);
+  for (const auto& [key, values] : p.bands) {
+    nlohmann::json row = nlohmann::json::array();
+    for (double v : values) row.push_back(rounded(v, 4));
+    j[key] = row;
+    j["bands_hz"] = {63, 125, 250, 500, 1000, 2000, 4000, 8000, 16000};
+  }
+  for (const auto& [key, value] : p.text) j[key] = value;
+  return j;
+}
+
+// Mean absolute error per parameter group (all pairs and bands), for the before/after table.
+std::map<std::string, double> groupErrors(const Evaluation& e) {
+  std::map<std::string, std::pair<double, int>> sums;
+  for (const ErrorTerm& t : e.terms) {
+    auto& [s, n] = sums[t.group];
+    s += std::min(10.0, std::abs(t.error_jnd));
+    ++n;
+  }
+  std::map<std::string, double> out;
+  for (const auto& [g, sn] : sums) out[g] = sn.first / sn.second;
+  return out;
+}
+
+}  // namespace
+
+std::string diagnosisToJson(const Diagnosis& d, const std::string& extended_room_path) {
+  nlohmann::json j;
+  j["baseline_error_jnd"] = rounded(d.baseline_error_jnd, 4);
+  j["baseline_heldout_error_jnd"] = rounded(d.baseline_heldout_jnd, 4);
+  j["noise_jnd"] = rounded(d.noise_jnd, 4);
+  j["threshold_jnd"] = rounded(d.threshold_jnd, 4);
+  j["causes"] = nlohmann::json::array();
+  for (const NamedCause& c : d.causes) {
+    j["causes"].push_back({{"cause", c.cause},
+                           {"target", c.target.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.target)},
+                           {"parameters", parametersJson(c.parameters)},
+                           {"error_before_jnd", rounded(c.error_before_jnd, 4)},
+                           {"error_after_jnd", rounded(c.error_after_jnd, 4)},
+                           {"heldout_before_jnd", rounded(c.heldout_before_jnd, 4)},
+                           {"heldout_after_jnd", rounded(c.heldout_after_jnd, 4)},
+                           {"heldout_gain_jnd", rounded(c.heldoutGainJnd(), 4)}});
+  }
+  j["hypotheses"] = nlohmann::json::array();
+  for (const HypothesisTrial& t : d.trials) {
+    j["hypotheses"].push_back({{"cause", t.cause}, {"fitted", t.fitted}, {"target", t.target},
+                               {"heldout_gain_jnd", rounded(t.heldout_gain_jnd, 4)}, {"note", t.note}});
+  }
+  j["measurement_flags"] = nlohmann::json::array();
+  for (const MeasurementFlag& f : d.flags) {
+    j["measurement_flags"].push_back({{"cause", "measurement_limits"}, {"pair", f.pair}, {"issue", f.issue}, {"detail", f.detail}});
+  }
+  j["error_after_jnd"] = rounded(d.after.error_jnd, 4);
+  j["extended_room"] = extended_room_path;
+  j["simulations"] = d.simulations;
+  j["wall_time_s"] = rounded(d.wall_time_s, 2);
+  return j.dump(2) + "\n";
+}
+
+std::string diagnosisToMarkdown(const Diagnosis& d, const std::string& extended_room_path,
+                                const std::vector<std::string>& plots) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(2);
+  os << "# Diagnosis: measured against simulated\n\n";
+  os << "Error of the model as given: **" << d.baseline_error_jnd << " JND** (mean absolute error, each parameter "
+     << "group weighted equally; " << d.baseline_heldout_jnd << " JND on the held-out evidence). "
+     << "Noise of the held-out error over ray-tracing seeds: " << d.noise_jnd << " JND, so a cause must gain more than "
+     << d.threshold_jnd << " JND on evidence its fit did not use to be named.\n\n";
+  if (d.causes.empty()) {
+    os << "**No cause named**: no extension of the model gains more than the threshold on held-out evidence.\n\n";
+  } else {
+    os << "## Causes, ranked\n\n| # | cause | target | parameters | error before → after (JND) | held-out gain (JND) |\n"
+       << "|---:|---|---|---|---|---:|\n";
+    for (std::size_t i = 0; i < d.causes.size(); ++i) {
+      const NamedCause& c = d.causes[i];
+      os << "| " << i + 1 << " | `" << c.cause << "` | " << (c.target.empty() ? "–" : c.target) << " | "
+         << parametersJson(c.parameters).dump() << " | " << c.error_before_jnd << " → " << c.error_after_jnd << " | "
+         << c.heldoutGainJnd() << " |\n";
+    }
+    os << "\n";
+    for (const NamedCause& c : d.causes) {
+      const auto it = kCauseMeaning.find(c.cause);
+      os << "- `" << c.cause << "`: " << (it != kCauseMeaning.end() ? it->second : c.cause) << ".\n";
+    }
+    os << "\nError after all named causes: **" << d.after.error_jnd << " JND** (held out " << d.after.heldout_error_jnd
+       << ").\n\n";
+  }
+  os << "## Error per parameter, before and after\n\n| parameter | before (JND) | after (JND) |\n|---|---:|---:|\n";
+  const auto before = groupErrors(d.before), after = groupErrors(d.after);
+  for (const auto& [group, value] : before) {
+    os << "| " << group << " | " << value << " | " << (after.count(group) ? after.at(group) : NAN) << " |\n";
+  }
+  os << "\n(`early`: the early energy profile, windows of 2.5 ms after the direct sound per octave from 500 Hz, in dB "
+        "re the direct sound; 1 dB counts as one JND.)\n\n";
+  os << "## Every hypothesis tried (first round)\n\n| cause | fitted | target | held-out gain (JND) | fit or why not |\n"
+     << "|---|---|---|---:|---|\n";
+  for (const HypothesisTrial& t : d.trials) {
+    os << "| `" << t.cause << "` | " << (t.fitted ? "yes" : "no") << " | " << (t.target.empty() ? "–" : t.target) << " | "
+       << t.heldout_gain_jnd << " | " << t.note << " |\n";
+  }
+  if (!d.flags.empty()) {
+    os << "\n## Limits of the measurement (`measurement_limits`: the measurement's, not the model's)\n\n";
+    for (const MeasurementFlag& f : d.flags) os << "- " << f.pair << ": **" << f.issue << "**: " << f.detail << "\n";
+  }
+  if (!plots.empty()) {
+    os << "\n## Figures\n\n";
+    for (const std::string& p : plots) os << "![" << p << "](" << p << ")\n\n";
+  }
+  if (!extended_room_path.empty()) os << "\nCorrected room model: `" << extended_room_path << "`.\n";
+  os << "\n" << d.simulations << " model simulations, " << d.wall_time_s << " s.\n";
+  return os.str();
+}
+
+}  // namespace room_reverb::core

@@ -1,0 +1,165 @@
+#include "room_reverb/evaluation/model_evaluation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <random>
+
+#include "room_reverb/common/error.h"
+#include "room_reverb/evaluation/parameter_comparison.h"
+
+namespace room_reverb::core {
+namespace {
+
+// The ISO 3382 parameters the diagnosis scores. C50 and Ts say little that C80, D50 and
+// EDT do not; T30 carries the late slope that coupled volumes bend.
+constexpr std::array<ComparedParameter, 6> kScored = {ComparedParameter::kT20, ComparedParameter::kT30,
+                                                      ComparedParameter::kEdt, ComparedParameter::kC80,
+                                                      ComparedParameter::kD50, ComparedParameter::kDrr};
+
+// Held out when fitting from one pair or from a table: the parameters that answer to the
+// same physics as a fitted one (EDT to T20, D50 to C80) but were not used to fit.
+bool heldOutParameter(const std::string& group) { return group == "EDT" || group == "D50" || group == "DRR"; }
+
+bool wanted(const std::vector<double>& bands, double nominal_hz) {
+  return std::any_of(bands.begin(), bands.end(), [&](double b) { return std::abs(std::log2(b / nominal_hz)) < 1.0 / 6.0; });
+}
+
+void addRows(const std::vector<BandComparison>& rows, int pair, bool split_by_pair, const EvaluationSettings& settings,
+             std::vector<ErrorTerm>& terms) {
+  for (const BandComparison& row : rows) {
+    if (!wanted(settings.bands_hz, row.nominal_hz)) continue;
+    for (ComparedParameter p : kScored) {
+      const auto& e = row.error_jnd[static_cast<std::size_t>(p)];
+      if (!e || !std::isfinite(*e)) continue;
+      ErrorTerm term;
+      term.pair = pair;
+      term.group = toString(p);
+      term.band_hz = row.nominal_hz;
+      term.error_jnd = *e;
+      term.held_out = split_by_pair ? (pair % 2 == 1) : heldOutParameter(term.group);
+      terms.push_back(term);
+    }
+  }
+}
+
+void addEarly(const EarlyEnergyProfile& simulated, const EarlyEnergyProfile& measured, int pair, bool split_by_pair,
+              std::vector<ErrorTerm>& terms) {
+  for (std::size_t b = 0; b < measured.bands_hz.size(); ++b) {
+    const auto it = std::find(simulated.bands_hz.begin(), simulated.bands_hz.end(), measured.bands_hz[b]);
+    if (it == simulated.bands_hz.end()) continue;
+    const auto& sim = simulated.level_db[static_cast<std::size_t>(it - simulated.bands_hz.begin())];
+    const auto& meas = measured.level_db[b];
+    for (std::size_t w = 1; w < std::min(sim.size(), meas.size()); ++w) {
+      ErrorTerm term;
+      term.pair = pair;
+      term.group = "early";
+      term.band_hz = measured.bands_hz[b];
+      term.window = static_cast<int>(w);
+      term.error_jnd = sim[w] - meas[w];  // 1 dB: the JND of a level
+      term.held_out = split_by_pair ? (pair % 2 == 1) : (w % 2 == 0);
+      terms.push_back(term);
+    }
+  }
+}
+
+}  // namespace
+
+double meanAbsoluteError(const std::vector<ErrorTerm>& terms, int selection) {
+  std::map<std::string, std::pair<double, int>> groups;
+  for (const ErrorTerm& t : terms) {
+    if (selection == 0 && t.held_out) continue;
+    if (selection == 1 && !t.held_out) continue;
+    auto& [sum, n] = groups[t.group];
+    sum += std::min(10.0, std::abs(t.error_jnd));
+    ++n;
+  }
+  if (groups.empty()) return 0.0;
+  double total = 0.0;
+  for (const auto& [name, sum_n] : groups) total += sum_n.first / sum_n.second;
+  return total / static_cast<double>(groups.size());
+}
+
+std::vector<ErrorTerm> errorTerms(const MeasuredEvidence& evidence, const std::vector<PairPrediction>& predictions,
+                                  const EvaluationSettings& settings) {
+  std::vector<ErrorTerm> terms;
+  if (evidence.usesRirs()) {
+    const bool split_by_pair = evidence.rirs.size() >= 2;
+    for (std::size_t i = 0; i < evidence.rirs.size() && i < predictions.size(); ++i) {
+      const MeasuredParameters measured = parametersFromReport(evidence.rirs[i].metrics);
+      addRows(compareWithMeasured({predictions[i].analysis.metrics}, measured), static_cast<int>(i), split_by_pair,
+              settings, terms);
+      addEarly(predictions[i].analysis.early, evidence.rirs[i].early, static_cast<int>(i), split_by_pair, terms);
+    }
+    return terms;
+  }
+  std::vector<MetricsReport> reports;
+  for (const PairPrediction& p : predictions) reports.push_back(p.analysis.metrics);
+  std::vector<BandComparison> rows = compareWithMeasured(reports, evidence.table);
+  if (evidence.table.resolution == BandResolution::kThirdOctave) rows = thirdsToOctaves(rows);
+  addRows(rows, -1, false, settings, terms);
+  return terms;
+}
+
+void addCoupledDecay(std::vector<float>& omni, double sample_rate_hz, std::size_t onset_sample,
+                     const CoupledDecay& decay, std::uint32_t seed) {
+  if (!(decay.t60_s > 0.0)) throw InputError("coupled decay: the decay time must be positive");
+  const auto half = static_cast<std::size_t>(0.001 * sample_rate_hz);
+  double direct = 0.0;
+  for (std::size_t n = onset_sample > half ? onset_sample - half : 0; n < std::min(omni.size(), onset_sample + half); ++n) {
+    direct += static_cast<double>(omni[n]) * omni[n];
+  }
+  // Energy envelope P0 exp(-13.8 t / T60) per second, P0 = direct * 10^(L/10): samples of
+  // unit-variance noise scaled by sqrt(P / fs) carry that energy per second.
+  const double p0 = direct * std::pow(10.0, decay.level_db / 10.0);
+  const double rate = 3.0 * std::log(10.0) / decay.t60_s;  // amplitude decay per second
+  std::mt19937 rng(seed);
+  std::normal_distribution<float> noise(0.0f, 1.0f);
+  for (std::size_t n = onset_sample; n < omni.size(); ++n) {
+    const double t = static_cast<double>(n - onset_sample) / sample_rate_hz;
+    omni[n] += static_cast<float>(std::sqrt(p0 / sample_rate_hz) * std::exp(-rate * t)) * noise(rng);
+  }
+}
+
+ModelEvaluator::ModelEvaluator(const RoomUnderTest& room, const MeasuredEvidence& evidence, EvaluationSettings settings)
+    : room_(room), evidence_(evidence), settings_(std::move(settings)) {
+  settings_.simulation.ambisonic_order = 0;
+}
+
+Evaluation ModelEvaluator::evaluate(const ModelExtension& extension, std::uint32_t seed_offset) const {
+  ++evaluations_;
+  Evaluation evaluation;
+  try {
+    const AcousticScene scene = room_.scene(extension);
+    SimulationSettings s = settings_.simulation;
+    s.air = room_.airWith(extension);
+    if (extension.directivity) s.directivity = *extension.directivity;
+    for (std::size_t i = 0; i < evidence_.positions.size(); ++i) {
+      const MeasurementPair& pair = evidence_.positions[i];
+      s.rays.seed = settings_.simulation.rays.seed + static_cast<std::uint32_t>(i) + 7919u * seed_offset;
+      SimulationResult result = simulateRoom(scene, pair.source_m, pair.receiver_m, s);
+      AudioBuffer omni;
+      omni.sample_rate_hz = result.impulse_response.sample_rate_hz;
+      omni.channels.push_back(std::move(result.impulse_response.channels.front()));
+      if (extension.coupled && !result.paths.empty()) {
+        const auto onset = static_cast<std::size_t>(std::lround(result.paths.front().delay_s * omni.sample_rate_hz));
+        addCoupledDecay(omni.channels.front(), omni.sample_rate_hz, onset, *extension.coupled, s.rays.seed);
+      }
+      PairPrediction prediction;
+      prediction.analysis = analysePair(pair, omni);
+      prediction.paths = std::move(result.paths);
+      evaluation.predictions.push_back(std::move(prediction));
+    }
+  } catch (const InputError& e) {
+    evaluation.reason = e.what();
+    return evaluation;
+  }
+  evaluation.valid = true;
+  evaluation.terms = errorTerms(evidence_, evaluation.predictions, settings_);
+  evaluation.error_jnd = meanAbsoluteError(evaluation.terms, -1);
+  evaluation.fit_error_jnd = meanAbsoluteError(evaluation.terms, 0);
+  evaluation.heldout_error_jnd = meanAbsoluteError(evaluation.terms, 1);
+  return evaluation;
+}
+
+}  // namespace room_reverb::core
