@@ -57,7 +57,10 @@ struct DiagnosisOptions {
   std::vector<std::string> causes = kCatalogueCauses;  // which hypotheses to try
   int max_causes = 3;
   int noise_seeds = 2;                // extra seeds to measure the held-out error's noise
-  double noise_factor = 3.0;          // a gain must exceed this many times the noise...
+  // A gain must exceed this many times the noise... Gains compare evaluations that share
+  // their seeds (common random numbers), so their own noise is well below the spread
+  // between seeds that `noise_jnd` measures; twice that spread is a conservative bar.
+  double noise_factor = 2.0;
   double min_gain_jnd = 0.1;          // ...and this much...
   double min_relative_gain = 0.08;    // ...and this fraction of the held-out error
 };

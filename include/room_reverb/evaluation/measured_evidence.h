@@ -27,7 +27,7 @@ struct PairEvidence {
   std::vector<float> omni;   // 48 kHz omni (W) channel
   MetricsReport metrics;     // octave bands
   EarlyEnergyProfile early;
-  std::optional<Rsao> rsao;  // B-format files only
+  std::optional<Rsao> rsao;  // B-format files with a clear direct sound only
 };
 
 struct MeasuredEvidence {

@@ -64,10 +64,21 @@ std::optional<FittedCause> fitSourceDirectivity(const FitContext& context, std::
     if (fit.evaluation.fit_error_jnd > pattern.evaluation.fit_error_jnd) fit = {best_azimuth, pattern.evaluation};
     azimuth = fit.value;
   }
+  // The pattern once more at the refined axis: a and the axis trade off (a narrower
+  // pattern slightly off axis reads like a broader one on it).
+  double omni_fraction = pattern.value;
+  if (best_elevation == 0.0) {
+    const ScalarFit again = fitScalar([&](double a) { return evaluateWith(context, withPattern(a, azimuth, 0.0)); },
+                                      std::max(0.0, omni_fraction - 0.2), std::min(1.0, omni_fraction + 0.2), 3, 3);
+    if (again.evaluation.fit_error_jnd <= fit.evaluation.fit_error_jnd) {
+      omni_fraction = again.value;
+      fit = again;
+    }
+  }
   FittedCause cause;
   cause.cause = "source_directivity";
-  cause.extension = withPattern(pattern.value, azimuth, best_elevation);
-  cause.parameters.values = {{"omni_fraction", pattern.value},
+  cause.extension = withPattern(omni_fraction, azimuth, best_elevation);
+  cause.parameters.values = {{"omni_fraction", omni_fraction},
                              {"axis_azimuth_deg", std::remainder(azimuth, 2.0 * M_PI) * 180.0 / M_PI},
                              {"axis_elevation_deg", best_elevation * 180.0 / M_PI}};
   cause.evaluation = fit.evaluation;

@@ -72,7 +72,15 @@ PairEvidence analysePair(const MeasurementPair& pair, const AudioBuffer& respons
   options.recorded_bandwidth_hz = 0.5 * response.sample_rate_hz;
   evidence.metrics = computeRoomAcousticParameters(evidence.omni, internal.sample_rate_hz, options);
   evidence.early = earlyEnergyProfile(evidence.omni, internal.sample_rate_hz, evidence.metrics.onset_sample);
-  if (internal.channelCount() >= 4) evidence.rsao = estimateRsao(internal, AmbisonicFormat::kAmbiX);
+  if (internal.channelCount() >= 4) {
+    // Without a clear direct sound (a source turned away, an occluded path) there is no
+    // RSAO to place reflections from; the ISO parameters and the early profile still hold.
+    try {
+      evidence.rsao = estimateRsao(internal, AmbisonicFormat::kAmbiX);
+    } catch (const InputError&) {
+      evidence.rsao.reset();
+    }
+  }
   return evidence;
 }
 
