@@ -113,7 +113,13 @@ int runCompare(const std::vector<std::string>& raw) {
          << " %.\n\n";
   report << "Octave bands" << (thirds ? " (each value the mean of the octave's third octaves)" : "") << ":\n\n"
          << comparisonToMarkdown(octaves) << "\n";
-  for (ComparedParameter p : kComparedParameters) report << "- " << summaryLine(octaves, p) << "\n";
+  for (ComparedParameter p : kComparedParameters) {
+    // Only the parameters the measurement gives.
+    if (std::any_of(octaves.begin(), octaves.end(),
+                    [p](const BandComparison& row) { return row.measured[static_cast<std::size_t>(p)].has_value(); })) {
+      report << "- " << summaryLine(octaves, p) << "\n";
+    }
+  }
   if (thirds) report << "\nThird-octave bands:\n\n" << comparisonToMarkdown(rows);
 
   std::cout << report.str();
