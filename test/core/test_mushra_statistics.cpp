@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "room_reverb/common/quantile.h"
 #include "room_reverb/listening/mushra_results.h"
 #include "room_reverb/listening/mushra_screening.h"
 #include "room_reverb/listening/mushra_statistics.h"
@@ -308,11 +309,11 @@ TEST(MushraScreening, RulesNamingAbsentConditionsAreRefused) {
 TEST(MushraStatistics, QuartilesInterpolateLinearlyAsNumpy) {
   // numpy.percentile([1, 2, 3, 4], [10, 25, 50, 75]) = [1.3, 1.75, 2.5, 3.25]
   const std::vector<double> four = {1, 2, 3, 4};
-  EXPECT_DOUBLE_EQ(linearQuantile(four, 0.10), 1.3);
-  EXPECT_DOUBLE_EQ(linearQuantile(four, 0.25), 1.75);
-  EXPECT_DOUBLE_EQ(linearQuantile(four, 0.50), 2.5);
-  EXPECT_DOUBLE_EQ(linearQuantile(four, 0.75), 3.25);
-  EXPECT_DOUBLE_EQ(linearQuantile(four, 1.0), 4.0);
+  EXPECT_DOUBLE_EQ(quantileLinear(four, 0.10), 1.3);
+  EXPECT_DOUBLE_EQ(quantileLinear(four, 0.25), 1.75);
+  EXPECT_DOUBLE_EQ(quantileLinear(four, 0.50), 2.5);
+  EXPECT_DOUBLE_EQ(quantileLinear(four, 0.75), 3.25);
+  EXPECT_DOUBLE_EQ(quantileLinear(four, 1.0), 4.0);
   const ScoreSummary s = summarizeScores({9, 1, 7, 3, 5}, 0.95);
   EXPECT_DOUBLE_EQ(s.first_quartile, 3.0);
   EXPECT_DOUBLE_EQ(s.median, 5.0);

@@ -156,8 +156,8 @@ PlantedCase plantedCase(const std::string& cause, std::uint32_t seed) {
     SimulationResult r = simulateRoom(scene, pairs[i].source_m, pairs[i].receiver_m, s);
     if (e.coupled) {
       const auto onset = static_cast<std::size_t>(std::lround(r.paths.front().delay_s * 48000.0));
-      // The same process the extension adds, on every B-format channel's omni part only:
-      // a diffuse tail carries no direction worth modelling here.
+      // The same process the extension adds, on the omni (W) channel only: the scored
+      // evidence is all omni, and a diffuse tail carries no direction worth modelling.
       addCoupledDecay(r.impulse_response.channels[0], 48000.0, onset, *e.coupled, s.rays.seed + 77);
     }
     c.evidence.rirs.push_back(analysePair(pairs[i], r.impulse_response));

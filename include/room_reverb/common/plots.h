@@ -19,6 +19,8 @@
 #include <utility>
 #include <vector>
 
+#include "room_reverb/common/quantile.h"
+
 namespace room_reverb::core {
 
 constexpr int kPlotPanelWidth = 520;
@@ -95,10 +97,5 @@ struct BoxPanel {
 // ranges of the box; values beyond are outliers, drawn as circles; the mean is a small
 // cross.
 void writeBoxPlots(const std::string& path, const std::vector<BoxPanel>& panels, int columns = 2);
-
-// The q-quantile (q in [0, 1]) by linear interpolation between the sorted values, as
-// numpy.quantile's default: position q * (n - 1) in the sorted order. InputError for no
-// values, a non-finite value, or q outside [0, 1].
-double quantileLinear(std::vector<double> values, double q);
 
 }  // namespace room_reverb::core

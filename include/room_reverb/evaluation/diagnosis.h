@@ -31,6 +31,8 @@ struct CauseParameters {
   std::map<std::string, std::vector<double>> bands;   // per octave band 63 Hz .. 16 kHz
   std::map<std::string, std::string> text;
 };
+// The parameters as one line of JSON (as diagnosis.json writes them), for reports.
+std::string describeParameters(const CauseParameters& parameters);
 
 struct NamedCause {
   std::string cause;

@@ -4,6 +4,7 @@
 // and a part it may not (held out), so that every cause's gain is measured on evidence its
 // parameters never saw.
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,8 @@ struct Evaluation {
 // wild value cannot outweigh the rest): each parameter group's mean, then the mean over the
 // groups, so that no group counts more for having more numbers.
 double meanAbsoluteError(const std::vector<ErrorTerm>& terms, int selection);  // -1 all, 0 fit, 1 held out
+// The per-group means that meanAbsoluteError averages.
+std::map<std::string, double> groupMeanAbsoluteErrors(const std::vector<ErrorTerm>& terms, int selection);
 
 // The error terms of predictions against evidence.
 std::vector<ErrorTerm> errorTerms(const MeasuredEvidence& evidence, const std::vector<PairPrediction>& predictions,

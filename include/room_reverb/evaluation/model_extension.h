@@ -35,7 +35,6 @@ struct ModelExtension {
 
   // `other`'s fields on top of these (maps merged, reflectors appended, scale multiplied).
   void add(const ModelExtension& other);
-  bool empty() const;
 };
 
 class RoomUnderTest {
@@ -45,7 +44,6 @@ class RoomUnderTest {
   static RoomUnderTest fromMesh(TriangleMesh mesh, MaterialLibrary library, AirConditions air);
 
   bool isRoomModel() const { return room_.has_value(); }
-  const RoomModel& roomModel() const { return *room_; }
   const AirConditions& air() const { return air_; }
 
   // What a per-surface absorption fit may target: the room's used surfaces and objects, or

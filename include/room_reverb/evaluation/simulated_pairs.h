@@ -1,6 +1,7 @@
 #pragma once
 // Simulating every source-receiver pair of a measurement and analysing each simulated
 // RIR exactly as the metrics module analyses a measured one.
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -16,7 +17,11 @@ struct SimulatedPair {
   double wall_time_s = 0.0;    // simulation and analysis
 };
 
-// Pair i is simulated with seed settings.rays.seed + i, so pairs do not share their noise.
+// Pair i of a measurement is simulated with seed base + i, so pairs do not share their
+// noise; every simulation of measured pairs (compare, the diagnosis) follows this rule.
+std::uint32_t pairSeed(std::uint32_t base_seed, std::size_t pair);
+
+// Pair i is simulated with pairSeed(settings.rays.seed, i).
 // `progress` (may be empty) is called after each pair with its index.
 std::vector<SimulatedPair> simulatePairs(const AcousticScene& scene, const std::vector<MeasurementPair>& pairs,
                                          const SimulationSettings& settings, BandResolution resolution,

@@ -22,8 +22,8 @@ struct ScoreSummary {
   std::size_t n = 0;
   double mean = 0.0;
   double median = 0.0;
-  double first_quartile = 0.0;  // linearQuantile 0.25
-  double third_quartile = 0.0;  // linearQuantile 0.75
+  double first_quartile = 0.0;  // quantileLinear 0.25 (common/quantile.h)
+  double third_quartile = 0.0;  // quantileLinear 0.75
   double minimum = 0.0;
   double maximum = 0.0;
   double confidence = 0.95;  // of the interval below
@@ -33,10 +33,6 @@ struct ScoreSummary {
   std::optional<double> ci_low;
   std::optional<double> ci_high;
 };
-
-// The q-quantile of ascending `sorted` by linear interpolation between order statistics
-// at position (n - 1) q: numpy's default, Hyndman and Fan's type 7. `sorted` not empty.
-double linearQuantile(const std::vector<double>& sorted, double q);
 
 // InputError for no scores or a confidence outside (0, 1).
 ScoreSummary summarizeScores(const std::vector<double>& scores, double confidence);

@@ -253,19 +253,4 @@ void writeBoxPlots(const std::string& path, const std::vector<BoxPanel>& panels,
   writeFigure(path, panels, columns, "writeBoxPlots", drawBoxPanel);
 }
 
-double quantileLinear(std::vector<double> values, double q) {
-  if (values.empty()) throw InputError("quantileLinear: no values");
-  if (!(q >= 0.0 && q <= 1.0)) throw InputError("quantileLinear: q = " + plot_canvas::shortNumber(q) + " is outside [0, 1]");
-  for (std::size_t k = 0; k < values.size(); ++k) {
-    if (!std::isfinite(values[k])) {
-      throw InputError("quantileLinear: value " + std::to_string(k) + " is " + plot_canvas::shortNumber(values[k]));
-    }
-  }
-  std::sort(values.begin(), values.end());
-  const double position = q * static_cast<double>(values.size() - 1);
-  const auto below = static_cast<std::size_t>(std::floor(position));
-  if (below + 1 >= values.size()) return values.back();
-  return values[below] + (position - static_cast<double>(below)) * (values[below + 1] - values[below]);
-}
-
 }  // namespace room_reverb::core

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "cause_fitting.h"
+#include "room_reverb/evaluation/simulated_pairs.h"
 
 namespace room_reverb::core {
 namespace {
@@ -46,7 +47,7 @@ Evaluation withCoupledDecay(const FitContext& context, const CoupledDecay& decay
       const auto onset = static_cast<std::size_t>(std::lround(base.paths.front().delay_s * omni.sample_rate_hz));
       // The seed the evaluator would use for this pair, so a later evaluation agrees.
       addCoupledDecay(omni.channels.front(), omni.sample_rate_hz, onset, decay,
-                      evaluator.settings().simulation.rays.seed + static_cast<std::uint32_t>(i));
+                      pairSeed(evaluator.settings().simulation.rays.seed, i));
     }
     prediction.analysis = analysePair(base.analysis.pair, omni);
     evaluation.predictions.push_back(std::move(prediction));

@@ -3,26 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <sstream>
 
 #include "cause_fitting.h"
 #include "room_reverb/common/error.h"
 
 namespace room_reverb::core {
 namespace {
-
-std::string describe(const FittedCause& fit) {
-  std::ostringstream os;
-  os.precision(3);
-  if (!fit.target.empty()) os << fit.target << ": ";
-  for (const auto& [key, value] : fit.parameters.values) os << key << " " << value << "; ";
-  for (const auto& [key, values] : fit.parameters.bands) {
-    os << key << " [";
-    for (std::size_t i = 0; i < values.size(); ++i) os << (i ? " " : "") << values[i];
-    os << "]; ";
-  }
-  return os.str();
-}
 
 // The held-out error's spread over ray-tracing seeds: what a gain must stand clear of.
 double heldoutNoise(const ModelEvaluator& evaluator, const Evaluation& base, int seeds) {
@@ -68,7 +54,7 @@ Diagnosis diagnose(const RoomUnderTest& room, const MeasuredEvidence& evidence, 
       if (fit && fit->evaluation.valid) {
         trial.fitted = true;
         trial.target = fit->target;
-        trial.note = describe(*fit);
+        trial.note = describeParameters(fit->parameters);
         trial.heldout_gain_jnd = current.heldout_error_jnd - fit->evaluation.heldout_error_jnd;
         if (trial.heldout_gain_jnd > threshold) next_round.push_back(name);
         if (trial.heldout_gain_jnd > threshold &&

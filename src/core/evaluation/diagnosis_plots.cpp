@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <map>
 
+#include "room_reverb/audio/audio_buffer.h"
 #include "room_reverb/audio/band_filter_bank.h"
 #include "room_reverb/common/plots.h"
 #include "room_reverb/metrics/energy_decay.h"
@@ -23,7 +24,7 @@ std::vector<double> timeAxis(double step_s, double length_s) {
 }
 
 std::vector<double> curveOf(const PairEvidence& pair, double band_hz, double step_s, double length_s) {
-  return bandDecayCurveDb(pair.omni, 48000.0, pair.metrics.onset_sample, band_hz, step_s, length_s);
+  return bandDecayCurveDb(pair.omni, kInternalSampleRateHz, pair.metrics.onset_sample, band_hz, step_s, length_s);
 }
 
 std::string decayCurves(const Diagnosis& d, const MeasuredEvidence& evidence, const std::string& path) {
@@ -31,7 +32,9 @@ std::string decayCurves(const Diagnosis& d, const MeasuredEvidence& evidence, co
   // The first pair: it is a fit pair and has a measured response if any pair has one.
   const double step = 0.01;
   double length = 0.0;
-  for (const PairPrediction& p : d.before.predictions) length = std::max(length, p.analysis.omni.size() / 48000.0);
+  for (const PairPrediction& p : d.before.predictions) {
+    length = std::max(length, static_cast<double>(p.analysis.omni.size()) / kInternalSampleRateHz);
+  }
   length = std::min(length * 0.9, 3.0);
   const std::vector<double> t = timeAxis(step, length);
   std::vector<LinePanel> panels;

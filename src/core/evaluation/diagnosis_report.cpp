@@ -39,20 +39,9 @@ nlohmann::json parametersJson(const CauseParameters& p) {
   return j;
 }
 
-// Mean absolute error per parameter group (all pairs and bands), for the before/after table.
-std::map<std::string, double> groupErrors(const Evaluation& e) {
-  std::map<std::string, std::pair<double, int>> sums;
-  for (const ErrorTerm& t : e.terms) {
-    auto& [s, n] = sums[t.group];
-    s += std::min(10.0, std::abs(t.error_jnd));
-    ++n;
-  }
-  std::map<std::string, double> out;
-  for (const auto& [g, sn] : sums) out[g] = sn.first / sn.second;
-  return out;
-}
-
 }  // namespace
+
+std::string describeParameters(const CauseParameters& parameters) { return parametersJson(parameters).dump(); }
 
 std::string diagnosisToJson(const Diagnosis& d, const std::string& extended_room_path) {
   nlohmann::json j;
@@ -104,7 +93,7 @@ std::string diagnosisToMarkdown(const Diagnosis& d, const std::string& extended_
     for (std::size_t i = 0; i < d.causes.size(); ++i) {
       const NamedCause& c = d.causes[i];
       os << "| " << i + 1 << " | `" << c.cause << "` | " << (c.target.empty() ? "–" : c.target) << " | "
-         << parametersJson(c.parameters).dump() << " | " << c.error_before_jnd << " → " << c.error_after_jnd << " | "
+         << describeParameters(c.parameters) << " | " << c.error_before_jnd << " → " << c.error_after_jnd << " | "
          << c.heldoutGainJnd() << " |\n";
     }
     os << "\n";
@@ -116,7 +105,7 @@ std::string diagnosisToMarkdown(const Diagnosis& d, const std::string& extended_
        << ").\n\n";
   }
   os << "## Error per parameter, before and after\n\n| parameter | before (JND) | after (JND) |\n|---|---:|---:|\n";
-  const auto before = groupErrors(d.before), after = groupErrors(d.after);
+  const auto before = groupMeanAbsoluteErrors(d.before.terms, -1), after = groupMeanAbsoluteErrors(d.after.terms, -1);
   for (const auto& [group, value] : before) {
     os << "| " << group << " | " << value << " | " << (after.count(group) ? after.at(group) : NAN) << " |\n";
   }

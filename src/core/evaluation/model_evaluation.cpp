@@ -7,6 +7,7 @@
 
 #include "room_reverb/common/error.h"
 #include "room_reverb/evaluation/parameter_comparison.h"
+#include "room_reverb/evaluation/simulated_pairs.h"
 
 namespace room_reverb::core {
 namespace {
@@ -65,18 +66,25 @@ void addEarly(const EarlyEnergyProfile& simulated, const EarlyEnergyProfile& mea
 
 }  // namespace
 
-double meanAbsoluteError(const std::vector<ErrorTerm>& terms, int selection) {
-  std::map<std::string, std::pair<double, int>> groups;
+std::map<std::string, double> groupMeanAbsoluteErrors(const std::vector<ErrorTerm>& terms, int selection) {
+  std::map<std::string, std::pair<double, int>> sums;
   for (const ErrorTerm& t : terms) {
     if (selection == 0 && t.held_out) continue;
     if (selection == 1 && !t.held_out) continue;
-    auto& [sum, n] = groups[t.group];
+    auto& [sum, n] = sums[t.group];
     sum += std::min(10.0, std::abs(t.error_jnd));
     ++n;
   }
+  std::map<std::string, double> means;
+  for (const auto& [group, sum_n] : sums) means[group] = sum_n.first / sum_n.second;
+  return means;
+}
+
+double meanAbsoluteError(const std::vector<ErrorTerm>& terms, int selection) {
+  const std::map<std::string, double> groups = groupMeanAbsoluteErrors(terms, selection);
   if (groups.empty()) return 0.0;
   double total = 0.0;
-  for (const auto& [name, sum_n] : groups) total += sum_n.first / sum_n.second;
+  for (const auto& [group, mean] : groups) total += mean;
   return total / static_cast<double>(groups.size());
 }
 
@@ -136,7 +144,7 @@ Evaluation ModelEvaluator::evaluate(const ModelExtension& extension, std::uint32
     if (extension.directivity) s.directivity = *extension.directivity;
     for (std::size_t i = 0; i < evidence_.positions.size(); ++i) {
       const MeasurementPair& pair = evidence_.positions[i];
-      s.rays.seed = settings_.simulation.rays.seed + static_cast<std::uint32_t>(i) + 7919u * seed_offset;
+      s.rays.seed = pairSeed(settings_.simulation.rays.seed + 7919u * seed_offset, i);
       SimulationResult result = simulateRoom(scene, pair.source_m, pair.receiver_m, s);
       AudioBuffer omni;
       omni.sample_rate_hz = result.impulse_response.sample_rate_hz;

@@ -42,11 +42,6 @@ void ModelExtension::add(const ModelExtension& other) {
   if (other.coupled) coupled = other.coupled;
 }
 
-bool ModelExtension::empty() const {
-  return !air && absorption.empty() && !global_scattering && !directivity && geometry_scale == 1.0 &&
-         reflectors.empty() && !coupled;
-}
-
 RoomUnderTest RoomUnderTest::fromRoomModel(RoomModel room, MaterialLibrary library) {
   RoomUnderTest r;
   r.library_ = materialsFor(room, library);  // fails early for unknown materials

@@ -6,6 +6,10 @@
 
 namespace room_reverb::core {
 
+std::uint32_t pairSeed(std::uint32_t base_seed, std::size_t pair) {
+  return base_seed + static_cast<std::uint32_t>(pair);
+}
+
 std::vector<SimulatedPair> simulatePairs(const AcousticScene& scene, const std::vector<MeasurementPair>& pairs,
                                          const SimulationSettings& settings, BandResolution resolution,
                                          const std::function<void(std::size_t, const SimulatedPair&)>& progress) {
@@ -13,7 +17,7 @@ std::vector<SimulatedPair> simulatePairs(const AcousticScene& scene, const std::
   for (std::size_t i = 0; i < pairs.size(); ++i) {
     const auto start = std::chrono::steady_clock::now();
     SimulationSettings pair_settings = settings;
-    pair_settings.rays.seed = settings.rays.seed + static_cast<std::uint32_t>(i);
+    pair_settings.rays.seed = pairSeed(settings.rays.seed, i);
     const SimulationResult result = simulateRoom(scene, pairs[i].source_m, pairs[i].receiver_m, pair_settings);
     MetricsOptions options;
     options.resolution = resolution;

@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "room_reverb/common/error.h"
+#include "room_reverb/common/quantile.h"
 
 namespace room_reverb::core {
 namespace {
@@ -92,13 +93,6 @@ std::pair<double, double> exactSignedRankTails(std::size_t n, double w) {
 
 // ---- Descriptive statistics ------------------------------------------------------------
 
-double linearQuantile(const std::vector<double>& sorted, double q) {
-  const double position = q * static_cast<double>(sorted.size() - 1);
-  const auto below = static_cast<std::size_t>(std::floor(position));
-  if (below + 1 >= sorted.size()) return sorted.back();
-  return sorted[below] + (position - static_cast<double>(below)) * (sorted[below + 1] - sorted[below]);
-}
-
 ScoreSummary summarizeScores(const std::vector<double>& scores, double confidence) {
   if (scores.empty()) throw InputError("no scores to summarise");
   requireProbability(confidence, "the confidence level");
@@ -109,9 +103,9 @@ ScoreSummary summarizeScores(const std::vector<double>& scores, double confidenc
   summary.confidence = confidence;
   const double n = static_cast<double>(summary.n);
   summary.mean = std::accumulate(sorted.begin(), sorted.end(), 0.0) / n;
-  summary.median = linearQuantile(sorted, 0.5);
-  summary.first_quartile = linearQuantile(sorted, 0.25);
-  summary.third_quartile = linearQuantile(sorted, 0.75);
+  summary.median = quantileLinear(sorted, 0.5);
+  summary.first_quartile = quantileLinear(sorted, 0.25);
+  summary.third_quartile = quantileLinear(sorted, 0.75);
   summary.minimum = sorted.front();
   summary.maximum = sorted.back();
   if (summary.n < 2) return summary;
