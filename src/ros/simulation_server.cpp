@@ -23,7 +23,7 @@ SimulationServer::SimulationServer(::ros::NodeHandle& private_nh) {
   if (defaults_.ambisonic_order < 0 || defaults_.ambisonic_order > 3) throw core::InputError("parameter ~ambisonic_order must be 0 to 3");
   private_nh.param("duration_s", defaults_.duration_s, 2.0);
   if (!(defaults_.duration_s > 0.0)) throw core::InputError("parameter ~duration_s must be positive");
-  private_nh.param("receiver_radius_m", defaults_.rays.receiver_radius_m, 0.3);
+  private_nh.param("receiver_radius_m", defaults_.rays.receiver_radius_m, 0.0);
   private_nh.param<std::string>("materials_file", materials_file, "");
   library_ = materials_file.empty() ? core::MaterialLibrary::loadDefault() : core::MaterialLibrary::load(materials_file);
   server_ = private_nh.advertiseService("simulate", &SimulationServer::simulate, this);

@@ -76,7 +76,8 @@ int runSimulate(const std::vector<std::string>& raw) {
   std::cout << "mode " << toString(settings.mode) << ": " << result.paths.size() << " image-source paths";
   if (settings.mode == SimulationMode::kAccurate) {
     std::cout << ", " << result.stats.rays << " rays, " << result.stats.reflections << " reflections, "
-              << result.stats.leaked_rays << " leaked, " << result.stats.escaped_rays << " escaped";
+              << result.stats.leaked_rays << " leaked, " << result.stats.escaped_rays << " escaped, receiver sphere "
+              << result.stats.receiver_radius_m << " m";
   }
   std::cout << "\nEyring T60 with air (s):";
   for (double t : result.eyring_t60_s) std::cout << " " << t;

@@ -22,7 +22,8 @@ const char* const kSimulationOptionsHelp = R"(  --mode MODE          accurate (i
                        20 C and 50 % unless the input files or the options say otherwise)
   --temperature C, --humidity PCT   air conditions
   --scattering S       one scattering coefficient for every surface (default: materials')
-  --receiver-radius M  detection sphere for specular rays (default 0.3)
+  --receiver-radius M  detection sphere for specular rays (default 0: from the volume
+                       and ray count, see docs/simulation.md)
 )";
 
 std::set<std::string> simulationValueOptions() {
@@ -41,7 +42,7 @@ SimulationSettings simulationSettingsFrom(const Arguments& args) {
   settings.rays.ray_count = static_cast<std::size_t>(rays);
   settings.rays.seed = static_cast<std::uint32_t>(args.intValue("seed", 1));
   settings.rays.threads = args.intValue("threads", 0);
-  settings.rays.receiver_radius_m = args.doubleValue("receiver-radius", 0.3);
+  settings.rays.receiver_radius_m = args.doubleValue("receiver-radius", 0.0);
   settings.ambisonic_order = args.intValue("ambisonic-order", 1);
   settings.duration_s = args.doubleValue("duration", 2.0);
   return settings;

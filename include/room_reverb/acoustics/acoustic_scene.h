@@ -56,6 +56,8 @@ class AcousticScene {
   // InputError unless `point` is inside the room (crossing parity along several rays),
   // outside every object and at least `clearance_m` from every surface.
   void requireInside(const Eigen::Vector3d& point, const std::string& what, double clearance_m = 0.01) const;
+  // Distance (m) from `point` to the nearest point of any triangle.
+  double distanceToNearestSurface(const Eigen::Vector3d& point) const;
 
  private:
   std::unique_ptr<EmbreeScene> geometry_;

@@ -1,6 +1,7 @@
 #include "room_reverb/acoustics/acoustic_scene.h"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <sstream>
 
@@ -95,6 +96,43 @@ OctaveBandValues AcousticScene::meanAbsorption() const {
   }
   for (double& v : mean) v /= surface_m2_;
   return mean;
+}
+
+namespace {
+
+// Closest point of triangle (a, b, c) to p, by the Voronoi regions of its vertices, edges
+// and face (Ericson, Real-Time Collision Detection, 2005, sec. 5.1.5).
+Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                       const Eigen::Vector3d& c) {
+  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return a;
+  const Eigen::Vector3d bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0.0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + d1 / (d1 - d3) * ab;
+  const Eigen::Vector3d cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0.0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + d2 / (d2 - d6) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
+  const double denominator = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denominator) + ac * (vc * denominator);
+}
+
+}  // namespace
+
+double AcousticScene::distanceToNearestSurface(const Eigen::Vector3d& point) const {
+  const TriangleMesh& m = mesh();
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const auto& t : m.triangles) {
+    const Eigen::Vector3d q = closestPointOnTriangle(point, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]);
+    nearest = std::min(nearest, (q - point).norm());
+  }
+  return nearest;
 }
 
 void AcousticScene::requireInside(const Eigen::Vector3d& point, const std::string& what, double clearance_m) const {
