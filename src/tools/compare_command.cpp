@@ -9,8 +9,7 @@
 #include "command.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/text_file.h"
-#include "room_reverb/evaluation/parameter_comparison.h"
-#include "room_reverb/evaluation/simulated_pairs.h"
+#include "room_reverb/evaluation/measurement_comparison.h"
 #include "simulation_arguments.h"
 
 namespace room_reverb::tool {
@@ -18,19 +17,26 @@ namespace {
 
 using namespace room_reverb::core;
 
-const char* kHelpHead = R"(usage: room_reverb compare --measurements FILE [--markdown OUT] [--pairs N]
+const char* kHelpHead = R"(usage: room_reverb compare --measurements FILE [--out DIR] [--markdown OUT] [--pairs N]
                            [--room ROOM.yaml | --mesh FILE [--y-up]] [simulation options]
 
 Simulates every source-receiver pair of a measurements file (measurements.yaml, DESIGN.md)
 in the room it names (or the --room / --mesh given), analyses each simulated RIR as the
-metrics command analyses a measured one, averages over the pairs and prints simulated,
-measured and the error in just-noticeable differences (T20 and EDT 5 %, C80 1 dB, D50
-0.05) per band of the measured table; third-octave tables are also reduced to octaves
-(each octave the mean of its thirds, for simulated and measured alike).
+metrics command analyses a measured one and sets it against the measurement, per pair and
+averaged over the pairs: T20, T30, EDT, C50, C80, D50, Ts and DRR per band, as values and
+as errors in just-noticeable differences (T 5 %, EDT 5 %, C 1 dB, D50 0.05, Ts 10 ms,
+DRR 1 dB). A measurement with RIR files is compared pair by pair (octave bands), and
+B-format files also by their early reflections: the RSAO of the measured and of the
+simulated RIR, matched in time after the direct sound (time, direction and level errors;
+reflections without a counterpart on either side). A parameters table is compared at its
+own resolution; third-octave tables are also reduced to octaves (each octave the mean of
+its thirds, for simulated and measured alike).
 
-  --measurements FILE  the measurements (pairs with positions, a parameters table, and
-                       the room's mesh or room model and air conditions)
-  --markdown OUT       also write the tables and the run's settings as Markdown
+  --measurements FILE  the measurements (pairs with positions and RIR files, or a
+                       parameters table; the room's mesh or room model, air conditions)
+  --out DIR            write DIR/comparison.json, DIR/report.md and, for RIR files,
+                       DIR/decay_curves.png
+  --markdown OUT       write the printed tables and the run's settings as Markdown
   --pairs N            use only the first N pairs (a quick look)
   --room, --mesh, --y-up   simulate this room instead of the file's
 )";
@@ -51,7 +57,7 @@ std::string summaryLine(const std::vector<BandComparison>& octaves, ComparedPara
 
 int runCompare(const std::vector<std::string>& raw) {
   std::set<std::string> valued = simulationValueOptions();
-  valued.insert({"measurements", "markdown", "pairs", "room", "mesh"});
+  valued.insert({"measurements", "markdown", "pairs", "room", "mesh", "out"});
   std::set<std::string> flags = simulationFlags();
   flags.insert("y-up");
   const Arguments args(raw, valued, flags);
@@ -59,9 +65,14 @@ int runCompare(const std::vector<std::string>& raw) {
   if (!args.has("measurements")) throw UsageError("--measurements FILE is required");
   if (args.has("room") && args.has("mesh")) throw UsageError("give at most one of --room and --mesh");
 
-  const Measurements measurements = loadMeasurements(args.value("measurements", ""));
+  Measurements measurements = loadMeasurements(args.value("measurements", ""));
   if (measurements.pairs.empty()) throw InputError("the measurements file has no source-receiver pairs to simulate");
-  if (measurements.parameters.empty()) throw InputError("the measurements file has no parameters table to compare with");
+  if (args.has("pairs")) {
+    const int n = args.intValue("pairs", 0);
+    if (n <= 0) throw InputError("--pairs must be at least 1");
+    measurements.pairs.resize(std::min(measurements.pairs.size(), static_cast<std::size_t>(n)));
+  }
+  const MeasuredEvidence evidence = measuredEvidence(measurements);
   SceneFiles files{measurements.room_file, measurements.mesh_file, measurements.mesh_up_axis, false};
   if (args.has("room") || args.has("mesh")) {
     files = SceneFiles{args.value("room", ""), args.value("mesh", ""), args.has("y-up") ? UpAxis::kY : UpAxis::kZ, false};
@@ -70,49 +81,38 @@ int runCompare(const std::vector<std::string>& raw) {
     throw InputError("no room to simulate: the measurements file names no room or mesh; give --room or --mesh");
   }
   SimulationSettings settings = simulationSettingsFrom(args);
-  settings.ambisonic_order = 0;  // the parameters are omni ones
   AirConditions air = measurements.air.value_or(AirConditions{});
   const AcousticScene scene = sceneFrom(files, args, air);
   settings.air = air;
 
-  std::vector<MeasurementPair> pairs = measurements.pairs;
-  if (args.has("pairs")) {
-    const int n = args.intValue("pairs", 0);
-    if (n <= 0) throw InputError("--pairs must be at least 1");
-    pairs.resize(std::min(pairs.size(), static_cast<std::size_t>(n)));
-  }
-  const auto simulated = simulatePairs(scene, pairs, settings, measurements.parameters.resolution,
-                                       [&](std::size_t i, const SimulatedPair& pair) {
-                                         std::cerr << "pair " << i + 1 << "/" << pairs.size() << " "
-                                                   << pairs[i].label << ": " << std::fixed << std::setprecision(1)
-                                                   << pair.wall_time_s << " s, " << pair.stats.leaked_rays
-                                                   << " rays leaked\n";
-                                       });
-  std::vector<MetricsReport> reports;
+  const std::size_t n_pairs = evidence.positions.size();
+  const MeasurementComparison comparison =
+      compareMeasurement(scene, evidence, settings, [&](std::size_t i, const PairComparison& pair) {
+        std::cerr << "pair " << i + 1 << "/" << n_pairs << " " << pair.pair.label << ": " << std::fixed
+                  << std::setprecision(1) << pair.wall_time_s << " s, " << pair.stats.leaked_rays << " rays leaked\n";
+      });
   std::vector<double> times;
   std::size_t leaked = 0, rays = 0;
-  for (const SimulatedPair& pair : simulated) {
-    reports.push_back(pair.metrics);
+  for (const PairComparison& pair : comparison.pairs) {
     times.push_back(pair.wall_time_s);
     leaked += pair.stats.leaked_rays;
     rays += pair.stats.rays;
   }
   std::sort(times.begin(), times.end());
 
-  const std::vector<BandComparison> rows = compareWithMeasured(reports, measurements.parameters);
-  const bool thirds = measurements.parameters.resolution == BandResolution::kThirdOctave;
-  const std::vector<BandComparison> octaves = thirds ? thirdsToOctaves(rows) : rows;
-
+  const bool thirds = comparison.resolution == BandResolution::kThirdOctave;
+  const std::vector<BandComparison> octaves = thirds ? thirdsToOctaves(comparison.average) : comparison.average;
   std::ostringstream report;
-  report << "Simulated: " << pairs.size() << " pairs, mode " << toString(settings.mode) << ", "
+  report << "Simulated: " << n_pairs << " pairs, mode " << toString(settings.mode) << ", "
          << settings.rays.ray_count << " rays, image-source order " << settings.image_source_order << ", "
          << settings.duration_s << " s, air " << (air.enabled ? "on" : "off") << " (" << air.temperature_c << " C, "
-         << air.humidity_percent << " %), seeds " << settings.rays.seed << ".." << settings.rays.seed + pairs.size() - 1
+         << air.humidity_percent << " %), seeds " << settings.rays.seed << ".." << settings.rays.seed + n_pairs - 1
          << ". Median wall time per pair " << std::fixed << std::setprecision(2) << times[times.size() / 2]
          << " s; leaked rays " << std::setprecision(2) << (rays > 0 ? 100.0 * static_cast<double>(leaked) / static_cast<double>(rays) : 0.0)
-         << " %.\n\n";
-  report << "Octave bands" << (thirds ? " (each value the mean of the octave's third octaves)" : "") << ":\n\n"
-         << comparisonToMarkdown(octaves) << "\n";
+         << " %. Measured: " << (comparison.from_rirs ? "RIR files, compared pair by pair" : "a parameters table")
+         << ".\n\n";
+  report << "Octave bands, averaged over the pairs" << (thirds ? " (each value the mean of the octave's third octaves)" : "")
+         << ":\n\n" << comparisonToMarkdown(octaves) << "\n";
   for (ComparedParameter p : kComparedParameters) {
     // Only the parameters the measurement gives.
     if (std::any_of(octaves.begin(), octaves.end(),
@@ -120,10 +120,20 @@ int runCompare(const std::vector<std::string>& raw) {
       report << "- " << summaryLine(octaves, p) << "\n";
     }
   }
-  if (thirds) report << "\nThird-octave bands:\n\n" << comparisonToMarkdown(rows);
+  if (thirds) report << "\nThird-octave bands:\n\n" << comparisonToMarkdown(comparison.average);
+  for (const PairComparison& pair : comparison.pairs) {
+    if (!pair.reflections) continue;
+    report << "\nEarly reflections of " << (pair.pair.label.empty() ? pair.pair.file : pair.pair.label) << ": "
+           << pair.reflections->matched.size() << " matched, " << pair.reflections->measured_only.size()
+           << " measured only, " << pair.reflections->simulated_only.size() << " simulated only";
+  }
+  if (comparison.from_rirs) report << "\n";
 
   std::cout << report.str();
   if (args.has("markdown")) writeTextFile(args.value("markdown", ""), report.str());
+  if (args.has("out")) {
+    for (const std::string& file : writeComparison(comparison, args.value("out", ""))) std::cerr << "wrote " << file << "\n";
+  }
   return 0;
 }
 

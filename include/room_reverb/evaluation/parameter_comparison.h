@@ -39,6 +39,10 @@ struct BandComparison {
 std::vector<BandComparison> compareWithMeasured(const std::vector<MetricsReport>& simulated_per_pair,
                                                 const MeasuredParameters& measured);
 
+// Per-pair comparisons (rows for the same bands) averaged: per band and parameter the
+// means of simulated and of measured over the pairs that have both, errors of the means.
+std::vector<BandComparison> averageComparisons(const std::vector<std::vector<BandComparison>>& per_pair);
+
 // Third-octave rows merged into octave rows: each value the mean of the octave's
 // available thirds (as measured tables are usually reduced), errors recomputed. Octaves
 // with fewer than two thirds in the table are left out.

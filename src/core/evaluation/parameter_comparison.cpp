@@ -128,6 +128,34 @@ std::vector<BandComparison> compareWithMeasured(const std::vector<MetricsReport>
   return rows;
 }
 
+std::vector<BandComparison> averageComparisons(const std::vector<std::vector<BandComparison>>& per_pair) {
+  std::vector<BandComparison> rows;
+  if (per_pair.empty()) return rows;
+  for (std::size_t b = 0; b < per_pair.front().size(); ++b) {
+    BandComparison row;
+    row.nominal_hz = per_pair.front()[b].nominal_hz;
+    for (ComparedParameter p : kComparedParameters) {
+      const std::size_t i = indexOf(p);
+      double sim = 0.0, meas = 0.0;
+      int n = 0;
+      for (const auto& pair : per_pair) {
+        if (b >= pair.size() || !sameBand(pair[b].nominal_hz, row.nominal_hz)) continue;
+        if (!pair[b].simulated[i] || !pair[b].measured[i]) continue;
+        sim += *pair[b].simulated[i];
+        meas += *pair[b].measured[i];
+        ++n;
+      }
+      if (n == 0) continue;
+      row.simulated[i] = sim / n;
+      row.measured[i] = meas / n;
+      if (p == ComparedParameter::kT20) row.simulated_count = n;
+    }
+    setErrors(row);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
 std::vector<BandComparison> thirdsToOctaves(const std::vector<BandComparison>& thirds) {
   std::vector<BandComparison> octaves;
   for (const FrequencyBand& octave : standardBands(BandResolution::kOctave)) {
