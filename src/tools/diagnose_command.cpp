@@ -10,6 +10,7 @@
 #include "room_reverb/acoustics/room_model.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/evaluation/diagnosis_output.h"
+#include "room_reverb/evaluation/diagnosis_setup.h"
 
 namespace room_reverb::tool {
 namespace {
@@ -52,15 +53,6 @@ std::vector<std::string> splitList(const std::string& text) {
   return out;
 }
 
-double longestT20(const MeasuredEvidence& evidence) {
-  double longest = 0.0;
-  for (const PairEvidence& pair : evidence.rirs) {
-    for (const AcousticParameters& band : pair.metrics.bands) longest = std::max(longest, band.t20_s.value_or(0.0));
-  }
-  for (double t : evidence.table.t20_s) longest = std::max(longest, std::isfinite(t) ? t : 0.0);
-  return longest;
-}
-
 int runDiagnose(const std::vector<std::string>& raw) {
   const Arguments args(raw,
                        {"measured", "room", "mesh", "out", "causes", "max-causes", "rays", "order", "duration", "seed",
@@ -83,16 +75,7 @@ int runDiagnose(const std::vector<std::string>& raw) {
     up = args.has("y-up") ? UpAxis::kY : UpAxis::kZ;
   }
   if (room_file.empty() && mesh_file.empty()) throw UsageError("no room: give --room or --mesh");
-  AirConditions air = measurements.air.value_or(AirConditions{});
-  RoomUnderTest room = [&] {
-    if (!room_file.empty()) {
-      RoomModel model = loadRoomModel(room_file);
-      if (args.has("no-air")) model.air.enabled = false;
-      return RoomUnderTest::fromRoomModel(model, library);
-    }
-    if (args.has("no-air")) air.enabled = false;
-    return RoomUnderTest::fromMesh(loadMesh(mesh_file, up), library, air);
-  }();
+  const RoomUnderTest room = loadRoomUnderTest(room_file, mesh_file, up, measurements, args.has("no-air"), library);
 
   DiagnosisOptions options;
   if (args.has("causes")) options.causes = splitList(args.value("causes", ""));
@@ -105,8 +88,7 @@ int runDiagnose(const std::vector<std::string>& raw) {
   sim.image_source_order = args.intValue("order", 3);
   sim.rays.seed = static_cast<std::uint32_t>(args.intValue("seed", 1));
   sim.rays.threads = args.intValue("threads", 0);
-  sim.duration_s = args.has("duration") ? args.doubleValue("duration", 1.0)
-                                        : std::clamp(1.1 * longestT20(evidence), 0.5, 3.0);
+  sim.duration_s = args.has("duration") ? args.doubleValue("duration", 1.0) : diagnosisDurationS(evidence);
   if (!(sim.duration_s > 0.0)) throw InputError("--duration must be positive");
 
   const Diagnosis diagnosis = diagnose(room, evidence, options);

@@ -1,0 +1,176 @@
+#include "room_reverb/ros/evaluation_server.h"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "room_reverb/acoustics/room_model.h"
+#include "room_reverb/common/error.h"
+#include "room_reverb/common/text_file.h"
+#include "room_reverb/evaluation/diagnosis_output.h"
+#include "room_reverb/evaluation/diagnosis_setup.h"
+#include "room_reverb/evaluation/measurement_comparison.h"
+#include "room_reverb/ros/parameters.h"
+#include "room_reverb/ros/room_conversions.h"
+
+namespace room_reverb::ros_bridge {
+namespace {
+
+bool hasRoomModel(const room_reverb::RoomModel& room) { return room.size.x > 0.0; }
+
+void requireOneRoom(const room_reverb::RoomModel& room, const std::string& mesh_file) {
+  if (hasRoomModel(room) && !mesh_file.empty()) throw core::InputError("give a room model or a mesh file, not both");
+}
+
+double nanIfEmpty(const std::optional<double>& v) { return v ? *v : std::numeric_limits<double>::quiet_NaN(); }
+
+}  // namespace
+
+EvaluationServer::EvaluationServer(::ros::NodeHandle& private_nh) {
+  rays_ = positiveIntParam(private_nh, "compare_rays", 20000);
+  diagnosis_rays_ = positiveIntParam(private_nh, "diagnosis_rays", 10000);
+  seed_ = positiveIntParam(private_nh, "seed", 1);
+  max_causes_ = positiveIntParam(private_nh, "max_causes", 3);
+  private_nh.param("threads", threads_, 0);
+  if (threads_ < 0) throw core::InputError("parameter ~threads must not be negative");
+  private_nh.param<std::string>("out_root", out_root_, "/tmp/room_reverb_evaluation");
+  std::string materials_file;
+  private_nh.param<std::string>("materials_file", materials_file, "");
+  library_ = materials_file.empty() ? core::MaterialLibrary::loadDefault() : core::MaterialLibrary::load(materials_file);
+  corrected_room_publisher_ = private_nh.advertise<room_reverb::RoomModel>("corrected_room", 1, true);
+  compare_server_ = private_nh.advertiseService("compare", &EvaluationServer::compare, this);
+  diagnose_server_ = private_nh.advertiseService("diagnose", &EvaluationServer::diagnose, this);
+}
+
+bool EvaluationServer::compare(room_reverb::CompareMeasurement::Request& request,
+                               room_reverb::CompareMeasurement::Response& response) {
+  try {
+    if (request.rays < 0 || request.seed < 0 || request.duration_s < 0.0) {
+      throw core::InputError("rays, seed and duration_s must not be negative (0: the node's parameter)");
+    }
+    requireOneRoom(request.room, request.mesh_file);
+    const core::Measurements measurements = core::loadMeasurements(request.measurements_file);
+    const core::MeasuredEvidence evidence = core::measuredEvidence(measurements);
+    core::SimulationSettings settings;
+    settings.rays.ray_count = static_cast<std::size_t>(request.rays > 0 ? request.rays : rays_);
+    settings.rays.seed = static_cast<std::uint32_t>(request.seed > 0 ? request.seed : seed_);
+    settings.rays.threads = threads_;
+    settings.duration_s = request.duration_s > 0.0 ? request.duration_s : core::diagnosisDurationS(evidence);
+    std::optional<core::AcousticScene> scene;
+    if (hasRoomModel(request.room)) {
+      const core::RoomModel room = fromMessage(request.room);
+      scene.emplace(core::roomModelToScene(room, library_));
+      settings.air = room.air;
+    } else {
+      const std::string mesh = request.mesh_file.empty() ? measurements.mesh_file : request.mesh_file;
+      const core::UpAxis up = request.mesh_file.empty() ? measurements.mesh_up_axis
+                                                        : (request.mesh_y_up ? core::UpAxis::kY : core::UpAxis::kZ);
+      if (!mesh.empty()) {
+        scene.emplace(core::loadMesh(mesh, up), library_);
+        settings.air = measurements.air.value_or(core::AirConditions{});
+      } else if (!measurements.room_file.empty()) {
+        const core::RoomModel room = core::loadRoomModel(measurements.room_file);
+        scene.emplace(core::roomModelToScene(room, library_));
+        settings.air = room.air;
+      } else {
+        throw core::InputError("no room to simulate: give a room model or a mesh file (the measurements file names none)");
+      }
+    }
+    const core::MeasurementComparison comparison = core::compareMeasurement(*scene, evidence, settings);
+    for (const core::BandComparison& row : comparison.average) {
+      for (core::ComparedParameter p : core::kComparedParameters) {
+        const auto i = static_cast<std::size_t>(p);
+        if (!row.measured[i]) continue;
+        response.parameter.push_back(core::toString(p));
+        response.band_hz.push_back(row.nominal_hz);
+        response.simulated.push_back(nanIfEmpty(row.simulated[i]));
+        response.measured.push_back(*row.measured[i]);
+        response.error_jnd.push_back(nanIfEmpty(row.error_jnd[i]));
+      }
+    }
+    response.mean_abs_error_jnd = nanIfEmpty(core::summarizeComparison(comparison.average).overall_mean_abs_error_jnd);
+    response.pairs = static_cast<std::uint32_t>(comparison.pairs.size());
+    response.comparison_json = core::comparisonToJson(comparison);
+    if (!request.out_dir.empty()) core::writeComparison(comparison, request.out_dir);
+    response.success = true;
+  } catch (const std::exception& e) {
+    response = room_reverb::CompareMeasurement::Response();
+    response.success = false;
+    response.message = e.what();
+  }
+  return true;
+}
+
+bool EvaluationServer::diagnose(room_reverb::DiagnoseRoom::Request& request,
+                                room_reverb::DiagnoseRoom::Response& response) {
+  try {
+    if (request.rays < 0 || request.seed < 0 || request.duration_s < 0.0) {
+      throw core::InputError("rays, seed and duration_s must not be negative (0: the node's parameter)");
+    }
+    requireOneRoom(request.room, request.mesh_file);
+    const core::Measurements measurements = core::loadMeasurements(request.measurements_file);
+    const core::MeasuredEvidence evidence = core::measuredEvidence(measurements);
+    std::optional<core::RoomUnderTest> room;
+    if (hasRoomModel(request.room)) {
+      core::RoomModel model = fromMessage(request.room);
+      if (request.no_air) model.air.enabled = false;
+      room.emplace(core::RoomUnderTest::fromRoomModel(model, library_));
+    } else if (!request.mesh_file.empty()) {
+      room.emplace(core::loadRoomUnderTest("", request.mesh_file, request.mesh_y_up ? core::UpAxis::kY : core::UpAxis::kZ,
+                                           measurements, request.no_air, library_));
+    } else {
+      room.emplace(core::loadRoomUnderTest(measurements.room_file, measurements.mesh_file, measurements.mesh_up_axis,
+                                           measurements, request.no_air, library_));
+    }
+    core::DiagnosisOptions options;
+    if (!request.causes.empty()) options.causes = request.causes;
+    options.max_causes = request.max_causes >= 0 ? request.max_causes : max_causes_;
+    core::SimulationSettings& sim = options.evaluation.simulation;
+    sim.rays.ray_count = static_cast<std::size_t>(request.rays > 0 ? request.rays : diagnosis_rays_);
+    sim.rays.seed = static_cast<std::uint32_t>(request.seed > 0 ? request.seed : seed_);
+    sim.rays.threads = threads_;
+    sim.duration_s = request.duration_s > 0.0 ? request.duration_s : core::diagnosisDurationS(evidence);
+
+    const core::Diagnosis diagnosis = core::diagnose(*room, evidence, options);
+    std::string out = request.out_dir;
+    if (out.empty()) {
+      const auto stamp = std::chrono::duration_cast<std::chrono::milliseconds>(
+                             std::chrono::system_clock::now().time_since_epoch()).count();
+      out = (std::filesystem::path(out_root_) / ("diagnosis_" + std::to_string(stamp))).string();
+    }
+    const core::DiagnosisFiles files = core::writeDiagnosis(diagnosis, *room, evidence, out);
+    response.baseline_error_jnd = diagnosis.baseline_error_jnd;
+    response.noise_jnd = diagnosis.noise_jnd;
+    for (const core::NamedCause& c : diagnosis.causes) {
+      room_reverb::DiagnosedCause m;
+      m.cause = c.cause;
+      m.target = c.target;
+      m.parameters_json = core::describeParameters(c.parameters);
+      m.error_before_jnd = c.error_before_jnd;
+      m.error_after_jnd = c.error_after_jnd;
+      m.heldout_gain_jnd = c.heldoutGainJnd();
+      response.causes.push_back(m);
+    }
+    if (room->isRoomModel()) {
+      response.extended_room = toMessage(room->extendedRoomModel(diagnosis.extension));
+      response.extended_room.header.frame_id = "room";
+      response.extended_room.header.stamp = ::ros::Time::now();
+      response.has_extended_room = true;
+      // Only a correction is news for the simulator and the renderer.
+      if (!diagnosis.causes.empty()) corrected_room_publisher_.publish(response.extended_room);
+    }
+    response.out_dir = out;
+    response.diagnosis_json = core::readTextFile(files.json, "diagnosis.json");
+    response.success = true;
+  } catch (const std::exception& e) {
+    response = room_reverb::DiagnoseRoom::Response();
+    response.success = false;
+    response.message = e.what();
+  }
+  return true;
+}
+
+}  // namespace room_reverb::ros_bridge
