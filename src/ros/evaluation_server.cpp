@@ -6,6 +6,8 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <room_reverb/RoomScene.h>
+#include <sstream>
 
 #include "room_reverb/acoustics/room_model.h"
 #include "room_reverb/common/error.h"
@@ -13,6 +15,8 @@
 #include "room_reverb/evaluation/diagnosis_output.h"
 #include "room_reverb/evaluation/diagnosis_setup.h"
 #include "room_reverb/evaluation/measurement_comparison.h"
+#include "room_reverb/audio/audio_file.h"
+#include "room_reverb/ros/audio_conversions.h"
 #include "room_reverb/ros/parameters.h"
 #include "room_reverb/ros/room_conversions.h"
 
@@ -41,8 +45,99 @@ EvaluationServer::EvaluationServer(::ros::NodeHandle& private_nh) {
   private_nh.param<std::string>("materials_file", materials_file, "");
   library_ = materials_file.empty() ? core::MaterialLibrary::loadDefault() : core::MaterialLibrary::load(materials_file);
   corrected_room_publisher_ = private_nh.advertise<room_reverb::RoomModel>("corrected_room", 1, true);
+  corrected_scene_publisher_ = private_nh.advertise<room_reverb::RoomScene>("corrected_scene", 1, true);
+  bool auto_diagnose = false;
+  private_nh.param("auto_diagnose", auto_diagnose, false);
+  if (auto_diagnose) {
+    room_subscriber_ = private_nh.subscribe("room", 1, &EvaluationServer::onRoom, this);
+    rir_subscriber_ = private_nh.subscribe("impulse_response", 1, &EvaluationServer::onImpulseResponse, this);
+  }
   compare_server_ = private_nh.advertiseService("compare", &EvaluationServer::compare, this);
   diagnose_server_ = private_nh.advertiseService("diagnose", &EvaluationServer::diagnose, this);
+}
+
+EvaluationServer::~EvaluationServer() {
+  if (live_thread_.joinable()) live_thread_.join();
+}
+
+void EvaluationServer::publishCorrection(const room_reverb::RoomModel& room, const room_reverb::ImpulseResponse* rir) {
+  corrected_room_publisher_.publish(room);
+  if (rir == nullptr) return;
+  room_reverb::RoomScene scene;
+  scene.room = room;
+  scene.source = rir->source_position;
+  scene.listener = rir->receiver_position;
+  scene.mode = "accurate";
+  corrected_scene_publisher_.publish(scene);
+}
+
+void EvaluationServer::onRoom(const room_reverb::RoomModel::ConstPtr& message) {
+  {
+    std::lock_guard<std::mutex> lock(live_mutex_);
+    live_room_ = *message;
+    live_dirty_ = true;
+  }
+  scheduleLiveDiagnosis();
+}
+
+void EvaluationServer::onImpulseResponse(const room_reverb::ImpulseResponse::ConstPtr& message) {
+  if (!message->positions_known) {
+    ROS_WARN("evaluation: ~impulse_response without source and receiver positions: not diagnosed");
+    return;
+  }
+  {
+    std::lock_guard<std::mutex> lock(live_mutex_);
+    live_rir_ = *message;
+    live_dirty_ = true;
+  }
+  scheduleLiveDiagnosis();
+}
+
+void EvaluationServer::scheduleLiveDiagnosis() {
+  std::lock_guard<std::mutex> lock(live_mutex_);
+  if (!live_room_ || !live_rir_ || !live_dirty_ || live_running_) return;
+  live_dirty_ = false;
+  live_running_ = true;
+  if (live_thread_.joinable()) live_thread_.join();
+  live_thread_ = std::thread([this, room = *live_room_, rir = *live_rir_] {
+    liveDiagnosis(room, rir);
+    live_running_ = false;
+    scheduleLiveDiagnosis();
+  });
+}
+
+void EvaluationServer::liveDiagnosis(room_reverb::RoomModel room, room_reverb::ImpulseResponse rir) {
+  try {
+    const auto stamp = std::chrono::duration_cast<std::chrono::milliseconds>(
+                           std::chrono::system_clock::now().time_since_epoch()).count();
+    const std::filesystem::path dir = std::filesystem::path(out_root_) / ("live_" + std::to_string(stamp));
+    std::filesystem::create_directories(dir);
+    // The measurement as the core reads it: the RIR as a file, its pair in measurements.yaml.
+    core::writeAudioFile((dir / "measured_rir.wav").string(), fromMessage(rir.audio));
+    const std::string layout = rir.audio.channel_layout == "mono" ? "omni" : rir.audio.channel_layout;
+    std::ostringstream yaml;
+    yaml << "pairs:\n  - {file: measured_rir.wav, format: " << layout << ", source_m: [" << rir.source_position.x << ", "
+         << rir.source_position.y << ", " << rir.source_position.z << "], receiver_m: [" << rir.receiver_position.x << ", "
+         << rir.receiver_position.y << ", " << rir.receiver_position.z << "]}\n";
+    core::writeTextFile((dir / "measurements.yaml").string(), yaml.str());
+
+    room_reverb::DiagnoseRoom::Request request;
+    room_reverb::DiagnoseRoom::Response response;
+    request.measurements_file = (dir / "measurements.yaml").string();
+    request.room = room;
+    request.max_causes = -1;
+    request.out_dir = (dir / "diagnosis").string();
+    diagnose(request, response);
+    if (!response.success) {
+      ROS_WARN("evaluation: live diagnosis failed: %s", response.message.c_str());
+      return;
+    }
+    ROS_INFO("evaluation: live diagnosis: %zu causes named (baseline %.2f JND, noise %.2f); %s", response.causes.size(),
+             response.baseline_error_jnd, response.noise_jnd, request.out_dir.c_str());
+    publishCorrection(response.extended_room, &rir);
+  } catch (const std::exception& e) {
+    ROS_WARN("evaluation: live diagnosis failed: %s", e.what());
+  }
 }
 
 bool EvaluationServer::compare(room_reverb::CompareMeasurement::Request& request,
@@ -159,8 +254,8 @@ bool EvaluationServer::diagnose(room_reverb::DiagnoseRoom::Request& request,
       response.extended_room.header.frame_id = "room";
       response.extended_room.header.stamp = ::ros::Time::now();
       response.has_extended_room = true;
-      // Only a correction is news for the simulator and the renderer.
-      if (!diagnosis.causes.empty()) corrected_room_publisher_.publish(response.extended_room);
+      // The room the evidence supports (the input itself when nothing was named).
+      if (request.publish_correction) publishCorrection(response.extended_room, nullptr);
     }
     response.out_dir = out;
     response.diagnosis_json = core::readTextFile(files.json, "diagnosis.json");

@@ -5,6 +5,7 @@
 #include <room_reverb/CompareMeasurement.h>
 #include <room_reverb/DiagnoseRoom.h>
 #include <room_reverb/RoomModel.h>
+#include <room_reverb/RoomScene.h>
 
 #include <cmath>
 #include <filesystem>
@@ -13,6 +14,7 @@
 #include "room_reverb/acoustics/room_model.h"
 #include "room_reverb/acoustics/room_simulation.h"
 #include "room_reverb/audio/audio_file.h"
+#include "room_reverb/ros/audio_conversions.h"
 #include "room_reverb/ros/room_conversions.h"
 #include "test_files.h"
 
@@ -149,6 +151,7 @@ TEST_F(EvaluationService, DiagnoseNamesMissingAirAndPublishesTheCorrectedRoom) {
   r.rays = 4000;
   r.duration_s = 1.0;
   r.out_dir = tempPath("diagnose_out").string();
+  r.publish_correction = true;
   const auto response = diagnose(r);
   ASSERT_TRUE(response.success) << response.message;
   ASSERT_EQ(response.causes.size(), 1u) << response.diagnosis_json;
@@ -170,6 +173,46 @@ TEST_F(EvaluationService, DiagnoseNamesMissingAirAndPublishesTheCorrectedRoom) {
   ASSERT_TRUE(received) << "no corrected room on /evaluation/corrected_room";
   EXPECT_TRUE(corrected.air_absorption);
   EXPECT_EQ(corrected.header.frame_id, "room");
+}
+
+TEST_F(EvaluationService, LiveLoopPublishesTheCorrectedSceneForTheRenderer) {
+  // A rig's measured RIR (with its positions) and the visual route's room model arrive on
+  // topics; the node diagnoses in the background and publishes the room to hear.
+  room_reverb::RoomScene scene;
+  bool received = false;
+  ros::Subscriber sub = nh_.subscribe<room_reverb::RoomScene>("/evaluation/corrected_scene", 1,
+                                                              [&](const room_reverb::RoomScene::ConstPtr& m) {
+                                                                scene = *m;
+                                                                received = true;
+                                                              });
+  ros::Publisher room_pub = nh_.advertise<room_reverb::RoomModel>("/evaluation/room", 1, true);
+  ros::Publisher rir_pub = nh_.advertise<room_reverb::ImpulseResponse>("/evaluation/impulse_response", 1, true);
+  room_reverb::ImpulseResponse rir;
+  rir.audio = ros_bridge::toMessage(core::readAudioFile(measuredRir("live.wav", kSource1, kReceiver1)), "ambix");
+  rir.source_position.x = kSource1.x();
+  rir.source_position.y = kSource1.y();
+  rir.source_position.z = kSource1.z();
+  rir.receiver_position.x = kReceiver1.x();
+  rir.receiver_position.y = kReceiver1.y();
+  rir.receiver_position.z = kReceiver1.z();
+  rir.positions_known = true;
+  room_reverb::RoomModel room = roomMessage();
+  room.air_known = true;
+  room.air_absorption = false;  // the visual route's model knows nothing of the air
+  room_pub.publish(room);
+  rir_pub.publish(rir);
+  for (int i = 0; i < 1800 && !received; ++i) {
+    ros::spinOnce();
+    ros::Duration(0.1).sleep();
+  }
+  ASSERT_TRUE(received) << "no scene on /evaluation/corrected_scene within 180 s";
+  EXPECT_NEAR(scene.source.x, kSource1.x(), 1e-9);
+  EXPECT_NEAR(scene.listener.y, kReceiver1.y(), 1e-9);
+  EXPECT_EQ(scene.mode, "accurate");
+  EXPECT_DOUBLE_EQ(scene.room.size.x, 5.0);
+  // The measured RIR decays faster at high frequencies than a room without air: the
+  // correction puts the air back (the planted-effect tests check the fitted humidity).
+  EXPECT_TRUE(scene.room.air_absorption);
 }
 
 TEST_F(EvaluationService, BadInputAnswersWithAReason) {

@@ -2,13 +2,25 @@
 // The evaluation node's services over the core's comparison and diagnosis (issue 8):
 // ~compare (room_reverb/CompareMeasurement) and ~diagnose (room_reverb/DiagnoseRoom).
 // A diagnosis of a room model also publishes the corrected room, latched, on
-// ~corrected_room (room_reverb/RoomModel): what the simulator and the renderer should use
-// from then on (the live system's closed loop).
+// ~corrected_room (room_reverb/RoomModel).
+//
+// The live system's closed loop: with ~auto_diagnose, the node listens to the visual
+// route's room model (~room) and the rig's measured RIR (~impulse_response, with its
+// source and receiver positions); whenever both are there and either changes, it
+// diagnoses the room model against the RIR in the background and publishes the corrected
+// room on ~corrected_room and, for the binaural renderer, ~corrected_scene
+// (room_reverb/RoomScene: the corrected room heard at the measured positions).
 #include <ros/ros.h>
 #include <room_reverb/CompareMeasurement.h>
 #include <room_reverb/DiagnoseRoom.h>
+#include <room_reverb/ImpulseResponse.h>
+#include <room_reverb/RoomModel.h>
 
+#include <atomic>
+#include <mutex>
+#include <optional>
 #include <string>
+#include <thread>
 
 #include "room_reverb/acoustics/material.h"
 
@@ -18,6 +30,9 @@ class EvaluationServer {
  public:
   // Parameters (config/evaluation.yaml) are read once and checked loudly.
   explicit EvaluationServer(::ros::NodeHandle& private_nh);
+  ~EvaluationServer();
+  EvaluationServer(const EvaluationServer&) = delete;
+  EvaluationServer& operator=(const EvaluationServer&) = delete;
 
   // The service bodies, callable without ROS for tests. Never throw: bad input gives
   // success=false and a message.
@@ -25,6 +40,15 @@ class EvaluationServer {
   bool diagnose(room_reverb::DiagnoseRoom::Request& request, room_reverb::DiagnoseRoom::Response& response);
 
  private:
+  void onRoom(const room_reverb::RoomModel::ConstPtr& message);
+  void onImpulseResponse(const room_reverb::ImpulseResponse::ConstPtr& message);
+  // Starts a live diagnosis of the latest inputs unless one runs; one that runs picks the
+  // newest inputs up again when it ends.
+  void scheduleLiveDiagnosis();
+  void liveDiagnosis(room_reverb::RoomModel room, room_reverb::ImpulseResponse rir);
+  // Publishes a corrected room (and its scene at `rir`'s positions when given).
+  void publishCorrection(const room_reverb::RoomModel& room, const room_reverb::ImpulseResponse* rir);
+
   int rays_ = 20000;           // compare
   int diagnosis_rays_ = 10000;
   int seed_ = 1;
@@ -33,7 +57,14 @@ class EvaluationServer {
   std::string out_root_;
   core::MaterialLibrary library_;
   ::ros::ServiceServer compare_server_, diagnose_server_;
-  ::ros::Publisher corrected_room_publisher_;
+  ::ros::Publisher corrected_room_publisher_, corrected_scene_publisher_;
+  ::ros::Subscriber room_subscriber_, rir_subscriber_;
+  std::mutex live_mutex_;
+  std::optional<room_reverb::RoomModel> live_room_;
+  std::optional<room_reverb::ImpulseResponse> live_rir_;
+  bool live_dirty_ = false;
+  std::atomic<bool> live_running_{false};
+  std::thread live_thread_;
 };
 
 }  // namespace room_reverb::ros_bridge
