@@ -7,7 +7,9 @@ import os
 import sys
 
 BANDS = [125, 250, 500, 1000, 2000, 4000]
-CONDITIONS = ["reference", "rsao", "accurate", "fast", "wrong_room"]
+# "corrected": the visual route's room model after the diagnosis against the measured RIR
+# (the closed loop); the others are the paper's five conditions.
+CONDITIONS = ["reference", "rsao", "accurate", "corrected", "fast", "wrong_room"]
 
 
 def band_values(path, key):
@@ -34,7 +36,9 @@ def main(out):
     metrics = os.path.join(out, "sample_room", "metrics")
     t20 = {c: band_values(os.path.join(metrics, c + ".json"), "t20_s") for c in CONDITIONS}
     c80 = {c: band_values(os.path.join(metrics, c + ".json"), "c80_db") for c in CONDITIONS}
-    print("## Sample room: the five conditions' room responses (W channel)\n")
+    print("## Sample room: the conditions' room responses (W channel)\n")
+    print("`accurate` simulates the visual route's room model; `corrected` the same model after the diagnosis "
+          "against the measured RIR (sample_room/diagnosis/report.md).\n")
     print("| condition | " + " | ".join(f"T20 {hz} Hz [s]" for hz in BANDS) + " | mean abs T20 error vs reference | mean abs C80 error [dB] |")
     print("|---|" + "---:|" * (len(BANDS) + 2))
     for c in CONDITIONS:
