@@ -14,7 +14,8 @@
 // flagged, never fitted. Each hypothesis is fitted on part of the evidence and its gain is
 // measured on the rest (other pairs; or, with one pair or a table, other parameters), and
 // a cause is named only when that held-out gain stands clear of the noise of the
-// simulation itself (the spread of the held-out error over ray-tracing seeds). Causes are
+// simulation itself (the spread of the held-out error over ray-tracing seeds) and the
+// error over all the evidence does not rise. Causes are
 // accepted greedily: the best first, then the others are fitted again on top of it.
 #include <map>
 #include <string>

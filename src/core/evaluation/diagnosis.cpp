@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <iomanip>
+#include <sstream>
 #include <cmath>
 
 #include "cause_fitting.h"
@@ -56,9 +58,19 @@ Diagnosis diagnose(const RoomUnderTest& room, const MeasuredEvidence& evidence, 
         trial.target = fit->target;
         trial.note = describeParameters(fit->parameters);
         trial.heldout_gain_jnd = current.heldout_error_jnd - fit->evaluation.heldout_error_jnd;
-        if (trial.heldout_gain_jnd > threshold) next_round.push_back(name);
-        if (trial.heldout_gain_jnd > threshold &&
-            (!best || fit->evaluation.heldout_error_jnd < best->evaluation.heldout_error_jnd)) {
+        // A fix must also not make the model worse over all the evidence: a held-out gain
+        // bought with a larger error elsewhere (e.g. the early energy profile, which is
+        // neither fitted nor held out with a single pair) is no diagnosis.
+        const bool worse_overall = fit->evaluation.error_jnd >= current.error_jnd;
+        if (worse_overall && trial.heldout_gain_jnd > threshold) {
+          std::ostringstream note;
+          note << std::fixed << std::setprecision(2) << trial.note << "; not named: the error over all evidence rose from "
+               << current.error_jnd << " to " << fit->evaluation.error_jnd << " JND";
+          trial.note = note.str();
+        }
+        const bool real = trial.heldout_gain_jnd > threshold && !worse_overall;
+        if (real) next_round.push_back(name);
+        if (real && (!best || fit->evaluation.heldout_error_jnd < best->evaluation.heldout_error_jnd)) {
           best = std::move(fit);
         }
       } else if (fit) {
