@@ -31,6 +31,23 @@ void requireOneRoom(const room_reverb::RoomModel& room, const std::string& mesh_
 
 double nanIfEmpty(const std::optional<double>& v) { return v ? *v : std::numeric_limits<double>::quiet_NaN(); }
 
+// What both services check and read first.
+template <class Request>
+core::Measurements measurementsOf(const Request& request) {
+  if (request.rays < 0 || request.seed < 0 || request.duration_s < 0.0) {
+    throw core::InputError("rays, seed and duration_s must not be negative (0: the node's parameter)");
+  }
+  requireOneRoom(request.room, request.mesh_file);
+  return core::loadMeasurements(request.measurements_file);
+}
+
+// A new folder name under `root`: PREFIX_<milliseconds since 1970>.
+std::filesystem::path stampedFolder(const std::string& root, const std::string& prefix) {
+  const auto stamp = std::chrono::duration_cast<std::chrono::milliseconds>(
+                         std::chrono::system_clock::now().time_since_epoch()).count();
+  return std::filesystem::path(root) / (prefix + "_" + std::to_string(stamp));
+}
+
 }  // namespace
 
 EvaluationServer::EvaluationServer(::ros::NodeHandle& private_nh) {
@@ -108,9 +125,7 @@ void EvaluationServer::scheduleLiveDiagnosis() {
 
 void EvaluationServer::liveDiagnosis(room_reverb::RoomModel room, room_reverb::ImpulseResponse rir) {
   try {
-    const auto stamp = std::chrono::duration_cast<std::chrono::milliseconds>(
-                           std::chrono::system_clock::now().time_since_epoch()).count();
-    const std::filesystem::path dir = std::filesystem::path(out_root_) / ("live_" + std::to_string(stamp));
+    const std::filesystem::path dir = stampedFolder(out_root_, "live");
     std::filesystem::create_directories(dir);
     // The measurement as the core reads it: the RIR as a file, its pair in measurements.yaml.
     core::writeAudioFile((dir / "measured_rir.wav").string(), fromMessage(rir.audio));
@@ -143,11 +158,7 @@ void EvaluationServer::liveDiagnosis(room_reverb::RoomModel room, room_reverb::I
 bool EvaluationServer::compare(room_reverb::CompareMeasurement::Request& request,
                                room_reverb::CompareMeasurement::Response& response) {
   try {
-    if (request.rays < 0 || request.seed < 0 || request.duration_s < 0.0) {
-      throw core::InputError("rays, seed and duration_s must not be negative (0: the node's parameter)");
-    }
-    requireOneRoom(request.room, request.mesh_file);
-    const core::Measurements measurements = core::loadMeasurements(request.measurements_file);
+    const core::Measurements measurements = measurementsOf(request);
     const core::MeasuredEvidence evidence = core::measuredEvidence(measurements);
     core::SimulationSettings settings;
     settings.rays.ray_count = static_cast<std::size_t>(request.rays > 0 ? request.rays : rays_);
@@ -202,11 +213,7 @@ bool EvaluationServer::compare(room_reverb::CompareMeasurement::Request& request
 bool EvaluationServer::diagnose(room_reverb::DiagnoseRoom::Request& request,
                                 room_reverb::DiagnoseRoom::Response& response) {
   try {
-    if (request.rays < 0 || request.seed < 0 || request.duration_s < 0.0) {
-      throw core::InputError("rays, seed and duration_s must not be negative (0: the node's parameter)");
-    }
-    requireOneRoom(request.room, request.mesh_file);
-    const core::Measurements measurements = core::loadMeasurements(request.measurements_file);
+    const core::Measurements measurements = measurementsOf(request);
     const core::MeasuredEvidence evidence = core::measuredEvidence(measurements);
     std::optional<core::RoomUnderTest> room;
     if (hasRoomModel(request.room)) {
@@ -230,12 +237,7 @@ bool EvaluationServer::diagnose(room_reverb::DiagnoseRoom::Request& request,
     sim.duration_s = request.duration_s > 0.0 ? request.duration_s : core::diagnosisDurationS(evidence);
 
     const core::Diagnosis diagnosis = core::diagnose(*room, evidence, options);
-    std::string out = request.out_dir;
-    if (out.empty()) {
-      const auto stamp = std::chrono::duration_cast<std::chrono::milliseconds>(
-                             std::chrono::system_clock::now().time_since_epoch()).count();
-      out = (std::filesystem::path(out_root_) / ("diagnosis_" + std::to_string(stamp))).string();
-    }
+    const std::string out = request.out_dir.empty() ? stampedFolder(out_root_, "diagnosis").string() : request.out_dir;
     const core::DiagnosisFiles files = core::writeDiagnosis(diagnosis, *room, evidence, out);
     response.baseline_error_jnd = diagnosis.baseline_error_jnd;
     response.noise_jnd = diagnosis.noise_jnd;

@@ -87,13 +87,13 @@ int runCompare(const std::vector<std::string>& raw) {
 
   const std::size_t n_pairs = evidence.positions.size();
   const MeasurementComparison comparison =
-      compareMeasurement(scene, evidence, settings, [&](std::size_t i, const PairComparison& pair) {
+      compareMeasurement(scene, evidence, settings, [&](std::size_t i, const MeasuredPairComparison& pair) {
         std::cerr << "pair " << i + 1 << "/" << n_pairs << " " << pair.pair.label << ": " << std::fixed
                   << std::setprecision(1) << pair.wall_time_s << " s, " << pair.stats.leaked_rays << " rays leaked\n";
       });
   std::vector<double> times;
   std::size_t leaked = 0, rays = 0;
-  for (const PairComparison& pair : comparison.pairs) {
+  for (const MeasuredPairComparison& pair : comparison.pairs) {
     times.push_back(pair.wall_time_s);
     leaked += pair.stats.leaked_rays;
     rays += pair.stats.rays;
@@ -121,7 +121,7 @@ int runCompare(const std::vector<std::string>& raw) {
     }
   }
   if (thirds) report << "\nThird-octave bands:\n\n" << comparisonToMarkdown(comparison.average);
-  for (const PairComparison& pair : comparison.pairs) {
+  for (const MeasuredPairComparison& pair : comparison.pairs) {
     if (!pair.reflections) continue;
     report << "\nEarly reflections of " << (pair.pair.label.empty() ? pair.pair.file : pair.pair.label) << ": "
            << pair.reflections->matched.size() << " matched, " << pair.reflections->measured_only.size()

@@ -137,7 +137,7 @@ TEST(MeasurementComparison, RirFilesAreComparedPairByPairWithTheirReflections) {
     EXPECT_LT(*row.error_jnd[t20], -6.0) << row.nominal_hz;
     EXPECT_LT(*row.simulated[t20], 0.7 * *row.measured[t20]) << row.nominal_hz;
   }
-  for (const PairComparison& pair : c.pairs) {
+  for (const MeasuredPairComparison& pair : c.pairs) {
     ASSERT_TRUE(pair.reflections) << pair.pair.label;
     ASSERT_GE(pair.reflections->matched.size(), 3u) << pair.pair.label;
     int close = 0;

@@ -14,7 +14,7 @@
 
 namespace room_reverb::core {
 
-struct PairComparison {
+struct MeasuredPairComparison {
   MeasurementPair pair;
   // Rows at the measurement's resolution: against this pair's RIR, or (table only)
   // against the averaged table, which is all a table gives per pair.
@@ -31,7 +31,7 @@ struct PairComparison {
 struct MeasurementComparison {
   BandResolution resolution = BandResolution::kOctave;
   bool from_rirs = false;
-  std::vector<PairComparison> pairs;
+  std::vector<MeasuredPairComparison> pairs;
   // Averaged over the pairs: simulated and measured means, errors of the means.
   std::vector<BandComparison> average;
   std::vector<MeasurementFlag> flags;
@@ -43,7 +43,7 @@ struct MeasurementComparison {
 // `progress` (may be empty) is called after each pair.
 MeasurementComparison compareMeasurement(
     const AcousticScene& scene, const MeasuredEvidence& evidence, const SimulationSettings& settings,
-    const std::function<void(std::size_t, const PairComparison&)>& progress = {});
+    const std::function<void(std::size_t, const MeasuredPairComparison&)>& progress = {});
 
 // Each parameter's mean of |error| in JND over the average's rows (125 Hz - 4 kHz octaves
 // or their thirds), and over all of them; empty where nothing was compared.

@@ -19,7 +19,7 @@ constexpr double kStepS = 0.01;
 // the pair's colour.
 void writeDecayCurves(const MeasurementComparison& comparison, const std::string& path) {
   double length = 0.0;
-  for (const PairComparison& p : comparison.pairs) {
+  for (const MeasuredPairComparison& p : comparison.pairs) {
     length = std::max(length, static_cast<double>(p.measured_omni.size()) / kInternalSampleRateHz);
   }
   length = std::min(0.9 * length, 3.0);
@@ -33,7 +33,7 @@ void writeDecayCurves(const MeasurementComparison& comparison, const std::string
     panel.y_label = "decay (dB)";
     panel.y_range = std::make_pair(-70.0, 2.0);
     for (std::size_t i = 0; i < comparison.pairs.size(); ++i) {
-      const PairComparison& p = comparison.pairs[i];
+      const MeasuredPairComparison& p = comparison.pairs[i];
       const std::string name = p.pair.label.empty() ? "pair " + std::to_string(i + 1) : p.pair.label;
       panel.series.push_back({name, t,
                               bandDecayCurveDb(p.measured_omni, kInternalSampleRateHz, p.measured_onset, band, kStepS, length),

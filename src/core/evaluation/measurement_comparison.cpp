@@ -17,7 +17,7 @@ using nlohmann::json;
 
 bool isBFormat(const MeasurementPair& pair) { return pair.format == "fuma" || pair.format == "ambix"; }
 
-PairComparison comparePair(const AcousticScene& scene, std::size_t index, const MeasurementPair& pair,
+MeasuredPairComparison comparePair(const AcousticScene& scene, std::size_t index, const MeasurementPair& pair,
                            const PairEvidence* measured, const MeasuredParameters& table,
                            const SimulationSettings& settings) {
   const auto start = std::chrono::steady_clock::now();
@@ -25,7 +25,7 @@ PairComparison comparePair(const AcousticScene& scene, std::size_t index, const 
   s.rays.seed = pairSeed(settings.rays.seed, index);
   s.ambisonic_order = measured != nullptr && isBFormat(pair) ? 1 : 0;
   const SimulationResult result = simulateRoom(scene, pair.source_m, pair.receiver_m, s);
-  PairComparison out;
+  MeasuredPairComparison out;
   out.pair = pair;
   out.stats = result.stats;
   if (measured != nullptr) {
@@ -119,7 +119,7 @@ std::string matchingMarkdown(const ReflectionMatching& m) {
 
 MeasurementComparison compareMeasurement(const AcousticScene& scene, const MeasuredEvidence& evidence,
                                          const SimulationSettings& settings,
-                                         const std::function<void(std::size_t, const PairComparison&)>& progress) {
+                                         const std::function<void(std::size_t, const MeasuredPairComparison&)>& progress) {
   if (evidence.positions.empty()) throw InputError("the measurement has no source-receiver pairs to simulate");
   if (!evidence.usesRirs() && evidence.table.empty()) {
     throw InputError("the measurement has neither RIR files nor a parameters table to compare with");
@@ -166,7 +166,7 @@ ComparisonSummary summarizeComparison(const std::vector<BandComparison>& rows) {
 
 std::string comparisonToJson(const MeasurementComparison& comparison) {
   json pairs = json::array();
-  for (const PairComparison& pair : comparison.pairs) {
+  for (const MeasuredPairComparison& pair : comparison.pairs) {
     json p{{"label", pair.pair.label},
            {"file", pair.pair.file},
            {"source_m", {pair.pair.source_m.x(), pair.pair.source_m.y(), pair.pair.source_m.z()}},
@@ -205,7 +205,7 @@ std::string comparisonReportMarkdown(const MeasurementComparison& comparison) {
   os << "## Averaged over " << comparison.pairs.size() << " pairs\n\n" << comparisonToMarkdown(comparison.average) << "\n";
   for (const MeasurementFlag& f : comparison.flags) os << "- measurement limit (" << f.issue << ", " << f.pair << "): " << f.detail << "\n";
   for (std::size_t i = 0; i < comparison.pairs.size(); ++i) {
-    const PairComparison& pair = comparison.pairs[i];
+    const MeasuredPairComparison& pair = comparison.pairs[i];
     os << "\n## Pair " << i + 1 << (pair.pair.label.empty() ? "" : " " + pair.pair.label) << "\n\n";
     if (!comparison.from_rirs) os << "Simulated at this pair, against the averaged table.\n\n";
     os << comparisonToMarkdown(pair.bands) << "\n";
