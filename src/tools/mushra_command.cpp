@@ -1,7 +1,8 @@
 // room_reverb mushra: MUSHRA listening tests of the project's renders (issue 9), after
 // Remaggi et al.'s audio-visual tests (0-5 scale, hidden reference and wrong-room anchor)
-// or ITU-R BS.1534-3 (0-100). One command whose first argument names the step; `analyze`
-// turns results files into screening, descriptive statistics and paired tests.
+// or ITU-R BS.1534-3 (0-100). One command whose first argument names the step; `make`
+// (mushra_make_command.cpp) renders a test from a plan, `analyze` turns results files into
+// screening, descriptive statistics and paired tests.
 #include <cctype>
 #include <filesystem>
 #include <functional>
@@ -14,6 +15,7 @@
 
 #include "arguments.h"
 #include "command.h"
+#include "mushra_steps.h"
 #include "room_reverb/common/plots.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/text_file.h"
@@ -27,7 +29,7 @@ namespace {
 using namespace room_reverb::core;
 using nlohmann::json;
 
-const char* kHelp = R"(usage: room_reverb mushra analyze RESULTS.csv [RESULTS2.csv ...] --out DIR
+const char* kAnalyzeHelp = R"(usage: room_reverb mushra analyze RESULTS.csv [RESULTS2.csv ...] --out DIR
                        [--scale 0-5|0-100] [--pairs A:B,C:D] [--reference NAME]
                        [--low-anchors A,B] [--alpha 0.05]
 
@@ -394,10 +396,10 @@ int runAnalyze(const std::vector<std::string>& raw) {
 
 // ---- the mushra command ----------------------------------------------------------------
 
-// The steps of a test, by the first argument ("make" and "serve" join this table).
+// The steps of a test, by the first argument ("serve" joins this table).
 const std::map<std::string, std::function<int(const std::vector<std::string>&)>>& mushraSteps() {
   static const std::map<std::string, std::function<int(const std::vector<std::string>&)>> steps = {
-      {"analyze", runAnalyze}};
+      {"make", runMushraMake}, {"analyze", runAnalyze}};
   return steps;
 }
 
@@ -414,8 +416,9 @@ int runMushra(const std::vector<std::string>& args) {
   return step->second(std::vector<std::string>(args.begin() + 1, args.end()));
 }
 
-const CommandRegistration registration({"mushra", "MUSHRA listening tests: analyze results (screening, statistics)",
-                                        kHelp, runMushra});
+const CommandRegistration registration({"mushra",
+                                        "MUSHRA listening tests: make a test from a plan, analyze results (statistics)",
+                                        std::string(kMushraMakeHelp) + kAnalyzeHelp, runMushra});
 
 }  // namespace
 }  // namespace room_reverb::tool

@@ -1,6 +1,5 @@
 // room_reverb render: a dry source heard in a room over headphones, offline (the twin of
 // the binaural_renderer node's ~render_to_file).
-#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <optional>
@@ -9,8 +8,6 @@
 #include "command.h"
 #include "room_reverb/ambisonics/bformat.h"
 #include "room_reverb/audio/audio_file.h"
-#include "room_reverb/audio/channel_mix.h"
-#include "room_reverb/audio/resample.h"
 #include "room_reverb/binaural/binaural_decoder.h"
 #include "room_reverb/binaural/offline_render.h"
 #include "room_reverb/binaural/hrtf_set.h"
@@ -49,11 +46,10 @@ Exit status: 0 on success, 2 with one line on stderr for bad input.
 )";
 
 AudioBuffer monoSource(const std::string& path) {
-  const AudioBuffer source = readAudioFile(path);
-  if (source.channelCount() > 1) {
-    std::cerr << "room_reverb render: note: the " << source.channelCount() << "-channel source is mixed to mono\n";
-  }
-  return toInternalRate(mixToMono(source));
+  std::vector<std::string> notes;
+  AudioBuffer source = loadDrySource(path, notes);
+  for (const std::string& note : notes) std::cerr << "room_reverb render: note: " << note << "\n";
+  return source;
 }
 
 // The room's AmbiX response at 48 kHz.
@@ -104,8 +100,7 @@ int runRender(const std::vector<std::string>& raw) {
     brir = renderRsaoBinaural(*rsao, hrtf, options);
     how = "RSAO through the HRTFs";
   } else {
-    // An omni response has no directions: it is decoded as first order with silent X, Y, Z.
-    const int order = std::max(ambixOrder(response), 1);
+    const int order = binauralDecoderOrder(response);
     brir = binauralRoomResponse(response, makeBinauralDecoder(hrtf, order, method), head);
     how = "order-" + std::to_string(order) + " " + toString(method) + " decoder";
   }

@@ -221,7 +221,7 @@ TEST(MushraAnalyzeTool, BadInputEndsWithOneLine) {
   expectOneLineError(runTool("mushra analyze " + oneRowFile("mushra_ok.csv", "3")), "--out DIR is required");
   expectOneLineError(runTool("mushra analyze " + oneRowFile("mushra_ok.csv", "3") + " --scale 0-10 --out " + out),
                      "unknown rating scale '0-10'");
-  expectOneLineError(runTool("mushra make --plan plan.yaml --out " + out), "available: analyze");
+  expectOneLineError(runTool("mushra judge --plan plan.yaml --out " + out), "available: analyze, make");
   expectOneLineError(runTool("mushra"), "analyze");
 
   std::mt19937 rng(7);

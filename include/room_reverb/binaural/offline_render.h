@@ -16,6 +16,11 @@
 
 namespace room_reverb::core {
 
+// A dry (anechoic) source as the renderers take it: every channel of the file mixed to one
+// (mixToMono) at 48 kHz. A line goes to `notes` for each change made on the way (channels
+// mixed, rate converted), for the caller to show. InputError as readAudioFile.
+AudioBuffer loadDrySource(const std::string& path, std::vector<std::string>& notes);
+
 // A room response as AmbiX (ACN/SN3D) at 48 kHz. `layout` says what the channels are:
 // "fuma" (first-order FuMa: W X Y Z, 4 channels), "ambix" (order 0-3: 1, 4, 9 or 16
 // channels) or "mono" (an omnidirectional response, order 0). Other rates are resampled and
@@ -31,6 +36,11 @@ AudioBuffer ambixRoomResponse(const AudioBuffer& response, const std::string& la
 // not at the response's rate, or a malformed quaternion.
 AudioBuffer binauralRoomResponse(const AudioBuffer& ambix, const BinauralDecoder& decoder,
                                  const Eigen::Quaterniond& head_in_room);
+
+// The order of the decoder an AmbiX room response goes through: its own order, but at least
+// 1, since an omnidirectional (order-0) response has no directions to decode and is heard
+// as a first-order one with silent X, Y, Z. InputError for a channel count that is no order.
+int binauralDecoderOrder(const AudioBuffer& ambix);
 
 struct BinauralRender {
   AudioBuffer audio;     // 2 channels, left and right

@@ -7,11 +7,26 @@
 #include "room_reverb/ambisonics/bformat.h"
 #include "room_reverb/ambisonics/rotation.h"
 #include "room_reverb/ambisonics/spherical_harmonics.h"
+#include "room_reverb/audio/audio_file.h"
+#include "room_reverb/audio/channel_mix.h"
 #include "room_reverb/audio/convolution.h"
 #include "room_reverb/audio/resample.h"
 #include "room_reverb/common/error.h"
 
 namespace room_reverb::core {
+
+AudioBuffer loadDrySource(const std::string& path, std::vector<std::string>& notes) {
+  const AudioBuffer file = readAudioFile(path);
+  if (file.channelCount() > 1) {
+    notes.push_back("the " + std::to_string(file.channelCount()) + "-channel source " + path + " is mixed to mono");
+  }
+  if (file.sample_rate_hz != kInternalSampleRateHz) {
+    std::ostringstream os;
+    os << "the source " << path << " was resampled from " << file.sample_rate_hz << " Hz to 48000 Hz";
+    notes.push_back(os.str());
+  }
+  return toInternalRate(mixToMono(file));
+}
 
 AudioBuffer ambixRoomResponse(const AudioBuffer& response, const std::string& layout, std::vector<std::string>& notes) {
   validateAudioBuffer(response, "the room response");
@@ -61,6 +76,8 @@ AudioBuffer binauralRoomResponse(const AudioBuffer& ambix, const BinauralDecoder
   rotateAmbisonicBuffer(field, headTrackingRotation(head_in_room, decoder.order));
   return decodeToBinaural(field, decoder);
 }
+
+int binauralDecoderOrder(const AudioBuffer& ambix) { return std::max(ambixOrder(ambix), 1); }
 
 BinauralRender convolveBinaural(const AudioBuffer& mono_source, const AudioBuffer& brir) {
   validateAudioBuffer(mono_source, "the source");
