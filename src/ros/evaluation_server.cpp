@@ -4,7 +4,6 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <room_reverb/RoomScene.h>
 #include <sstream>
@@ -39,6 +38,23 @@ core::Measurements measurementsOf(const Request& request) {
   }
   requireOneRoom(request.room, request.mesh_file);
   return core::loadMeasurements(request.measurements_file);
+}
+
+// The room a request names: its RoomModel, its mesh file, or else the room or mesh of the
+// measurements file. `no_air`: a model without air absorption.
+core::RoomUnderTest roomOf(const room_reverb::RoomModel& message, const std::string& mesh_file, bool mesh_y_up,
+                           const core::Measurements& measurements, bool no_air, const core::MaterialLibrary& library) {
+  if (hasRoomModel(message)) {
+    core::RoomModel model = fromMessage(message);
+    if (no_air) model.air.enabled = false;
+    return core::RoomUnderTest::fromRoomModel(model, library);
+  }
+  if (!mesh_file.empty()) {
+    return core::loadRoomUnderTest("", mesh_file, mesh_y_up ? core::UpAxis::kY : core::UpAxis::kZ, measurements, no_air,
+                                   library);
+  }
+  return core::loadRoomUnderTest(measurements.room_file, measurements.mesh_file, measurements.mesh_up_axis, measurements,
+                                 no_air, library);
 }
 
 // A new folder name under `root`: PREFIX_<milliseconds since 1970>.
@@ -165,27 +181,10 @@ bool EvaluationServer::compare(room_reverb::CompareMeasurement::Request& request
     settings.rays.seed = static_cast<std::uint32_t>(request.seed > 0 ? request.seed : seed_);
     settings.rays.threads = threads_;
     settings.duration_s = request.duration_s > 0.0 ? request.duration_s : core::diagnosisDurationS(evidence);
-    std::optional<core::AcousticScene> scene;
-    if (hasRoomModel(request.room)) {
-      const core::RoomModel room = fromMessage(request.room);
-      scene.emplace(core::roomModelToScene(room, library_));
-      settings.air = room.air;
-    } else {
-      const std::string mesh = request.mesh_file.empty() ? measurements.mesh_file : request.mesh_file;
-      const core::UpAxis up = request.mesh_file.empty() ? measurements.mesh_up_axis
-                                                        : (request.mesh_y_up ? core::UpAxis::kY : core::UpAxis::kZ);
-      if (!mesh.empty()) {
-        scene.emplace(core::loadMesh(mesh, up), library_);
-        settings.air = measurements.air.value_or(core::AirConditions{});
-      } else if (!measurements.room_file.empty()) {
-        const core::RoomModel room = core::loadRoomModel(measurements.room_file);
-        scene.emplace(core::roomModelToScene(room, library_));
-        settings.air = room.air;
-      } else {
-        throw core::InputError("no room to simulate: give a room model or a mesh file (the measurements file names none)");
-      }
-    }
-    const core::MeasurementComparison comparison = core::compareMeasurement(*scene, evidence, settings);
+    const core::RoomUnderTest room =
+        roomOf(request.room, request.mesh_file, request.mesh_y_up, measurements, false, library_);
+    settings.air = room.airWith({});
+    const core::MeasurementComparison comparison = core::compareMeasurement(room.scene({}), evidence, settings);
     for (const core::BandComparison& row : comparison.average) {
       for (core::ComparedParameter p : core::kComparedParameters) {
         const auto i = static_cast<std::size_t>(p);
@@ -215,18 +214,8 @@ bool EvaluationServer::diagnose(room_reverb::DiagnoseRoom::Request& request,
   try {
     const core::Measurements measurements = measurementsOf(request);
     const core::MeasuredEvidence evidence = core::measuredEvidence(measurements);
-    std::optional<core::RoomUnderTest> room;
-    if (hasRoomModel(request.room)) {
-      core::RoomModel model = fromMessage(request.room);
-      if (request.no_air) model.air.enabled = false;
-      room.emplace(core::RoomUnderTest::fromRoomModel(model, library_));
-    } else if (!request.mesh_file.empty()) {
-      room.emplace(core::loadRoomUnderTest("", request.mesh_file, request.mesh_y_up ? core::UpAxis::kY : core::UpAxis::kZ,
-                                           measurements, request.no_air, library_));
-    } else {
-      room.emplace(core::loadRoomUnderTest(measurements.room_file, measurements.mesh_file, measurements.mesh_up_axis,
-                                           measurements, request.no_air, library_));
-    }
+    const core::RoomUnderTest room =
+        roomOf(request.room, request.mesh_file, request.mesh_y_up, measurements, request.no_air, library_);
     core::DiagnosisOptions options;
     if (!request.causes.empty()) options.causes = request.causes;
     options.max_causes = request.max_causes >= 0 ? request.max_causes : max_causes_;
@@ -236,9 +225,9 @@ bool EvaluationServer::diagnose(room_reverb::DiagnoseRoom::Request& request,
     sim.rays.threads = threads_;
     sim.duration_s = request.duration_s > 0.0 ? request.duration_s : core::diagnosisDurationS(evidence);
 
-    const core::Diagnosis diagnosis = core::diagnose(*room, evidence, options);
+    const core::Diagnosis diagnosis = core::diagnose(room, evidence, options);
     const std::string out = request.out_dir.empty() ? stampedFolder(out_root_, "diagnosis").string() : request.out_dir;
-    const core::DiagnosisFiles files = core::writeDiagnosis(diagnosis, *room, evidence, out);
+    const core::DiagnosisFiles files = core::writeDiagnosis(diagnosis, room, evidence, out);
     response.baseline_error_jnd = diagnosis.baseline_error_jnd;
     response.noise_jnd = diagnosis.noise_jnd;
     for (const core::NamedCause& c : diagnosis.causes) {
@@ -251,8 +240,8 @@ bool EvaluationServer::diagnose(room_reverb::DiagnoseRoom::Request& request,
       m.heldout_gain_jnd = c.heldoutGainJnd();
       response.causes.push_back(m);
     }
-    if (room->isRoomModel()) {
-      response.extended_room = toMessage(room->extendedRoomModel(diagnosis.extension));
+    if (room.isRoomModel()) {
+      response.extended_room = toMessage(room.extendedRoomModel(diagnosis.extension));
       response.extended_room.header.frame_id = "room";
       response.extended_room.header.stamp = ::ros::Time::now();
       response.has_extended_room = true;

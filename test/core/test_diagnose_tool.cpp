@@ -10,6 +10,7 @@
 #include "room_reverb/acoustics/room_simulation.h"
 #include "room_reverb/audio/audio_file.h"
 #include "test_files.h"
+#include "test_rooms.h"
 #include "tool_run.h"
 
 namespace room_reverb::test {
@@ -17,17 +18,7 @@ namespace {
 
 using namespace room_reverb::core;
 
-const char* kRoom = R"(frame: room
-room_box: {size_m: [5.0, 4.0, 3.0], has_ceiling: true}
-surfaces:
-  floor: {material: carpet_on_concrete}
-  ceiling: {material: acoustic_ceiling_tiles}
-  wall_x_min: {material: plaster_smooth}
-  wall_x_max: {material: plaster_smooth}
-  wall_y_min: {material: glass_window}
-  wall_y_max: {material: plasterboard_on_studs}
-air: {enabled: true, temperature_c: 20, humidity_percent: 50}
-)";
+const char* const kRoom = kStudioRoomYaml;
 
 // A B-format RIR of the room itself at one pair (the measurement the tests start from).
 std::string measuredFile(const std::string& name, double sample_rate_hz = 48000.0, std::size_t channels = 4) {

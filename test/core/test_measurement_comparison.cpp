@@ -12,6 +12,7 @@
 #include "room_reverb/audio/audio_file.h"
 #include "room_reverb/evaluation/measurement_comparison.h"
 #include "test_files.h"
+#include "test_rooms.h"
 #include "tool_run.h"
 
 namespace room_reverb::test {
@@ -65,17 +66,7 @@ TEST(ReflectionMatching, EachReflectionIsUsedOnceAndTheClosestWins) {
   EXPECT_TRUE(matchReflections(Rsao{}, simulated).matched.empty());
 }
 
-const char* kRoom = R"(frame: room
-room_box: {size_m: [5.0, 4.0, 3.0], has_ceiling: true}
-surfaces:
-  floor: {material: carpet_on_concrete}
-  ceiling: {material: acoustic_ceiling_tiles}
-  wall_x_min: {material: plaster_smooth}
-  wall_x_max: {material: plaster_smooth}
-  wall_y_min: {material: glass_window}
-  wall_y_max: {material: plasterboard_on_studs}
-air: {enabled: true, temperature_c: 20, humidity_percent: 50}
-)";
+const char* const kRoom = kStudioRoomYaml;
 
 // Scattering 0.5 everywhere: a diffuse room, where a 20 000-ray simulation's T20 varies
 // by a few per cent between seeds (in this room with the materials' own low scattering it
@@ -133,7 +124,8 @@ TEST(MeasurementComparison, RirFilesAreComparedPairByPairWithTheirReflections) {
     if (row.nominal_hz < 250.0 || row.nominal_hz > 2000.0) continue;
     ASSERT_TRUE(row.error_jnd[t20]) << row.nominal_hz;
     // Halving absorption nearly doubles T20 in a diffuse room (air absorption keeps it
-    // a little short of twice).
+    // a little short of twice). Measured: -9.5 to -10.5 JND, simulated/measured 0.47-0.52;
+    // the bounds leave room for seed noise, not for a comparison that misses the effect.
     EXPECT_LT(*row.error_jnd[t20], -6.0) << row.nominal_hz;
     EXPECT_LT(*row.simulated[t20], 0.7 * *row.measured[t20]) << row.nominal_hz;
   }
@@ -156,7 +148,8 @@ TEST(MeasurementComparison, RirFilesAreComparedPairByPairWithTheirReflections) {
 
 TEST(MeasurementComparison, TheSameRoomComparesWithinNoise) {
   // The measurement is the model itself (another seed): the averaged T20 error in the
-  // mid bands stays within the seed noise of a 20 000-ray simulation (1.5 JND = 7.5 %).
+  // mid bands stays within the seed noise of a 20 000-ray simulation (1.5 JND = 7.5 %;
+  // measured -0.08, +1.33, +0.15 JND at 500 Hz, 1 kHz, 2 kHz with these seeds).
   const Eigen::Vector3d s1(1.2, 1.0, 1.4), r1(3.6, 2.8, 1.3);
   Measurements meas;
   meas.pairs = {{"P1", measuredRir("same.wav", 1.0, s1, r1), "ambix", s1, r1}};

@@ -24,6 +24,9 @@ struct MeasurementPair {
   Eigen::Vector3d receiver_m = Eigen::Vector3d::Zero();  // room frame
 };
 
+// A pair whose file is first-order B-format (fuma or ambix).
+bool isBFormat(const MeasurementPair& pair);
+
 // Measured parameters per band, averaged over the pairs. A missing parameter is an empty
 // vector; a present one has a value per band. D50 is a fraction (a file may give percent
 // with `d50_percent`).

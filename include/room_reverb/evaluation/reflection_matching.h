@@ -26,6 +26,10 @@ struct RelativeReflection {
   double elevation_deg = 0.0;
 };
 
+// An RSAO's reflections (not the direct sound) relative to its direct sound; empty without
+// a direct sound of positive level.
+std::vector<RelativeReflection> relativeReflections(const Rsao& rsao);
+
 struct MatchedReflection {
   RelativeReflection measured, simulated;
   double time_error_ms = 0.0;        // simulated - measured delay

@@ -159,14 +159,17 @@ struct Tracer {
     return loudest < floor;
   }
 
-  void traceRay(std::size_t index, std::mt19937_64& rng, EnergyHistogram& histogram, RayTracingStats& stats) const {
+  // `pending` is the caller's scratch queue of branches (kept across rays so the hot loop
+  // does not allocate per ray); empty on entry and on return.
+  void traceRay(std::size_t index, std::mt19937_64& rng, std::vector<RayBranch>& pending, EnergyHistogram& histogram,
+                RayTracingStats& stats) const {
     RayBranch start;
     start.position = source;
     start.direction = stratifiedDirection(index, options.ray_count, launch_rotation, rng);
     const double gain = model.directivity.pressureGain(start.direction);
     start.energy.fill(ray_energy * gain * gain);
     ++stats.rays;
-    std::vector<RayBranch> pending{start};
+    pending.push_back(start);
     while (!pending.empty()) {
       RayBranch branch = pending.back();
       pending.pop_back();
@@ -316,11 +319,12 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
   std::vector<EnergyHistogram> histograms(static_cast<std::size_t>(threads), EnergyHistogram(options.bin_s, bins));
   std::vector<RayTracingStats> stats(static_cast<std::size_t>(threads));
   auto work = [&](int thread) {
+    std::vector<RayBranch> pending;
     for (std::size_t chunk = static_cast<std::size_t>(thread); chunk < chunks; chunk += static_cast<std::size_t>(threads)) {
       std::seed_seq seq{options.seed, static_cast<std::uint32_t>(chunk), static_cast<std::uint32_t>(chunk >> 32)};
       std::mt19937_64 rng(seq);
       const std::size_t end = std::min(options.ray_count, (chunk + 1) * kRaysPerChunk);
-      for (std::size_t ray = chunk * kRaysPerChunk; ray < end; ++ray) tracer.traceRay(ray, rng, histograms[thread], stats[thread]);
+      for (std::size_t ray = chunk * kRaysPerChunk; ray < end; ++ray) tracer.traceRay(ray, rng, pending, histograms[thread], stats[thread]);
     }
   };
   std::vector<std::thread> pool;

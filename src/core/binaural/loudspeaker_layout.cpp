@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "room_reverb/common/directions.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/rsao/direction_of_arrival.h"
 
@@ -12,13 +13,8 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegree = kPi / 180.0;
 
-Eigen::Vector3d unitVector(double azimuth_rad, double elevation_rad) {
-  return {std::cos(elevation_rad) * std::cos(azimuth_rad), std::cos(elevation_rad) * std::sin(azimuth_rad),
-          std::sin(elevation_rad)};
-}
-
 void appendRing(std::vector<Eigen::Vector3d>& layout, int count, double elevation_deg) {
-  for (int i = 0; i < count; ++i) layout.push_back(unitVector(2.0 * kPi * i / count, elevation_deg * kDegree));
+  for (int i = 0; i < count; ++i) layout.push_back(unitVectorFromAngles(2.0 * kPi * i / count, elevation_deg * kDegree));
 }
 
 std::string trimmed(const std::string& s) {
@@ -64,7 +60,7 @@ std::vector<Eigen::Vector3d> loudspeakerLayoutFromDegrees(
     if (elevation < -90.0 || elevation > 90.0) {
       throw InputError("loudspeaker elevation " + std::to_string(elevation) + " deg is outside [-90, 90]");
     }
-    const Eigen::Vector3d direction = unitVector(azimuth * kDegree, elevation * kDegree);
+    const Eigen::Vector3d direction = unitVectorFromAngles(azimuth * kDegree, elevation * kDegree);
     for (const auto& other : layout) {
       if (direction.dot(other) > std::cos(0.1 * kDegree)) {
         throw InputError("two loudspeakers of the layout are less than 0.1 deg apart (near az " +

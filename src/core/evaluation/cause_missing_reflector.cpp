@@ -14,6 +14,8 @@
 
 #include "cause_fitting.h"
 #include "room_reverb/acoustics/propagation.h"
+#include "room_reverb/common/directions.h"
+#include "room_reverb/evaluation/reflection_matching.h"
 
 namespace room_reverb::core {
 namespace {
@@ -25,15 +27,12 @@ constexpr double kLatestDelayS = 0.030;      // after this, reflections crowd to
 constexpr double kClusterRadiusM = 0.6;
 constexpr double kPanelThicknessM = 0.04;
 constexpr const char* kPanelMaterial = "wood_panel";
+constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180.0;
 
 struct ReflectionPoint {
   Eigen::Vector3d point, normal;
   double level_db = 0.0;
 };
-
-Eigen::Vector3d direction(double azimuth, double elevation) {
-  return {std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation)};
-}
 
 bool explained(const std::vector<SpecularPath>& paths, double delay_s, const Eigen::Vector3d& arrival) {
   if (paths.empty()) return false;
@@ -55,15 +54,12 @@ std::vector<ReflectionPoint> unexplainedPoints(const FitContext& context, double
     const auto& rsao = evidence.rirs[i].rsao;
     if (!rsao || rsao->reflections.size() < 2 || i >= context.current.predictions.size()) continue;
     const auto& paths = context.current.predictions[i].paths;
-    const EarlyReflection& direct = rsao->reflections.front();
     const Eigen::Vector3d S = evidence.rirs[i].pair.source_m, R = evidence.rirs[i].pair.receiver_m;
     const double direct_length = (S - R).norm();
-    for (std::size_t k = 1; k < rsao->reflections.size(); ++k) {
-      const EarlyReflection& r = rsao->reflections[k];
-      const double delay = r.time_of_arrival_s - direct.time_of_arrival_s;
-      const double level_db = 20.0 * std::log10(std::max(r.level, 1e-12) / std::max(direct.level, 1e-12));
+    for (const RelativeReflection& r : relativeReflections(*rsao)) {
+      const double delay = r.delay_s, level_db = r.level_db;
       if (delay <= 0.0 || delay > kLatestDelayS || level_db < kStrongLevelDb) continue;
-      const Eigen::Vector3d u = direction(r.azimuth_rad, r.elevation_rad);
+      const Eigen::Vector3d u = unitVectorFromAngles(r.azimuth_deg * kRadiansPerDegree, r.elevation_deg * kRadiansPerDegree);
       if (explained(paths, delay, u)) continue;
       const double L = direct_length + speed_of_sound * delay;
       const double denominator = 2.0 * (L - u.dot(S - R));

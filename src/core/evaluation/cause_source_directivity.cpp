@@ -7,19 +7,16 @@
 #include <limits>
 
 #include "cause_fitting.h"
+#include "room_reverb/common/directions.h"
 
 namespace room_reverb::core {
 namespace {
-
-Eigen::Vector3d axisOf(double azimuth, double elevation) {
-  return {std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation)};
-}
 
 ModelExtension withPattern(double omni_fraction, double azimuth, double elevation) {
   ModelExtension e;
   SourceDirectivity d;
   d.omni_fraction = omni_fraction;
-  d.axis = axisOf(azimuth, elevation);
+  d.axis = unitVectorFromAngles(azimuth, elevation);
   e.directivity = d;
   return e;
 }

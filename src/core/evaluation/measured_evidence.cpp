@@ -55,7 +55,7 @@ void flagLimits(const PairEvidence& evidence, const AudioBuffer& as_recorded, st
     flags.push_back({who, "noise_floor",
                      "decay range below the 35 dB T20 needs in" + short_range.str() + ": those bands are left out"});
   }
-  if (evidence.pair.format == "fuma" || evidence.pair.format == "ambix") {
+  if (isBFormat(evidence.pair)) {
     const std::string warning = checkAmbisonicFormat(as_recorded, parseAmbisonicFormat(evidence.pair.format));
     if (!warning.empty()) flags.push_back({who, "bformat_convention", warning});
   }

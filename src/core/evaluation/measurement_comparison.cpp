@@ -15,8 +15,6 @@ namespace {
 
 using nlohmann::json;
 
-bool isBFormat(const MeasurementPair& pair) { return pair.format == "fuma" || pair.format == "ambix"; }
-
 MeasuredPairComparison comparePair(const AcousticScene& scene, std::size_t index, const MeasurementPair& pair,
                            const PairEvidence* measured, const MeasuredParameters& table,
                            const SimulationSettings& settings) {

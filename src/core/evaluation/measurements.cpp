@@ -108,6 +108,8 @@ class MeasurementsReader : public YamlReader {
 
 }  // namespace
 
+bool isBFormat(const MeasurementPair& pair) { return pair.format == "fuma" || pair.format == "ambix"; }
+
 MeasuredParameters parametersFromReport(const MetricsReport& report) {
   MeasuredParameters p;
   p.resolution = report.resolution;

@@ -10,6 +10,8 @@ namespace {
 
 constexpr double kDegreesPerRadian = 57.29577951308232;
 
+}  // namespace
+
 std::vector<RelativeReflection> relativeReflections(const Rsao& rsao) {
   std::vector<RelativeReflection> out;
   if (rsao.reflections.empty() || !(rsao.reflections.front().level > 0.0)) return out;
@@ -26,6 +28,8 @@ std::vector<RelativeReflection> relativeReflections(const Rsao& rsao) {
   }
   return out;
 }
+
+namespace {
 
 double angleBetweenDeg(const RelativeReflection& a, const RelativeReflection& b) {
   const Eigen::Vector3d u = unitVectorFromAngles(a.azimuth_deg / kDegreesPerRadian, a.elevation_deg / kDegreesPerRadian);

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "room_reverb/audio/audio_buffer.h"
+#include "room_reverb/common/directions.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/rsao/analysis_window.h"
 #include "room_reverb/rsao/lpc.h"
@@ -44,8 +45,7 @@ std::string reflectionName(std::size_t index) {
 }
 
 Eigen::Vector3d reflectionDirection(const EarlyReflection& r) {
-  const double azimuth = r.azimuth_rad, elevation = r.elevation_rad;
-  return {std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation)};
+  return unitVectorFromAngles(r.azimuth_rad, r.elevation_rad);
 }
 
 ReflectionTap shapeReflectionTap(const EarlyReflection& r, std::size_t index, double analysis_window_s,
