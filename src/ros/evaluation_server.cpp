@@ -129,14 +129,30 @@ void EvaluationServer::onImpulseResponse(const room_reverb::ImpulseResponse::Con
 void EvaluationServer::scheduleLiveDiagnosis() {
   std::lock_guard<std::mutex> lock(live_mutex_);
   if (!live_room_ || !live_rir_ || !live_dirty_ || live_running_) return;
-  live_dirty_ = false;
   live_running_ = true;
+  // The previous worker has left its loop (it clears live_running_ under this lock and
+  // returns), so this join is immediate.
   if (live_thread_.joinable()) live_thread_.join();
-  live_thread_ = std::thread([this, room = *live_room_, rir = *live_rir_] {
+  live_thread_ = std::thread([this] { liveLoop(); });
+}
+
+void EvaluationServer::liveLoop() {
+  for (;;) {
+    room_reverb::RoomModel room;
+    room_reverb::ImpulseResponse rir;
+    {
+      std::lock_guard<std::mutex> lock(live_mutex_);
+      // Inputs that changed during a diagnosis are diagnosed again, newest first.
+      if (!live_dirty_) {
+        live_running_ = false;
+        return;
+      }
+      live_dirty_ = false;
+      room = *live_room_;
+      rir = *live_rir_;
+    }
     liveDiagnosis(room, rir);
-    live_running_ = false;
-    scheduleLiveDiagnosis();
-  });
+  }
 }
 
 void EvaluationServer::liveDiagnosis(room_reverb::RoomModel room, room_reverb::ImpulseResponse rir) {

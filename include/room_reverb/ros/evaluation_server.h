@@ -16,7 +16,6 @@
 #include <room_reverb/ImpulseResponse.h>
 #include <room_reverb/RoomModel.h>
 
-#include <atomic>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -42,9 +41,10 @@ class EvaluationServer {
  private:
   void onRoom(const room_reverb::RoomModel::ConstPtr& message);
   void onImpulseResponse(const room_reverb::ImpulseResponse::ConstPtr& message);
-  // Starts a live diagnosis of the latest inputs unless one runs; one that runs picks the
-  // newest inputs up again when it ends.
+  // Starts the live worker unless it runs; the worker diagnoses the newest inputs until
+  // none changed during its last diagnosis.
   void scheduleLiveDiagnosis();
+  void liveLoop();
   void liveDiagnosis(room_reverb::RoomModel room, room_reverb::ImpulseResponse rir);
   // Publishes a corrected room (and its scene at `rir`'s positions when given).
   void publishCorrection(const room_reverb::RoomModel& room, const room_reverb::ImpulseResponse* rir);
@@ -63,7 +63,7 @@ class EvaluationServer {
   std::optional<room_reverb::RoomModel> live_room_;
   std::optional<room_reverb::ImpulseResponse> live_rir_;
   bool live_dirty_ = false;
-  std::atomic<bool> live_running_{false};
+  bool live_running_ = false;  // guarded by live_mutex_
   std::thread live_thread_;
 };
 
