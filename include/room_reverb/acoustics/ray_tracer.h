@@ -8,6 +8,7 @@
 // the mean free path and the decay). Bands share a ray's path until their scattering
 // coefficients make them choose differently; then the ray splits into one branch per
 // choice (one uniform number per wall serves every band), so no band is reweighted.
+// Faded branches play Russian roulette rather than meeting a hard energy floor.
 //
 // Receiver: the scattered share of each reflection goes to the receiver as "diffuse rain"
 // (Schröder 2011): E (1 - alpha) s cos(theta) / (pi d^2) per unit area when the receiver is
@@ -28,7 +29,9 @@ struct RayTracingOptions {
   double bin_s = 0.001;             // histogram resolution
   // Detection sphere of specular arrivals; 0: automatic (autoReceiverRadius).
   double receiver_radius_m = 0.0;
-  double energy_floor_db = -90.0;   // a ray stops once every band is this far below its start
+  // A branch whose every band has fallen this far below its launch energy (air included)
+  // plays Russian roulette: unbiased, and the faded paths stop costing reflections.
+  double roulette_db = -60.0;
   int image_source_order = 3;       // specular-only paths up to this order are not counted (-1: count all)
   bool diffuse_rain = true;
   std::uint32_t seed = 1;
@@ -41,7 +44,7 @@ struct RayTracingStats {
   std::size_t leaked_rays = 0;      // left a closed room: a hole in the mesh
   std::size_t escaped_rays = 0;     // left an open room (no ceiling): expected
   std::size_t stopped_by_time = 0;
-  std::size_t stopped_by_energy = 0;
+  std::size_t stopped_by_energy = 0;  // ended by Russian roulette
   std::size_t sphere_detections = 0;
   // Energy (J, per band) still carried by rays when they reached max_time_s, over the
   // energy emitted: 1 in a lossless closed room.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <random>
 #include <thread>
 
@@ -92,7 +93,7 @@ struct Tracer {
   std::vector<double> plane_offset;       // per triangle: normal . vertex0
   std::vector<double> air_upper, air_lower;  // [k][band]: exp(-m k L), exp(-m (k+1) L), L = c bin_s
   double bin_length_m;
-  double floor;
+  double roulette_level;  // J: below it a branch plays Russian roulette
   Eigen::Matrix3d launch_rotation;
 
   Tracer(const AcousticScene& scene_, const Eigen::Vector3d& source_, const Eigen::Vector3d& listener_,
@@ -119,7 +120,7 @@ struct Tracer {
         air_lower[k * kOctaveBandCount + b] = std::exp(-model.air_attenuation_per_m[b] * (static_cast<double>(k + 1) * bin_length_m));
       }
     }
-    floor = ray_energy * std::pow(10.0, options.energy_floor_db / 10.0);
+    roulette_level = ray_energy * std::pow(10.0, options.roulette_db / 10.0);
     launch_rotation = randomRotation(options.seed);
   }
 
@@ -139,24 +140,35 @@ struct Tracer {
     histogram.addBands(distance_m / model.speed_of_sound_m_s, energy, weight, direction);
   }
 
-  // max over bands of energy * exp(-m travelled) < floor, decided from the tables when
-  // they settle it (they bound the exact factor from both sides), exactly otherwise.
-  bool belowFloor(const OctaveBandValues& energy, double travelled) const {
+  // The loudest band of `energy` after `travelled` metres of air, when it is below the
+  // roulette level (the tables bound exp(-m travelled) from both sides and settle most
+  // cases without an exp); nullopt when it is not.
+  std::optional<double> loudestBelowRoulette(const OctaveBandValues& energy, double travelled) const {
     const std::size_t k = std::min(static_cast<std::size_t>(travelled / bin_length_m), air_upper.size() / kOctaveBandCount - 2);
-    const double* upper = &air_upper[k * kOctaveBandCount];
     const double* lower = &air_lower[k * kOctaveBandCount];
-    double hi = 0.0, lo = 0.0;
-    for (int b = 0; b < kOctaveBandCount; ++b) {
-      hi = std::max(hi, energy[b] * upper[b]);
-      lo = std::max(lo, energy[b] * lower[b]);
-    }
-    if (hi < floor) return true;
-    if (lo >= floor) return false;
+    double lo = 0.0;
+    for (int b = 0; b < kOctaveBandCount; ++b) lo = std::max(lo, energy[b] * lower[b]);
+    if (lo >= roulette_level) return std::nullopt;
     double loudest = 0.0;
     for (int b = 0; b < kOctaveBandCount; ++b) {
       loudest = std::max(loudest, energy[b] * std::exp(-model.air_attenuation_per_m[b] * travelled));
     }
-    return loudest < floor;
+    if (loudest >= roulette_level) return std::nullopt;
+    return loudest;
+  }
+
+  // Russian roulette (Arvo and Kirk 1990): a branch whose loudest band is at L below the
+  // roulette level T survives with probability L / T and then carries T, so every band's
+  // expected energy is unchanged and no energy is lost to a cut-off. A faded branch costs
+  // about 1 / (1 - reflectance) more reflections on average instead of running to the
+  // time limit. True when the branch ends.
+  bool rouletteEnds(RayBranch& ray, std::mt19937_64& rng) const {
+    const std::optional<double> loudest = loudestBelowRoulette(ray.energy, ray.travelled);
+    if (!loudest) return false;
+    const double survival = *loudest / roulette_level;
+    if (std::uniform_real_distribution<double>(0.0, 1.0)(rng) >= survival) return true;
+    for (double& e : ray.energy) e /= survival;
+    return false;
   }
 
   // `pending` is the caller's scratch queue of branches (kept across rays so the hot loop
@@ -229,7 +241,7 @@ struct Tracer {
       // Back onto the wall's plane (the float hit distance leaves the point up to ~1e-6 m
       // either side of it), then just off it on the room's side.
       ray.position += (wall_offset - normal.dot(ray.position)) * normal + kSurfaceOffset_m * normal;
-      if (belowFloor(ray.energy, ray.travelled)) {
+      if (rouletteEnds(ray, rng)) {
         ++stats.stopped_by_energy;
         return;
       }
@@ -306,6 +318,7 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
                            const Eigen::Vector3d& listener, const PropagationModel& model,
                            const RayTracingOptions& options) {
   if (options.ray_count == 0) throw InputError("the ray count must be at least 1");
+  if (!(options.roulette_db <= 0.0)) throw InputError("the Russian roulette level must be 0 dB or below");
   if (!(options.max_time_s > 0.0) || !(options.bin_s > 0.0)) throw InputError("ray tracing needs a positive duration and bin width");
   if (!(options.receiver_radius_m >= 0.0)) throw InputError("the receiver radius must be positive (or 0: automatic)");
   const int threads = options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
