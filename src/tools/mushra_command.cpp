@@ -1,8 +1,9 @@
 // room_reverb mushra: MUSHRA listening tests of the project's renders (issue 9), after
 // Remaggi et al.'s audio-visual tests (0-5 scale, hidden reference and wrong-room anchor)
 // or ITU-R BS.1534-3 (0-100). One command whose first argument names the step; `make`
-// (mushra_make_command.cpp) renders a test from a plan, `analyze` turns results files into
-// screening, descriptive statistics and paired tests.
+// (mushra_make_command.cpp) renders a test from a plan, `serve` (mushra_serve_command.cpp)
+// serves its page and collects the results, `analyze` turns results files into screening,
+// descriptive statistics and paired tests.
 #include <cctype>
 #include <filesystem>
 #include <functional>
@@ -396,10 +397,10 @@ int runAnalyze(const std::vector<std::string>& raw) {
 
 // ---- the mushra command ----------------------------------------------------------------
 
-// The steps of a test, by the first argument ("serve" joins this table).
+// The steps of a test, by the first argument.
 const std::map<std::string, std::function<int(const std::vector<std::string>&)>>& mushraSteps() {
   static const std::map<std::string, std::function<int(const std::vector<std::string>&)>> steps = {
-      {"make", runMushraMake}, {"analyze", runAnalyze}};
+      {"make", runMushraMake}, {"serve", runMushraServe}, {"analyze", runAnalyze}};
   return steps;
 }
 
@@ -417,8 +418,8 @@ int runMushra(const std::vector<std::string>& args) {
 }
 
 const CommandRegistration registration({"mushra",
-                                        "MUSHRA listening tests: make a test from a plan, analyze results (statistics)",
-                                        std::string(kMushraMakeHelp) + kAnalyzeHelp, runMushra});
+                                        "MUSHRA listening tests: make a test from a plan, serve its page, analyze results",
+                                        std::string(kMushraMakeHelp) + kMushraServeHelp + kAnalyzeHelp, runMushra});
 
 }  // namespace
 }  // namespace room_reverb::tool

@@ -32,9 +32,12 @@ with 10 ms raised-cosine fades, matched to the same ITU-R BS.1770 integrated lou
 (libebur128), and lowered together if any sample would exceed max_peak_dbfs. Pages are
 room x content x attribute; letters are shuffled per page, fixed by the seed.
 Writes DIR/stimuli/<room>/<content>/<condition>.wav (binaural, 48 kHz, 32-bit float),
-DIR/panoramas/, DIR/test.json (what the test page reads), DIR/plan_used.yaml and
-DIR/webmushra.yaml (the test as a webMUSHRA configuration). A DIR that holds an earlier
-test is replaced; a non-empty DIR without a test.json is refused.
+DIR/panoramas/, DIR/test.json (what the test page reads), DIR/plan_used.yaml,
+DIR/webmushra.yaml (the test as a webMUSHRA configuration) and the test page:
+DIR/index.html with mushra.js, mushra.css, test.js and audio/ (the stimuli as scripts),
+which works opened from the file system or served by `room_reverb mushra serve DIR`. A
+DIR that holds an earlier test is replaced (results/ is kept); a non-empty DIR without a
+test.json is refused.
 
   --plan FILE          the test plan (relative paths in it are relative to its folder)
   --out DIR            output folder (created if missing; required)
@@ -66,7 +69,8 @@ int runMushraMake(const std::vector<std::string>& raw) {
     std::cout << " (target " << plan.loudness_lufs << " lowered by " << -stimuli.common_gain_db
               << " dB to keep every peak under " << plan.max_peak_dbfs << " dBFS)";
   }
-  std::cout << "\n";
+  std::cout << "\ntest page: " << args.value("out", "") << "/index.html (open it in a browser, or run room_reverb "
+            << "mushra serve " << args.value("out", "") << ")\n";
   return 0;
 }
 

@@ -10,4 +10,8 @@ namespace room_reverb::tool {
 extern const char* const kMushraMakeHelp;
 int runMushraMake(const std::vector<std::string>& args);
 
+// `room_reverb mushra serve DIR [--port N] [--host H]` (mushra_serve_command.cpp).
+extern const char* const kMushraServeHelp;
+int runMushraServe(const std::vector<std::string>& args);
+
 }  // namespace room_reverb::tool

@@ -1,7 +1,7 @@
 #pragma once
-// Running the room_reverb command-line tool from a test, as a user would, and capturing
-// its exit code and output. Header-only: ROOM_REVERB_TOOL (the tool's path) is a compile
-// definition of the test executables.
+// Running the room_reverb command-line tool (or another command) from a test, as a user
+// would, and capturing its exit code and output. Header-only: ROOM_REVERB_TOOL (the tool's
+// path) is a compile definition of the test executables.
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -22,14 +22,14 @@ struct ToolRun {
   std::string err;
 };
 
-// `args` is appended to the tool's path as a shell command line.
-inline ToolRun runTool(const std::string& args) {
+// Runs a shell command line (a helper script, a browser driver...) the same way.
+inline ToolRun runCommand(const std::string& command_line) {
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / ("room_reverb_tool_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const std::string out_file = (dir / "out.txt").string();
   const std::string err_file = (dir / "err.txt").string();
-  const std::string command = std::string(ROOM_REVERB_TOOL) + " " + args + " >" + out_file + " 2>" + err_file;
+  const std::string command = command_line + " >" + out_file + " 2>" + err_file;
   const int status = std::system(command.c_str());
   ToolRun run;
   run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -40,6 +40,9 @@ inline ToolRun runTool(const std::string& args) {
   run.err = err.str();
   return run;
 }
+
+// `args` is appended to the tool's path as a shell command line.
+inline ToolRun runTool(const std::string& args) { return runCommand(std::string(ROOM_REVERB_TOOL) + " " + args); }
 
 // A bad-input run as every subcommand must end it: exit 2, nothing on stdout, one line on
 // stderr that holds `fragment`. (gtest assertions: include gtest before this header.)

@@ -7,6 +7,8 @@
 //   DIR/test.json                                   scale, pages, letters, files (below)
 //   DIR/plan_used.yaml                              the plan with every default filled in
 //   DIR/webmushra.yaml                              the same test as a webMUSHRA config
+//   DIR/index.html, mushra.js, mushra.css, test.js  the test page (mushra_page.h)
+//   DIR/audio/<room>/<content>/<condition>.js       the stimuli as the page loads them
 //
 // Stimuli are 32-bit float WAV: no quantisation of the matched levels or of the tails'
 // decay below -90 dBFS, and read by the Web Audio API's decodeAudioData in current
@@ -22,8 +24,9 @@
 //    "results_columns": ["listener", "page", ...],   // the CSV the page saves (mushra analyze)
 //    "pages": [{"id": "studio/speech/overall_quality", "room", "content", "attribute",
 //               "question", "panorama": "panoramas/studio.jpg" or null, "duration_s",
-//               "stimuli": [{"letter": "A", "condition", "file", "is_hidden_anchor",
-//                            "is_shown_reference", "loudness_lufs", "peak_dbfs"}]}]}
+//               "stimuli": [{"letter": "A", "condition", "file", "audio_script",
+//                            "is_hidden_anchor", "is_shown_reference", "loudness_lufs",
+//                            "peak_dbfs"}]}]}
 #include <string>
 #include <vector>
 
@@ -45,7 +48,8 @@ std::string mushraTestJson(const MushraPlan& plan, const MushraStimuli& stimuli,
 void checkMushraOutputFolder(const std::string& dir);
 
 // Writes every file above into `dir` (created if missing). A folder that already holds a
-// test (a test.json) is replaced: its stimuli/ and panoramas/ folders are emptied first,
+// test (a test.json) is replaced: its stimuli/, audio/ and panoramas/ folders are emptied
+// first (results/, where `mushra serve` saves ratings, is kept),
 // so no stimulus of an earlier plan is left behind. InputError for a `dir` that is a file,
 // or a folder with other content and no test.json (not a test: nothing is overwritten),
 // or a file that cannot be written.

@@ -6,6 +6,7 @@
 #include "room_reverb/audio/audio_file.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/text_file.h"
+#include "room_reverb/listening/mushra_page.h"
 #include "room_reverb/listening/mushra_webmushra.h"
 
 namespace room_reverb::core {
@@ -27,6 +28,7 @@ void prepareFolder(const fs::path& dir) {
   if (fs::is_directory(dir)) {
     fs::remove_all(dir / "stimuli", error);
     fs::remove_all(dir / "panoramas", error);
+    fs::remove_all(dir / "audio", error);
   }
   fs::create_directories(dir, error);
   if (!fs::is_directory(dir)) throw InputError(dir.string() + ": cannot create the output folder");
@@ -76,6 +78,7 @@ std::string mushraTestJson(const MushraPlan& plan, const MushraStimuli& stimuli,
       page_stimuli.push_back({{"letter", s.letter},
                               {"condition", s.condition},
                               {"file", mushraStimulusFile(page.room, page.content, s.condition)},
+                              {"audio_script", mushraAudioScriptFile(page.room, page.content, s.condition)},
                               {"is_hidden_anchor", s.is_hidden_anchor},
                               {"is_shown_reference", s.is_shown_reference},
                               {"loudness_lufs", audio.loudness_lufs},
@@ -135,6 +138,7 @@ void writeMushraTest(const MushraPlan& plan, const MushraStimuli& stimuli, const
   writeTextFile((root / "test.json").string(), test_json);
   writeTextFile((root / "plan_used.yaml").string(), plan_used);
   writeTextFile((root / "webmushra.yaml").string(), webmushra);
+  writeMushraPage(stimuli, test_json, root.string());
 }
 
 }  // namespace room_reverb::core

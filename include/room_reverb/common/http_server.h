@@ -1,0 +1,75 @@
+#pragma once
+// A small HTTP/1.1 server on POSIX sockets, enough for a listening test on one machine or
+// a lab's network (`room_reverb mushra serve`): one request per connection (the answer
+// says Connection: close), bodies only with Content-Length, a thread per connection so
+// that a browser's idle speculative connection cannot hold up the others. What a request
+// means is up to a handler; the server only parses and answers.
+#include <atomic>
+#include <cstddef>
+#include <functional>
+#include <map>
+#include <string>
+
+namespace room_reverb::core {
+
+struct HttpRequest {
+  std::string method;   // "GET"
+  std::string target;   // as sent: "/audio/a%20b.js?x=1"
+  std::string path;     // the target's path, percent-decoded: "/audio/a b.js"
+  std::map<std::string, std::string> headers;  // names in lower case
+  std::string body;
+};
+
+struct HttpResponse {
+  int status = 200;
+  std::string content_type = "text/plain; charset=utf-8";
+  std::string body;
+};
+
+// The answer for a status with a plain-text body of `message` and a newline.
+HttpResponse httpTextResponse(int status, const std::string& message);
+// "OK", "Not Found", ...
+std::string httpReasonPhrase(int status);
+
+// Percent-decoding of a URL path; false for a malformed escape or an encoded NUL.
+bool percentDecodePath(const std::string& encoded, std::string& decoded);
+
+struct HttpServerOptions {
+  std::string host = "127.0.0.1";  // numeric address or name; "0.0.0.0" for every interface
+  int port = 0;                    // 0: a free port, chosen by the system
+  std::size_t max_body_bytes = 10u << 20;
+  std::size_t max_header_bytes = 64u << 10;
+  int timeout_s = 10;              // to receive a request and to send an answer
+  int max_connections = 64;        // at once; more are answered 503
+};
+
+class HttpServer {
+ public:
+  using Handler = std::function<HttpResponse(const HttpRequest&)>;
+
+  // Binds and listens. InputError for a port outside 0..65535, a host that does not
+  // resolve, or an address that cannot be bound (the port in use, a privileged port).
+  HttpServer(const HttpServerOptions& options, Handler handler);
+  ~HttpServer();
+  HttpServer(const HttpServer&) = delete;
+  HttpServer& operator=(const HttpServer&) = delete;
+
+  int port() const { return port_; }  // the bound port (the chosen one for port 0)
+  const std::string& host() const { return options_.host; }
+
+  // Accepts connections until `stop` is true (checked at least every 200 ms, so a signal
+  // handler may set it), then waits for the requests under way to be answered. The
+  // handler runs on the connections' threads: it must be thread-safe.
+  void serve(const std::atomic<bool>& stop);
+
+ private:
+  void handleConnection(int socket);
+
+  HttpServerOptions options_;
+  Handler handler_;
+  int listener_ = -1;
+  int port_ = 0;
+  std::atomic<int> active_{0};
+};
+
+}  // namespace room_reverb::core
