@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
+#include <numeric>
 #include <random>
 #include <sstream>
 
@@ -38,20 +39,57 @@ RoomModel randomRoom(std::mt19937& rng, MaterialLibrary& library) {
   return room;
 }
 
-// A thin upright panel (wood) away from the pairs: the planted missing reflector.
-CuboidObject randomPanel(std::mt19937& rng, const RoomModel& room, const std::vector<MeasurementPair>& pairs) {
-  for (int attempt = 0; attempt < 200; ++attempt) {
+// Whether the upright panel mirrors S to R (the specular point on its face, not its edge),
+// and then the reflection's delay after the direct sound and its level re the direct
+// sound (spreading and the panel's mean absorption).
+struct PanelReflection {
+  bool exists = false;
+  double delay_s = 0.0, level_db = 0.0;
+};
+
+PanelReflection panelReflection(const CuboidObject& panel, const MeasurementPair& pair, double absorption) {
+  const Eigen::Vector3d n(std::cos(panel.yaw_rad), std::sin(panel.yaw_rad), 0.0);
+  const Eigen::Vector3d face = panel.center_m + 0.5 * panel.size_m.x() * (n.dot(pair.source_m - panel.center_m) > 0 ? n : -n);
+  const double hs = n.dot(pair.source_m - face), hr = n.dot(pair.receiver_m - face);
+  if (hs * hr <= 0.0) return {};  // on opposite sides of the panel
+  const Eigen::Vector3d image = pair.source_m - 2.0 * hs * n;
+  const Eigen::Vector3d point = image + (pair.receiver_m - image) * (std::abs(hs) / (std::abs(hs) + std::abs(hr)));
+  const Eigen::Vector3d along(-n.y(), n.x(), 0.0);
+  const Eigen::Vector3d local = point - face;
+  if (std::abs(local.dot(along)) > 0.5 * panel.size_m.y() || std::abs(local.z()) > 0.5 * panel.size_m.z()) return {};
+  const double direct = (pair.receiver_m - pair.source_m).norm(), reflected = (pair.receiver_m - image).norm();
+  return {true, (reflected - direct) / 343.0, 20.0 * std::log10(direct / reflected) + 10.0 * std::log10(1.0 - absorption)};
+}
+
+// A thin upright panel (wood) away from the pairs: the planted missing reflector. It is
+// turned to mirror the source of a fit pair (even index) to its receiver, and kept only
+// if a held-out pair (odd index) hears a reflection from it too, early (within 25 ms)
+// and strong (at most 8 dB below the direct sound): a panel that no receiver hears has
+// no effect a measurement could show. The rest (position, size, which pairs) is random.
+CuboidObject randomPanel(std::mt19937& rng, const RoomModel& room, const std::vector<MeasurementPair>& pairs,
+                         double absorption) {
+  for (int attempt = 0; attempt < 5000; ++attempt) {
     CuboidObject panel;
     panel.label = "planted_panel";
     panel.material = "wood_panel";
     panel.size_m = {0.08, uniform(rng, 1.2, 1.6), uniform(rng, 1.0, 1.4)};
-    panel.yaw_rad = uniform(rng, -M_PI, M_PI);
+    const MeasurementPair& aim = pairs[2 * std::uniform_int_distribution<std::size_t>(0, pairs.size() / 2 - 1)(rng)];
     panel.center_m = pointIn(rng, room.size_m, 1.0, 0.9, 1.5);
+    const Eigen::Vector3d to_s = (aim.source_m - panel.center_m).normalized(), to_r = (aim.receiver_m - panel.center_m).normalized();
+    const Eigen::Vector3d bisector = to_s + to_r;
+    panel.yaw_rad = std::atan2(bisector.y(), bisector.x());
     bool clear = true;
     for (const MeasurementPair& p : pairs) {
       clear = clear && (p.source_m - panel.center_m).norm() > 1.3 && (p.receiver_m - panel.center_m).norm() > 1.3;
     }
-    if (clear) return panel;
+    if (!clear) continue;
+    bool heard_by_fit = false, heard_held_out = false;
+    for (std::size_t i = 0; i < pairs.size(); ++i) {
+      const PanelReflection r = panelReflection(panel, pairs[i], absorption);
+      const bool heard = r.exists && r.delay_s < 0.025 && r.level_db > -8.0;
+      (i % 2 == 0 ? heard_by_fit : heard_held_out) |= heard;
+    }
+    if (heard_by_fit && heard_held_out) return panel;
   }
   throw std::runtime_error("no room for a panel");
 }
@@ -113,7 +151,8 @@ PlantedCase plantedCase(const std::string& cause, std::uint32_t seed) {
     e.global_scattering = uniform(rng, 0.15, 0.25);
     d << "scattering " << *e.global_scattering << " (model 0.5)";
   } else if (cause == "missing_reflector") {
-    e.reflectors.push_back(randomPanel(rng, c.room, pairs));
+    const OctaveBandValues& wood = c.library.get("wood_panel").absorption;
+    e.reflectors.push_back(randomPanel(rng, c.room, pairs, std::accumulate(wood.begin(), wood.end(), 0.0) / wood.size()));
     d << "panel at " << e.reflectors[0].center_m.transpose() << " yaw " << e.reflectors[0].yaw_rad;
   } else if (cause == "geometry_scale") {
     const double k = rng() % 2 ? uniform(rng, 1.06, 1.12) : uniform(rng, 0.9, 0.94);

@@ -53,6 +53,9 @@ class AcousticScene {
   // Area-weighted mean absorption per band.
   OctaveBandValues meanAbsorption() const;
 
+  // Whether `point` is inside the room and outside every closed object (crossing parity
+  // along several rays; a majority decides).
+  bool isInside(const Eigen::Vector3d& point) const;
   // InputError unless `point` is inside the room (crossing parity along several rays),
   // outside every object and at least `clearance_m` from every surface.
   void requireInside(const Eigen::Vector3d& point, const std::string& what, double clearance_m = 0.01) const;

@@ -135,10 +135,7 @@ double AcousticScene::distanceToNearestSurface(const Eigen::Vector3d& point) con
   return nearest;
 }
 
-void AcousticScene::requireInside(const Eigen::Vector3d& point, const std::string& what, double clearance_m) const {
-  std::ostringstream where;
-  where << what << " (" << point.x() << ", " << point.y() << ", " << point.z() << ") m";
-  if (!point.allFinite()) throw InputError(where.str() + " is not a finite position");
+bool AcousticScene::isInside(const Eigen::Vector3d& point) const {
   // Crossing parity along directions that avoid the axes (and so the room's edges): odd
   // means inside the room and outside every closed object. Horizontal rays only in a room
   // without a ceiling.
@@ -161,7 +158,14 @@ void AcousticScene::requireInside(const Eigen::Vector3d& point, const std::strin
     ++votes;
     if (crossings % 2 == 1) ++inside_votes;
   }
-  if (2 * inside_votes <= votes) {
+  return 2 * inside_votes > votes;
+}
+
+void AcousticScene::requireInside(const Eigen::Vector3d& point, const std::string& what, double clearance_m) const {
+  std::ostringstream where;
+  where << what << " (" << point.x() << ", " << point.y() << ", " << point.z() << ") m";
+  if (!point.allFinite()) throw InputError(where.str() + " is not a finite position");
+  if (!isInside(point)) {
     throw InputError(where.str() + " is outside the room or inside an object or wall");
   }
   // Clearance: no surface closer than clearance_m along a spread of directions.

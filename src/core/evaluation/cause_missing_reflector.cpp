@@ -25,6 +25,10 @@ constexpr double kMatchAngleRad = 0.55;      // ... and 30 degrees explains a re
 constexpr double kStrongLevelDb = -14.0;     // re the direct sound: weaker ones are not chased
 constexpr double kLatestDelayS = 0.030;      // after this, reflections crowd too densely
 constexpr double kClusterRadiusM = 0.6;
+// A reflection point this close to the model's own surfaces, or outside the room, is a
+// surface the model has (its reflection mistimed or of a higher order than the model's
+// image sources), not a missing one.
+constexpr double kWallClearanceM = 0.3;
 constexpr double kPanelThicknessM = 0.04;
 constexpr const char* kPanelMaterial = "wood_panel";
 constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180.0;
@@ -47,6 +51,7 @@ bool explained(const std::vector<SpecularPath>& paths, double delay_s, const Eig
 
 std::vector<ReflectionPoint> unexplainedPoints(const FitContext& context, double speed_of_sound) {
   const MeasuredEvidence& evidence = context.evaluator.evidence();
+  const AcousticScene scene = context.evaluator.room().scene(context.accepted);
   std::vector<ReflectionPoint> points;
   const bool split = evidence.rirs.size() >= 2;
   for (std::size_t i = 0; i < evidence.rirs.size(); ++i) {
@@ -66,6 +71,7 @@ std::vector<ReflectionPoint> unexplainedPoints(const FitContext& context, double
       if (denominator <= 1e-6) continue;
       const double d = (L * L - direct_length * direct_length) / denominator;
       const Eigen::Vector3d P = R + d * u;
+      if (!P.allFinite() || !scene.isInside(P) || scene.distanceToNearestSurface(P) < kWallClearanceM) continue;
       const Eigen::Vector3d n = ((S - P).normalized() + (R - P).normalized()).normalized();
       points.push_back({P, n, level_db});
     }
@@ -73,16 +79,24 @@ std::vector<ReflectionPoint> unexplainedPoints(const FitContext& context, double
   return points;
 }
 
-// The largest group of points within kClusterRadiusM of its first member (the strongest).
-std::vector<ReflectionPoint> largestCluster(std::vector<ReflectionPoint> points) {
-  std::sort(points.begin(), points.end(), [](const auto& a, const auto& b) { return a.level_db > b.level_db; });
+// The largest group of points within kClusterRadiusM of one member and facing its way;
+// between groups of one size, the one with the most reflected energy.
+std::vector<ReflectionPoint> largestCluster(const std::vector<ReflectionPoint>& points) {
   std::vector<ReflectionPoint> best;
+  double best_energy = 0.0;
   for (const ReflectionPoint& seed : points) {
     std::vector<ReflectionPoint> group;
+    double energy = 0.0;
     for (const ReflectionPoint& p : points) {
-      if ((p.point - seed.point).norm() <= kClusterRadiusM && p.normal.dot(seed.normal) > 0.7) group.push_back(p);
+      if ((p.point - seed.point).norm() <= kClusterRadiusM && p.normal.dot(seed.normal) > 0.7) {
+        group.push_back(p);
+        energy += std::pow(10.0, p.level_db / 10.0);
+      }
     }
-    if (group.size() > best.size()) best = group;
+    if (group.size() > best.size() || (group.size() == best.size() && energy > best_energy)) {
+      best = group;
+      best_energy = energy;
+    }
   }
   return best;
 }
