@@ -344,6 +344,8 @@ def complete_page(page, args, scores, given, audio_report, first_page):
     stimuli = current["stimuli"]
     if not next_disabled(page):
         raise PageError(current["id"] + ": Next is enabled before anything was played")
+    # Aim only once the page has settled (the panorama loaded), as a person would.
+    page.wait_for("Array.from(document.images).every(i => i.hidden || i.complete)", "the page's images")
     if first_page:
         # The shown reference plays but is not rated, and hearing it does not count as
         # having played its hidden letter.
@@ -363,8 +365,10 @@ def complete_page(page, args, scores, given, audio_report, first_page):
         after = page.inspect()
         audio_report.append((before["time"], after["audio"]["time"], after["audio"]["state"],
                              after["audio"]["sample_rate_hz"]))
-        if not after["page"]["stimuli"][index]["played"]:
-            raise PageError("%s: letter %s not marked as played after its click" % (current["id"], stimulus["letter"]))
+        # A busy machine may take longer than the pump above to run the click's handler.
+        page.wait_for("window.mushraInspect().page.stimuli[%d].played" % index,
+                      "%s: letter %s to be marked as played after its click" % (current["id"], stimulus["letter"]),
+                      timeout=5.0)
         if not after["page"]["playing"]:
             raise PageError("%s: the click on %s did not start the playback" % (current["id"], stimulus["letter"]))
         score = chosen_score(scores, args.seed, current["id"], stimulus["condition"], scale)
