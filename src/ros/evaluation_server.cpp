@@ -158,7 +158,7 @@ void EvaluationServer::liveLoop() {
 void EvaluationServer::liveDiagnosis(room_reverb::RoomModel room, room_reverb::ImpulseResponse rir) {
   try {
     const std::filesystem::path dir = stampedFolder(out_root_, "live");
-    std::filesystem::create_directories(dir);
+    core::createFolder(dir.string());
     // The measurement as the core reads it: the RIR as a file, its pair in measurements.yaml.
     core::writeAudioFile((dir / "measured_rir.wav").string(), fromMessage(rir.audio));
     const std::string layout = rir.audio.channel_layout == "mono" ? "omni" : rir.audio.channel_layout;

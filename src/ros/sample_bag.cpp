@@ -17,6 +17,7 @@
 #include "room_reverb/audio/audio_file.h"
 #include "room_reverb/audio/channel_mix.h"
 #include "room_reverb/common/error.h"
+#include "room_reverb/common/text_file.h"
 #include "room_reverb/evaluation/measurements.h"
 #include "room_reverb/ros/audio_conversions.h"
 #include "room_reverb/ros/image_conversions.h"
@@ -68,9 +69,7 @@ SampleBagReport writeSampleBag(const SampleBagOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   if (!(o.duration_s > 0.0 && o.duration_s <= 60.0)) throw core::InputError("sample bag: duration must be in (0, 60] s");
   if (o.chunk_frames < 64) throw core::InputError("sample bag: chunks of at least 64 frames");
-  std::error_code error;
-  fs::create_directories(o.out_dir, error);
-  if (!fs::is_directory(o.out_dir)) throw core::InputError(o.out_dir + ": cannot create the output folder");
+  core::createFolder(o.out_dir);
   const core::MaterialLibrary library = core::MaterialLibrary::loadDefault();
 
   // What the cameras see.

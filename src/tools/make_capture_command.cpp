@@ -9,6 +9,7 @@
 #include "image_files.h"
 #include "room_reverb/acoustics/material.h"
 #include "room_reverb/common/error.h"
+#include "room_reverb/common/text_file.h"
 #include "room_reverb/vision/capture_generator.h"
 #include "room_reverb/vision/capture_scene.h"
 #include "room_reverb/vision/dual_fisheye.h"
@@ -82,9 +83,7 @@ int runMakeCapture(const std::vector<std::string>& raw) {
   validateCapture(scene.room, library, options);  // before touching the output folder
 
   const std::filesystem::path out = args.value("out", "");
-  std::error_code error;
-  std::filesystem::create_directories(out, error);
-  if (!std::filesystem::is_directory(out)) throw InputError(out.string() + ": cannot create the output folder");
+  createFolder(out.string());
 
   const StereoCapture capture = renderCapture(scene.room, library, options);
   for (const auto& [name, camera] : {std::pair<const char*, const CameraCapture*>{"top", &capture.top}, {"bottom", &capture.bottom}}) {

@@ -384,9 +384,7 @@ int runAnalyze(const std::vector<std::string>& raw) {
   const std::vector<BoxPlotPanel> box_plot_panels = collectBoxPlotPanels(kept_ratings);
 
   const std::filesystem::path out = args.value("out", "");
-  std::error_code error;
-  std::filesystem::create_directories(out, error);
-  if (!std::filesystem::is_directory(out)) throw InputError(out.string() + ": cannot create the output folder");
+  createFolder(out.string());
   writeBoxPlotFiles(box_plot_panels, a.scale, out);
   writeTextFile((out / "stats.json").string(), statsJson(a).dump(2) + "\n");
   writeTextFile((out / "report.md").string(), reportMarkdown(a));

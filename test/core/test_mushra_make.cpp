@@ -18,6 +18,7 @@
 #include <set>
 #include <sstream>
 
+#include "room_reverb/common/directions.h"
 #include "room_reverb/ambisonics/bformat.h"
 #include "room_reverb/ambisonics/spherical_harmonics.h"
 #include "room_reverb/audio/audio_file.h"
@@ -44,11 +45,6 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kFs = 48000.0;
 
-Eigen::Vector3d direction(double azimuth_deg, double elevation_deg) {
-  const double az = azimuth_deg * kPi / 180.0, el = elevation_deg * kPi / 180.0;
-  return {std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
-}
-
 // A first-order AmbiX RIR: the direct sound from 30 degrees left, three reflections, and a
 // diffuse tail (independent noise per channel, X, Y, Z at 1/sqrt(3) of W as in a diffuse
 // SN3D field) decaying by 60 dB in t60_s, 28 dB below the direct sound at its start.
@@ -59,7 +55,7 @@ AudioBuffer syntheticRir(double t60_s, double length_s, std::uint32_t seed) {
     double time_s, amplitude, azimuth_deg, elevation_deg;
   } arrivals[] = {{0.004, 1.0, 30, 0}, {0.009, 0.5, -70, 10}, {0.013, 0.4, 150, -5}, {0.017, 0.3, 90, 40}};
   for (const auto& a : arrivals) {
-    const std::vector<double> y = sn3dHarmonics(1, direction(a.azimuth_deg, a.elevation_deg));
+    const std::vector<double> y = sn3dHarmonics(1, unitVectorFromAngles(a.azimuth_deg * kPi / 180.0, a.elevation_deg * kPi / 180.0));
     const std::size_t n = static_cast<std::size_t>(a.time_s * kFs);
     for (std::size_t c = 0; c < 4; ++c) rir.channels[c][n] += static_cast<float>(a.amplitude * y[c]);
   }

@@ -19,6 +19,7 @@
 #include <set>
 #include <sstream>
 
+#include "room_reverb/common/text_file.h"
 #include "room_reverb/audio/audio_file.h"
 #include "room_reverb/listening/mushra_page.h"
 #include "room_reverb/listening/mushra_results.h"
@@ -39,11 +40,8 @@ namespace {
 
 constexpr double kFs = 48000.0;
 
-std::string readAll(const fs::path& path) {
-  std::stringstream text;
-  text << std::ifstream(path, std::ios::binary).rdbuf();
-  return text.str();
-}
+// A file the test reads (InputError, and so a failed test, if it is missing).
+std::string readAll(const fs::path& path) { return readTextFile(path.string(), "file the test reads"); }
 
 // The plan's inputs: an AmbiX RIR with a clear direct sound and a 0.25 s diffuse tail, a
 // second of white noise as the dry content, a small gradient as the panorama.

@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "room_reverb/common/text_file.h"
 #include "room_reverb/common/http_server.h"
 #include "room_reverb/listening/mushra_server.h"
 #include "served_tool.h"
@@ -155,9 +156,7 @@ TEST(MushraServe, ServesTheFolderAndSavesCheckedResults) {
   const auto answer = nlohmann::json::parse(saved.body);
   const std::string name = answer.at("saved");
   EXPECT_EQ(name.rfind("results/Ann_the_first_", 0), 0u) << name;
-  std::stringstream stored;
-  stored << std::ifstream(testFolder() / name).rdbuf();
-  EXPECT_EQ(stored.str(), valid);
+  EXPECT_EQ(readTextFile((testFolder() / name).string(), "saved results"), valid);
   // ...the same listener again gets a file of its own.
   const Reply again = post(port, "/results", valid);
   ASSERT_EQ(again.status, 201) << again.body;

@@ -7,6 +7,7 @@
 #include <random>
 #include <sstream>
 
+#include "room_reverb/acoustics/propagation.h"
 #include "room_reverb/acoustics/room_simulation.h"
 
 namespace room_reverb::test {
@@ -47,7 +48,8 @@ struct PanelReflection {
   double delay_s = 0.0, level_db = 0.0;
 };
 
-PanelReflection panelReflection(const CuboidObject& panel, const MeasurementPair& pair, double absorption) {
+PanelReflection panelReflection(const CuboidObject& panel, const MeasurementPair& pair, double absorption,
+                                double speed_of_sound_m_s) {
   const Eigen::Vector3d n(std::cos(panel.yaw_rad), std::sin(panel.yaw_rad), 0.0);
   const Eigen::Vector3d face = panel.center_m + 0.5 * panel.size_m.x() * (n.dot(pair.source_m - panel.center_m) > 0 ? n : -n);
   const double hs = n.dot(pair.source_m - face), hr = n.dot(pair.receiver_m - face);
@@ -58,7 +60,7 @@ PanelReflection panelReflection(const CuboidObject& panel, const MeasurementPair
   const Eigen::Vector3d local = point - face;
   if (std::abs(local.dot(along)) > 0.5 * panel.size_m.y() || std::abs(local.z()) > 0.5 * panel.size_m.z()) return {};
   const double direct = (pair.receiver_m - pair.source_m).norm(), reflected = (pair.receiver_m - image).norm();
-  return {true, (reflected - direct) / 343.0, 20.0 * std::log10(direct / reflected) + 10.0 * std::log10(1.0 - absorption)};
+  return {true, (reflected - direct) / speed_of_sound_m_s, 20.0 * std::log10(direct / reflected) + 10.0 * std::log10(1.0 - absorption)};
 }
 
 // A thin upright panel (wood) away from the pairs: the planted missing reflector. It is
@@ -85,7 +87,7 @@ CuboidObject randomPanel(std::mt19937& rng, const RoomModel& room, const std::ve
     if (!clear) continue;
     bool heard_by_fit = false, heard_held_out = false;
     for (std::size_t i = 0; i < pairs.size(); ++i) {
-      const PanelReflection r = panelReflection(panel, pairs[i], absorption);
+      const PanelReflection r = panelReflection(panel, pairs[i], absorption, speedOfSoundMPerS(room.air.temperature_c));
       const bool heard = r.exists && r.delay_s < 0.025 && r.level_db > -8.0;
       (i % 2 == 0 ? heard_by_fit : heard_held_out) |= heard;
     }

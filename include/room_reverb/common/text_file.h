@@ -16,6 +16,10 @@ std::string readTextFile(const std::string& path, const std::string& what);
 // Writes `text` (replacing the file). InputError naming the path when it cannot.
 void writeTextFile(const std::string& path, const std::string& text);
 
+// Creates the folder and its parents if missing. InputError naming the path when it cannot
+// ("<path>: cannot create the folder: <reason>").
+void createFolder(const std::string& path);
+
 // A file the package ships (e.g. "config/materials.yaml"): the value of the environment
 // variable `environment_variable` when it is set and not empty, else `relative` in the
 // package's source tree (the working directory's when built without ROOM_REVERB_SOURCE_DIR).

@@ -3,6 +3,7 @@
 #include <sys/stat.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -33,6 +34,14 @@ void writeTextFile(const std::string& path, const std::string& text) {
   out << text;
   out.close();
   if (!out) throw InputError(path + ": write failed");
+}
+
+void createFolder(const std::string& path) {
+  std::error_code error;
+  std::filesystem::create_directories(path, error);
+  if (!std::filesystem::is_directory(path)) {
+    throw InputError(path + ": cannot create the folder" + (error ? ": " + error.message() : std::string()));
+  }
 }
 
 std::string packageFilePath(const char* environment_variable, const std::string& relative) {

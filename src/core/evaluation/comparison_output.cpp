@@ -50,7 +50,7 @@ void writeDecayCurves(const MeasurementComparison& comparison, const std::string
 }  // namespace
 
 std::vector<std::string> writeComparison(const MeasurementComparison& comparison, const std::string& directory) {
-  fs::create_directories(directory);
+  createFolder(directory);
   std::vector<std::string> files{(fs::path(directory) / "comparison.json").string(),
                                  (fs::path(directory) / "report.md").string()};
   writeTextFile(files[0], comparisonToJson(comparison));

@@ -12,9 +12,7 @@ namespace room_reverb::core {
 DiagnosisFiles writeDiagnosis(const Diagnosis& diagnosis, const RoomUnderTest& room, const MeasuredEvidence& evidence,
                               const std::string& directory) {
   namespace fs = std::filesystem;
-  std::error_code ec;
-  fs::create_directories(directory, ec);
-  if (ec) throw InputError("cannot create the output directory " + directory + ": " + ec.message());
+  createFolder(directory);
   DiagnosisFiles files;
   const fs::path dir(directory);
   if (room.isRoomModel()) {

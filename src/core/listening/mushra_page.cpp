@@ -118,9 +118,7 @@ void writeMushraPage(const MushraStimuli& stimuli, const std::string& test_json,
   writeTextFile((root / "test.js").string(), mushraTestScript(test_json));
   for (const MushraStimulus& s : stimuli.stimuli) {
     const fs::path file = root / mushraAudioScriptFile(s.room, s.content, s.condition);
-    std::error_code error;
-    fs::create_directories(file.parent_path(), error);
-    if (!fs::is_directory(file.parent_path())) throw InputError(file.parent_path().string() + ": cannot create the folder");
+    createFolder(file.parent_path().string());
     writeTextFile(file.string(), mushraAudioScript(mushraStimulusFile(s.room, s.content, s.condition), s.audio));
   }
 }

@@ -133,12 +133,11 @@ HttpResponse MushraRequestHandler::saveResults(const HttpRequest& request) {
   const std::string listener = ratings.front().listener;
   const fs::path folder = fs::path(root_) / "results";
   std::lock_guard<std::mutex> lock(save_mutex_);
-  std::error_code error;
-  fs::create_directories(folder, error);
   const std::string stem = safeFileNamePart(listener) + "_" + localTimestamp();
   fs::path file = folder / (stem + ".csv");
   for (int n = 2; fs::exists(file); ++n) file = folder / (stem + "-" + std::to_string(n) + ".csv");
   try {
+    createFolder(folder.string());
     writeTextFile(file.string(), request.body);
   } catch (const InputError& e) {
     return jsonResponse(500, {{"error", e.what()}});

@@ -30,14 +30,7 @@ void prepareFolder(const fs::path& dir) {
     fs::remove_all(dir / "panoramas", error);
     fs::remove_all(dir / "audio", error);
   }
-  fs::create_directories(dir, error);
-  if (!fs::is_directory(dir)) throw InputError(dir.string() + ": cannot create the output folder");
-}
-
-void createFolder(const fs::path& dir) {
-  std::error_code error;
-  fs::create_directories(dir, error);
-  if (!fs::is_directory(dir)) throw InputError(dir.string() + ": cannot create the folder");
+  createFolder(dir.string());
 }
 
 }  // namespace
@@ -124,13 +117,13 @@ void writeMushraTest(const MushraPlan& plan, const MushraStimuli& stimuli, const
   prepareFolder(root);
   for (const MushraStimulus& s : stimuli.stimuli) {
     const fs::path file = root / mushraStimulusFile(s.room, s.content, s.condition);
-    createFolder(file.parent_path());
+    createFolder(file.parent_path().string());
     writeAudioFile(file.string(), s.audio, SampleEncoding::kFloat32);
   }
   for (const MushraRoom& r : plan.rooms) {
     if (r.panorama.empty()) continue;
     const fs::path target = root / mushraPanoramaFile(r);
-    createFolder(target.parent_path());
+    createFolder(target.parent_path().string());
     std::error_code error;
     fs::copy_file(r.panorama, target, fs::copy_options::overwrite_existing, error);
     if (error) throw InputError(r.panorama + ": cannot copy the panorama to " + target.string() + ": " + error.message());
