@@ -24,7 +24,7 @@ Simulates the room at every measured pair, compares with the measurement (RIR fi
 T20, T30, EDT, C80, D50, DRR per octave and the early energy profile, per pair; or the
 file's table of averaged parameters), then tries each cause of the catalogue (air_absorption,
 surface_absorption, scattering, missing_reflector, geometry_scale, coupled_volume,
-source_directivity): fits its few parameters on part of the evidence and measures the gain
+source_directivity, low_frequency_modes): fits its few parameters on part of the evidence and measures the gain
 on the rest. Causes whose held-out gain stands clear of the simulation's own noise are named,
 best first. Writes DIR/diagnosis.json, DIR/report.md, DIR/*.png and, for a room model,
 DIR/extended_room.yaml (the corrected room).

@@ -175,6 +175,12 @@ PlantedCase plantedCase(const std::string& cause, std::uint32_t seed) {
     dir.axis = {std::cos(az), std::sin(az), 0.0};
     e.directivity = dir;
     d << "source pattern a = " << dir.omni_fraction << " towards azimuth " << az * 180 / M_PI << " deg";
+  } else if (cause == "low_frequency_modes") {
+    // The truth's low band is modal, with the wall damping off the tables by a factor.
+    const double scale = rng() % 2 ? uniform(rng, 1.4, 2.0) : uniform(rng, 0.5, 0.7);
+    const RoomUnderTest room = RoomUnderTest::fromRoomModel(c.room, c.library);
+    e.modes = LowFrequencyModes{scale, modalCrossoverHz(room.scene({}), c.room.air)};
+    d << "modal low band below " << e.modes->crossover_hz << " Hz, damping x " << scale;
   } else if (!cause.empty()) {
     throw std::runtime_error("unknown planted cause " + cause);
   } else {
@@ -192,15 +198,14 @@ PlantedCase plantedCase(const std::string& cause, std::uint32_t seed) {
   if (e.directivity) s.directivity = *e.directivity;
   s.rays.ray_count = 30000;
   c.evidence.positions = pairs;
+  const ModalRoom modal_room = modalRoomFor(scene, s.air);
   for (std::size_t i = 0; i < pairs.size(); ++i) {
     s.rays.seed = 5000 + seed % 1000 + static_cast<std::uint32_t>(i);
     SimulationResult r = simulateRoom(scene, pairs[i].source_m, pairs[i].receiver_m, s);
-    if (e.coupled) {
-      const auto onset = static_cast<std::size_t>(std::lround(r.paths.front().delay_s * 48000.0));
-      // The same process the extension adds, on the omni (W) channel only: the scored
-      // evidence is all omni, and a diffuse tail carries no direction worth modelling.
-      addCoupledDecay(r.impulse_response.channels[0], 48000.0, onset, *e.coupled, s.rays.seed + 77);
-    }
+    // The effects the extension adds to a response, by the same code (a coupled decay on
+    // the omni channel only: the scored evidence is all omni, and a diffuse tail carries
+    // no direction worth modelling; the modes in all four channels).
+    applyResponseExtensions(r.impulse_response, e, &modal_room, pairs[i], r.paths.front().delay_s, s.rays.seed + 77);
     c.evidence.rirs.push_back(analysePair(pairs[i], r.impulse_response));
   }
   std::cout << "[ planted  ] " << c.description << "\n";

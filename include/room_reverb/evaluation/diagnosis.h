@@ -10,6 +10,8 @@
 //   geometry_scale      the room's dimensions scaled (reflection times off by one factor)
 //   coupled_volume      a second, slower decay added to the late response
 //   source_directivity  a cardioid-family source pattern and its axis fitted
+//   low_frequency_modes the band below the Schroeder frequency synthesised from the
+//                       room's modes, their damping scaled
 // and the measurement's own limits (clipping, noise floor, B-format convention), which are
 // flagged, never fitted. Each hypothesis is fitted on part of the evidence and its gain is
 // measured on the rest (other pairs; or, with one pair or a table, other parameters), and

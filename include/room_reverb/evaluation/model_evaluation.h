@@ -11,6 +11,7 @@
 #include "room_reverb/acoustics/room_simulation.h"
 #include "room_reverb/evaluation/measured_evidence.h"
 #include "room_reverb/evaluation/model_extension.h"
+#include "room_reverb/evaluation/response_extensions.h"
 
 namespace room_reverb::core {
 
@@ -32,8 +33,10 @@ struct ErrorTerm {
 };
 
 struct PairPrediction {
-  PairEvidence analysis;           // the simulated response analysed as a measured one
-  std::vector<SpecularPath> paths; // the model's specular arrivals at this pair
+  PairEvidence analysis;              // the simulated response, extended, analysed as a measured one
+  std::vector<SpecularPath> paths;    // the model's specular arrivals at this pair
+  std::vector<float> simulated_omni;  // as simulated, before the response extensions
+  std::uint32_t seed = 0;             // of the ray tracing (and of a coupled decay's noise)
 };
 
 struct Evaluation {
@@ -76,9 +79,12 @@ class ModelEvaluator {
   mutable int evaluations_ = 0;
 };
 
-// The coupled-volume extension applied to a response: a second exponential decay of white
-// noise (seeded), starting at the direct sound.
-void addCoupledDecay(std::vector<float>& omni, double sample_rate_hz, std::size_t onset_sample,
-                     const CoupledDecay& decay, std::uint32_t seed);
+// Marks the evaluation valid and scores its predictions: terms and the three errors.
+void score(Evaluation& evaluation, const MeasuredEvidence& evidence, const EvaluationSettings& settings);
+
+// The prediction's simulated response with the extension's response effects
+// (response_extensions.h) applied: what its analysis is made from.
+AudioBuffer extendedResponse(const PairPrediction& prediction, const MeasurementPair& pair,
+                             const ModelExtension& extension, const ModalRoom* modal_room);
 
 }  // namespace room_reverb::core

@@ -22,6 +22,14 @@ struct CoupledDecay {
                            // per band (the main decay's own level there is about 0 dB)
 };
 
+// The low band synthesised from the room's modes (acoustics/room_modes.h) instead of
+// ray-traced: below the crossover the response is the sum of the box's modes, their
+// damping from the model's absorption times `damping_scale`.
+struct LowFrequencyModes {
+  double damping_scale = 1.0;
+  double crossover_hz = 0.0;  // where the modal band hands over to the rays (Schroeder)
+};
+
 struct ModelExtension {
   std::optional<AirConditions> air;
   // Absorption replaced per target: a room surface (floor, ceiling, wall_x_min, ...) or an
@@ -32,6 +40,7 @@ struct ModelExtension {
   double geometry_scale = 1.0;          // the room (and its objects) scaled about the origin
   std::vector<CuboidObject> reflectors; // objects the model lacked
   std::optional<CoupledDecay> coupled;
+  std::optional<LowFrequencyModes> modes;
 
   // `other`'s fields on top of these (maps merged, reflectors appended, scale multiplied).
   void add(const ModelExtension& other);

@@ -8,7 +8,6 @@
 #include <limits>
 
 #include "cause_fitting.h"
-#include "room_reverb/evaluation/simulated_pairs.h"
 
 namespace room_reverb::core {
 namespace {
@@ -33,32 +32,6 @@ double midBandDecayTime(const MeasuredEvidence& evidence) {
   return n > 0 ? sum / n : 0.0;
 }
 
-Evaluation withCoupledDecay(const FitContext& context, const CoupledDecay& decay) {
-  const ModelEvaluator& evaluator = context.evaluator;
-  Evaluation evaluation;
-  evaluation.valid = true;
-  for (std::size_t i = 0; i < context.current.predictions.size(); ++i) {
-    const PairPrediction& base = context.current.predictions[i];
-    PairPrediction prediction;
-    prediction.paths = base.paths;
-    AudioBuffer omni;
-    omni.channels.push_back(base.analysis.omni);
-    if (!base.paths.empty()) {
-      const auto onset = static_cast<std::size_t>(std::lround(base.paths.front().delay_s * omni.sample_rate_hz));
-      // The seed the evaluator would use for this pair, so a later evaluation agrees.
-      addCoupledDecay(omni.channels.front(), omni.sample_rate_hz, onset, decay,
-                      pairSeed(evaluator.settings().simulation.rays.seed, i));
-    }
-    prediction.analysis = analysePair(base.analysis.pair, omni);
-    evaluation.predictions.push_back(std::move(prediction));
-  }
-  evaluation.terms = errorTerms(evaluator.evidence(), evaluation.predictions, evaluator.settings());
-  evaluation.error_jnd = meanAbsoluteError(evaluation.terms, -1);
-  evaluation.fit_error_jnd = meanAbsoluteError(evaluation.terms, 0);
-  evaluation.heldout_error_jnd = meanAbsoluteError(evaluation.terms, 1);
-  return evaluation;
-}
-
 }  // namespace
 
 std::optional<FittedCause> fitCoupledVolume(const FitContext& context, std::string& why) {
@@ -76,7 +49,9 @@ std::optional<FittedCause> fitCoupledVolume(const FitContext& context, std::stri
   for (double factor : {1.5, 2.0, 2.5, 3.0, 4.0}) {
     for (double level_db = -15.0; level_db <= 15.0; level_db += 5.0) {
       const CoupledDecay decay{factor * t_main, level_db};
-      Evaluation evaluation = withCoupledDecay(context, decay);
+      ModelExtension extension;
+      extension.coupled = decay;
+      Evaluation evaluation = reanalyseWith(context, extension);
       if (evaluation.fit_error_jnd >= best_error) continue;
       best_error = evaluation.fit_error_jnd;
       FittedCause cause;

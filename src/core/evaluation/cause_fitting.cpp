@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "room_reverb/common/error.h"
 
@@ -14,7 +15,7 @@ double fitError(const Evaluation& e) { return e.valid ? e.fit_error_jnd : std::n
 
 const std::vector<std::string> kCatalogueCauses = {"air_absorption",   "surface_absorption", "scattering",
                                                    "missing_reflector", "geometry_scale",     "coupled_volume",
-                                                   "source_directivity"};
+                                                   "source_directivity", "low_frequency_modes"};
 
 CauseFitter causeFitter(const std::string& cause) {
   if (cause == "air_absorption") return fitAirAbsorption;
@@ -24,6 +25,7 @@ CauseFitter causeFitter(const std::string& cause) {
   if (cause == "geometry_scale") return fitGeometryScale;
   if (cause == "coupled_volume") return fitCoupledVolume;
   if (cause == "source_directivity") return fitSourceDirectivity;
+  if (cause == "low_frequency_modes") return fitLowFrequencyModes;
   std::string known;
   for (const std::string& c : kCatalogueCauses) known += (known.empty() ? "" : ", ") + c;
   throw InputError("unknown cause '" + cause + "'; the catalogue has " + known);
@@ -33,6 +35,31 @@ Evaluation evaluateWith(const FitContext& context, const ModelExtension& extensi
   ModelExtension combined = context.accepted;
   combined.add(extension);
   return context.evaluator.evaluate(combined);
+}
+
+Evaluation reanalyseWith(const FitContext& context, const ModelExtension& extension, const ModalRoom* modal_room) {
+  ModelExtension combined = context.accepted;
+  combined.add(extension);
+  const ModelEvaluator& evaluator = context.evaluator;
+  std::optional<ModalRoom> own_room;
+  if (combined.modes && !modal_room) {
+    own_room = modalRoomFor(evaluator.room().scene(context.accepted), evaluator.room().airWith(context.accepted));
+    modal_room = &*own_room;
+  }
+  Evaluation evaluation;
+  try {
+    for (const PairPrediction& base : context.current.predictions) {
+      PairPrediction prediction = base;
+      const MeasurementPair& pair = base.analysis.pair;
+      prediction.analysis = analysePair(pair, extendedResponse(base, pair, combined, modal_room));
+      evaluation.predictions.push_back(std::move(prediction));
+    }
+  } catch (const InputError& e) {
+    evaluation.reason = e.what();
+    return evaluation;
+  }
+  score(evaluation, evaluator.evidence(), evaluator.settings());
+  return evaluation;
 }
 
 ScalarFit fitScalar(const std::function<Evaluation(double)>& evaluate, double lo, double hi, int grid, int refinements) {

@@ -35,9 +35,14 @@ std::optional<FittedCause> fitMissingReflector(const FitContext& context, std::s
 std::optional<FittedCause> fitGeometryScale(const FitContext& context, std::string& why);
 std::optional<FittedCause> fitCoupledVolume(const FitContext& context, std::string& why);
 std::optional<FittedCause> fitSourceDirectivity(const FitContext& context, std::string& why);
+std::optional<FittedCause> fitLowFrequencyModes(const FitContext& context, std::string& why);
 
 // The evaluation of accepted + extension.
 Evaluation evaluateWith(const FitContext& context, const ModelExtension& extension);
+// The same for an extension that acts only on responses (modes, a coupled decay): the
+// responses simulated for `current` are re-analysed, nothing is simulated again. The
+// modal room is built from the accepted scene when none is given and one is needed.
+Evaluation reanalyseWith(const FitContext& context, const ModelExtension& extension, const ModalRoom* modal_room = nullptr);
 
 // One-parameter fit: a grid of `grid` points over [lo, hi], then golden-section steps in
 // the bracket around the best grid point; minimises the fit error. Returns the best

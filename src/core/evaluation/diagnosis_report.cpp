@@ -4,6 +4,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <vector>
 
 #include "room_reverb/evaluation/diagnosis.h"
 
@@ -19,6 +20,7 @@ const std::map<std::string, std::string> kCauseMeaning = {
     {"geometry_scale", "the room's dimensions are off by one factor"},
     {"coupled_volume", "a second, slower decay: a coupled volume the model does not contain"},
     {"source_directivity", "the source radiates with a directivity the model lacks (cardioid family fitted)"},
+    {"low_frequency_modes", "below the Schroeder frequency the room rings in modes that rays cannot show (modal synthesis, damping fitted)"},
 };
 
 double rounded(double v, int digits) {
@@ -125,7 +127,18 @@ std::string diagnosisToMarkdown(const Diagnosis& d, const std::string& extended_
     os << "\n## Figures\n\n";
     for (const std::string& p : plots) os << "![" << p << "](" << p << ")\n\n";
   }
-  if (!extended_room_path.empty()) os << "\nCorrected room model: `" << extended_room_path << "`.\n";
+  if (!extended_room_path.empty()) {
+    os << "\nCorrected room model: `" << extended_room_path << "`.";
+    std::vector<std::string> outside;
+    if (d.extension.directivity) outside.push_back("the source's directivity");
+    if (d.extension.coupled) outside.push_back("the coupled decay");
+    if (d.extension.modes) outside.push_back("the modal low band");
+    for (std::size_t i = 0; i < outside.size(); ++i) {
+      os << (i == 0 ? " The room format cannot hold " : i + 1 == outside.size() ? " and " : ", ") << outside[i];
+    }
+    if (!outside.empty()) os << ": those are in `diagnosis.json` only.";
+    os << "\n";
+  }
   os << "\n" << d.simulations << " model simulations, " << d.wall_time_s << " s.\n";
   return os.str();
 }

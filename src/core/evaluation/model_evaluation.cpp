@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <random>
+#include <optional>
 
 #include "room_reverb/common/error.h"
 #include "room_reverb/evaluation/parameter_comparison.h"
@@ -66,6 +66,23 @@ void addEarly(const EarlyEnergyProfile& simulated, const EarlyEnergyProfile& mea
 
 }  // namespace
 
+void score(Evaluation& evaluation, const MeasuredEvidence& evidence, const EvaluationSettings& settings) {
+  evaluation.valid = true;
+  evaluation.terms = errorTerms(evidence, evaluation.predictions, settings);
+  evaluation.error_jnd = meanAbsoluteError(evaluation.terms, -1);
+  evaluation.fit_error_jnd = meanAbsoluteError(evaluation.terms, 0);
+  evaluation.heldout_error_jnd = meanAbsoluteError(evaluation.terms, 1);
+}
+
+AudioBuffer extendedResponse(const PairPrediction& prediction, const MeasurementPair& pair,
+                             const ModelExtension& extension, const ModalRoom* modal_room) {
+  AudioBuffer omni;
+  omni.channels.push_back(prediction.simulated_omni);
+  const double direct_delay_s = prediction.paths.empty() ? 0.0 : prediction.paths.front().delay_s;
+  applyResponseExtensions(omni, extension, modal_room, pair, direct_delay_s, prediction.seed);
+  return omni;
+}
+
 std::map<std::string, double> groupMeanAbsoluteErrors(const std::vector<ErrorTerm>& terms, int selection) {
   std::map<std::string, std::pair<double, int>> sums;
   for (const ErrorTerm& t : terms) {
@@ -109,26 +126,6 @@ std::vector<ErrorTerm> errorTerms(const MeasuredEvidence& evidence, const std::v
   return terms;
 }
 
-void addCoupledDecay(std::vector<float>& omni, double sample_rate_hz, std::size_t onset_sample,
-                     const CoupledDecay& decay, std::uint32_t seed) {
-  if (!(decay.t60_s > 0.0)) throw InputError("coupled decay: the decay time must be positive");
-  const auto half = static_cast<std::size_t>(0.001 * sample_rate_hz);
-  double direct = 0.0;
-  for (std::size_t n = onset_sample > half ? onset_sample - half : 0; n < std::min(omni.size(), onset_sample + half); ++n) {
-    direct += static_cast<double>(omni[n]) * omni[n];
-  }
-  // Energy envelope P0 exp(-13.8 t / T60) per second, P0 = direct * 10^(L/10): samples of
-  // unit-variance noise scaled by sqrt(P / fs) carry that energy per second.
-  const double p0 = direct * std::pow(10.0, decay.level_db / 10.0);
-  const double rate = 3.0 * std::log(10.0) / decay.t60_s;  // amplitude decay per second
-  std::mt19937 rng(seed);
-  std::normal_distribution<float> noise(0.0f, 1.0f);
-  for (std::size_t n = onset_sample; n < omni.size(); ++n) {
-    const double t = static_cast<double>(n - onset_sample) / sample_rate_hz;
-    omni[n] += static_cast<float>(std::sqrt(p0 / sample_rate_hz) * std::exp(-rate * t)) * noise(rng);
-  }
-}
-
 ModelEvaluator::ModelEvaluator(const RoomUnderTest& room, const MeasuredEvidence& evidence, EvaluationSettings settings)
     : room_(room), evidence_(evidence), settings_(std::move(settings)) {
   settings_.simulation.ambisonic_order = 0;
@@ -141,32 +138,25 @@ Evaluation ModelEvaluator::evaluate(const ModelExtension& extension, std::uint32
     const AcousticScene scene = room_.scene(extension);
     SimulationSettings s = settings_.simulation;
     s.air = room_.airWith(extension);
+    std::optional<ModalRoom> modal_room;
+    if (extension.modes) modal_room = modalRoomFor(scene, s.air);
     if (extension.directivity) s.directivity = *extension.directivity;
     for (std::size_t i = 0; i < evidence_.positions.size(); ++i) {
       const MeasurementPair& pair = evidence_.positions[i];
       s.rays.seed = pairSeed(settings_.simulation.rays.seed + 7919u * seed_offset, i);
       SimulationResult result = simulateRoom(scene, pair.source_m, pair.receiver_m, s);
-      AudioBuffer omni;
-      omni.sample_rate_hz = result.impulse_response.sample_rate_hz;
-      omni.channels.push_back(std::move(result.impulse_response.channels.front()));
-      if (extension.coupled && !result.paths.empty()) {
-        const auto onset = static_cast<std::size_t>(std::lround(result.paths.front().delay_s * omni.sample_rate_hz));
-        addCoupledDecay(omni.channels.front(), omni.sample_rate_hz, onset, *extension.coupled, s.rays.seed);
-      }
       PairPrediction prediction;
-      prediction.analysis = analysePair(pair, omni);
+      prediction.simulated_omni = std::move(result.impulse_response.channels.front());
       prediction.paths = std::move(result.paths);
+      prediction.seed = s.rays.seed;
+      prediction.analysis = analysePair(pair, extendedResponse(prediction, pair, extension, modal_room ? &*modal_room : nullptr));
       evaluation.predictions.push_back(std::move(prediction));
     }
   } catch (const InputError& e) {
     evaluation.reason = e.what();
     return evaluation;
   }
-  evaluation.valid = true;
-  evaluation.terms = errorTerms(evidence_, evaluation.predictions, settings_);
-  evaluation.error_jnd = meanAbsoluteError(evaluation.terms, -1);
-  evaluation.fit_error_jnd = meanAbsoluteError(evaluation.terms, 0);
-  evaluation.heldout_error_jnd = meanAbsoluteError(evaluation.terms, 1);
+  score(evaluation, evidence_, settings_);
   return evaluation;
 }
 

@@ -40,6 +40,7 @@ void ModelExtension::add(const ModelExtension& other) {
   geometry_scale *= other.geometry_scale;
   reflectors.insert(reflectors.end(), other.reflectors.begin(), other.reflectors.end());
   if (other.coupled) coupled = other.coupled;
+  if (other.modes) modes = other.modes;
 }
 
 RoomUnderTest RoomUnderTest::fromRoomModel(RoomModel room, MaterialLibrary library) {
