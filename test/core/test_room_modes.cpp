@@ -15,6 +15,7 @@
 #include "room_reverb/audio/band_filter_bank.h"
 #include "room_reverb/audio/crossover.h"
 #include "room_reverb/common/error.h"
+#include "room_reverb/evaluation/response_extensions.h"
 #include "shoebox.h"
 
 namespace room_reverb::test {
@@ -185,6 +186,42 @@ TEST(RoomModes, TheReverberantLevelMatchesTheRayTracersIn125HzOctave) {
   }
   std::cout << "[ measured ] modal / ray-traced energy, 125 Hz, 50-400 ms: " << 10 * std::log10(modal / rays) << " dB\n";
   EXPECT_NEAR(10 * std::log10(modal / rays), 0.0, 1.5);
+}
+
+// The diagnosis's extension (response_extensions.h): the modal band replaces the rays'
+// below the crossover and leaves the octaves above it as they were.
+TEST(RoomModes, TheModalExtensionChangesOnlyTheBandsBelowItsCrossover) {
+  const AcousticScene scene(shoeboxMesh({6.0, 4.5, 3.0}), uniformLibrary(0.15, 0.5));
+  SimulationSettings settings;
+  settings.duration_s = 0.6;
+  settings.ambisonic_order = 1;
+  settings.rays.ray_count = 4000;
+  MeasurementPair pair;
+  pair.source_m = {1.3, 1.1, 1.4};
+  pair.receiver_m = {4.6, 3.1, 1.2};
+  const SimulationResult result = simulateRoom(scene, pair.source_m, pair.receiver_m, settings);
+  ModelExtension extension;
+  extension.modes = LowFrequencyModes{1.0, modalCrossoverHz(scene, settings.air)};
+  EXPECT_NEAR(extension.modes->crossover_hz, schroederFrequencyHz(0.5 * (eyringReverberationTimes(scene, settings.air)[3] +
+                                                                         eyringReverberationTimes(scene, settings.air)[4]),
+                                                                  scene.volumeM3()), 1e-9);
+  AudioBuffer extended = result.impulse_response;
+  const ModalRoom room = modalRoomFor(scene, settings.air);
+  applyResponseExtensions(extended, extension, &room, pair, result.paths.front().delay_s, 1);
+  ASSERT_EQ(extended.channelCount(), 4u);
+  const std::vector<FrequencyBand> octaves = standardBands(BandResolution::kOctave);
+  const BandFilterBank bank(octaves, 48000.0);
+  for (std::size_t ch = 0; ch < 4; ++ch) {
+    const auto before = bank.split(result.impulse_response.channels[ch]), after = bank.split(extended.channels[ch]);
+    for (std::size_t b = 0; b < octaves.size(); ++b) {
+      const double change_db = 10 * std::log10(energy(after[b], 0, after[b].size()) / energy(before[b], 0, before[b].size()));
+      if (octaves[b].lower_hz > extension.modes->crossover_hz * std::sqrt(2.0)) {
+        EXPECT_NEAR(change_db, 0.0, 0.01) << "channel " << ch << ", " << octaves[b].nominal_hz << " Hz";
+      }
+    }
+  }
+  // The modes need their room.
+  EXPECT_THROW(applyResponseExtensions(extended, extension, nullptr, pair, 0.0, 1), InputError);
 }
 
 TEST(RoomModes, BadInputGetsAClearError) {

@@ -1,11 +1,6 @@
 // missing_reflector: a strong early reflection in a measured B-format RIR that no specular
-// path of the model explains is taken as a surface the model lacks. Its time of arrival
-// (after the direct sound) and direction place the reflection point by image-source
-// geometry: the point P on the arrival ray from the receiver R with |S - P| + |P - R| equal
-// to the reflection's path length L, that is
-//   P = R + d u,  d = (L^2 - |S - R|^2) / (2 (L - u . (S - R))),
-// and the reflecting face is normal to the bisector of the directions from P to S and R.
-// Points found at several fit pairs are clustered; the panel (a thin cuboid, upright or
+// path of the model explains is taken as a surface the model lacks, placed by image-source
+// geometry from its time and direction (unexplained_reflections.h). Points found at several fit pairs are clustered; the panel (a thin cuboid, upright or
 // level, whichever the normal is closer to) goes where most agree, and its size is fitted.
 #include <algorithm>
 #include <cmath>
@@ -15,66 +10,28 @@
 #include "cause_fitting.h"
 #include "room_reverb/acoustics/propagation.h"
 #include "room_reverb/common/directions.h"
-#include "room_reverb/evaluation/reflection_matching.h"
+#include "room_reverb/evaluation/unexplained_reflections.h"
 
 namespace room_reverb::core {
 namespace {
 
-constexpr double kMatchTimeS = 0.0006;       // a specular path within 0.6 ms ...
-constexpr double kMatchAngleRad = 0.55;      // ... and 30 degrees explains a reflection
-constexpr double kStrongLevelDb = -14.0;     // re the direct sound: weaker ones are not chased
-constexpr double kLatestDelayS = 0.030;      // after this, reflections crowd too densely
 constexpr double kClusterRadiusM = 0.6;
-// A reflection point this close to the model's own surfaces, or outside the room, is a
-// surface the model has (its reflection mistimed or of a higher order than the model's
-// image sources), not a missing one.
-constexpr double kWallClearanceM = 0.3;
 constexpr double kPanelThicknessM = 0.04;
 constexpr const char* kPanelMaterial = "wood_panel";
-constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180.0;
 
-struct ReflectionPoint {
-  Eigen::Vector3d point, normal;
-  double level_db = 0.0;
-};
+using ReflectionPoint = UnexplainedReflection;
 
-bool explained(const std::vector<SpecularPath>& paths, double delay_s, const Eigen::Vector3d& arrival) {
-  if (paths.empty()) return false;
-  const double direct = paths.front().delay_s;
-  for (const SpecularPath& p : paths) {
-    if (p.order == 0) continue;
-    if (std::abs((p.delay_s - direct) - delay_s) > kMatchTimeS) continue;
-    if (std::acos(std::clamp(p.arrival_direction.dot(arrival), -1.0, 1.0)) <= kMatchAngleRad) return true;
-  }
-  return false;
-}
-
+// The unexplained reflections of the fit pairs (held-out pairs do not place the panel).
 std::vector<ReflectionPoint> unexplainedPoints(const FitContext& context, double speed_of_sound) {
   const MeasuredEvidence& evidence = context.evaluator.evidence();
   const AcousticScene scene = context.evaluator.room().scene(context.accepted);
   std::vector<ReflectionPoint> points;
   const bool split = evidence.rirs.size() >= 2;
-  for (std::size_t i = 0; i < evidence.rirs.size(); ++i) {
-    if (split && i % 2 == 1) continue;  // held-out pairs do not place the panel
-    const auto& rsao = evidence.rirs[i].rsao;
-    if (!rsao || rsao->reflections.size() < 2 || i >= context.current.predictions.size()) continue;
-    const auto& paths = context.current.predictions[i].paths;
-    const Eigen::Vector3d S = evidence.rirs[i].pair.source_m, R = evidence.rirs[i].pair.receiver_m;
-    const double direct_length = (S - R).norm();
-    for (const RelativeReflection& r : relativeReflections(*rsao)) {
-      const double delay = r.delay_s, level_db = r.level_db;
-      if (delay <= 0.0 || delay > kLatestDelayS || level_db < kStrongLevelDb) continue;
-      const Eigen::Vector3d u = unitVectorFromAngles(r.azimuth_deg * kRadiansPerDegree, r.elevation_deg * kRadiansPerDegree);
-      if (explained(paths, delay, u)) continue;
-      const double L = direct_length + speed_of_sound * delay;
-      const double denominator = 2.0 * (L - u.dot(S - R));
-      if (denominator <= 1e-6) continue;
-      const double d = (L * L - direct_length * direct_length) / denominator;
-      const Eigen::Vector3d P = R + d * u;
-      if (!P.allFinite() || !scene.isInside(P) || scene.distanceToNearestSurface(P) < kWallClearanceM) continue;
-      const Eigen::Vector3d n = ((S - P).normalized() + (R - P).normalized()).normalized();
-      points.push_back({P, n, level_db});
-    }
+  for (std::size_t i = 0; i < evidence.rirs.size() && i < context.current.predictions.size(); ++i) {
+    if ((split && i % 2 == 1) || !evidence.rirs[i].rsao) continue;
+    const auto found = unexplainedReflections(*evidence.rirs[i].rsao, context.current.predictions[i].paths,
+                                              evidence.rirs[i].pair, scene, speed_of_sound);
+    points.insert(points.end(), found.begin(), found.end());
   }
   return points;
 }
