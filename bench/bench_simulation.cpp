@@ -4,7 +4,8 @@
 //  - the project's wrapper (EmbreeScene::intersect) on paths of the same kind;
 //  - the project's ray tracer (traceRays) on one thread, and its ratio to raw Embree;
 //  - a full `accurate` simulation (image sources + 100 000 rays + first-order ambisonic
-//    synthesis, 2 s, 2 threads): wall time and peak resident memory.
+//    synthesis, 2 s, 2 threads): wall time and peak resident memory;
+//  - the modal low band of the diagnosis for CR2's box.
 // Run: scripts/bench, or this binary alone (20-40 s).
 // Single-thread rates are per CPU second of the working thread; the simulation is timed on
 // the wall clock. Needs ROOM_REVERB_SOURCE_DIR (the repository, for the mesh) and links
@@ -25,6 +26,7 @@
 #include "room_reverb/acoustics/acoustic_scene.h"
 #include "room_reverb/acoustics/material.h"
 #include "room_reverb/acoustics/ray_tracer.h"
+#include "room_reverb/acoustics/room_modes.h"
 #include "room_reverb/acoustics/room_simulation.h"
 #include "room_reverb/acoustics/triangle_mesh.h"
 
@@ -363,6 +365,24 @@ void BM_BuildCr2Scene(benchmark::State& state) {
   state.counters["planes"] = static_cast<double>(cr2->planes().size());
 }
 BENCHMARK(BM_BuildCr2Scene)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The diagnosis's modal low band (room_modes.h) for CR2's box: every mode up to 1.3 x
+// sqrt(2) times the Schroeder frequency, 2 s of omni response, as the diagnosis
+// re-analyses it once per pair and candidate damping.
+void BM_ModalLowBandCr2(benchmark::State& state) {
+  const AcousticScene* cr2 = cr2Scene(state);
+  if (!cr2) return;
+  const ModalRoom room = modalRoomFromScene(*cr2, 343.2);
+  const OctaveBandValues t60 = eyringReverberationTimes(*cr2, AirConditions{});
+  const double crossover = schroederFrequencyHz(0.5 * (t60[3] + t60[4]), cr2->volumeM3());
+  ModalSynthesisOptions options;
+  options.frames = 96000;
+  options.max_frequency_hz = 1.3 * std::sqrt(2.0) * crossover;
+  for (auto _ : state) benchmark::DoNotOptimize(synthesizeRoomModes(room, kSource, kReceiver, options));
+  state.counters["modes"] = static_cast<double>(roomModes(room, options.max_frequency_hz).size());
+  state.counters["crossover_hz"] = crossover;
+}
+BENCHMARK(BM_ModalLowBandCr2)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
