@@ -82,9 +82,10 @@ class ModelEvaluator {
 // Marks the evaluation valid and scores its predictions: terms and the three errors.
 void score(Evaluation& evaluation, const MeasuredEvidence& evidence, const EvaluationSettings& settings);
 
-// The prediction's simulated response with the extension's response effects
-// (response_extensions.h) applied: what its analysis is made from.
-AudioBuffer extendedResponse(const PairPrediction& prediction, const MeasurementPair& pair,
-                             const ModelExtension& extension, const ModalRoom* modal_room);
+// `omni_response` (the prediction's simulated response, or one already extended) with the
+// extension's response effects (response_extensions.h) applied, at the prediction's
+// direct-sound delay and seed: what its analysis is made from.
+AudioBuffer extendedResponse(const std::vector<float>& omni_response, const PairPrediction& prediction,
+                             const MeasurementPair& pair, const ModelExtension& extension, const ModalRoom* modal_room);
 
 }  // namespace room_reverb::core

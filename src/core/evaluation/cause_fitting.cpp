@@ -38,11 +38,15 @@ Evaluation evaluateWith(const FitContext& context, const ModelExtension& extensi
 }
 
 Evaluation reanalyseWith(const FitContext& context, const ModelExtension& extension, const ModalRoom* modal_room) {
+  const ModelEvaluator& evaluator = context.evaluator;
+  // The coupled decay is the last response effect: a candidate with only that is added to
+  // the responses as they are now (the accepted modes already in them, not synthesised
+  // again for every candidate); a candidate with modes starts again from the raw ones.
+  const bool on_top = !extension.modes && !context.accepted.coupled;
   ModelExtension combined = context.accepted;
   combined.add(extension);
-  const ModelEvaluator& evaluator = context.evaluator;
   std::optional<ModalRoom> own_room;
-  if (combined.modes && !modal_room) {
+  if (!on_top && combined.modes && !modal_room) {
     own_room = modalRoomFor(evaluator.room().scene(context.accepted), evaluator.room().airWith(context.accepted));
     modal_room = &*own_room;
   }
@@ -51,7 +55,9 @@ Evaluation reanalyseWith(const FitContext& context, const ModelExtension& extens
     for (const PairPrediction& base : context.current.predictions) {
       PairPrediction prediction = base;
       const MeasurementPair& pair = base.analysis.pair;
-      prediction.analysis = analysePair(pair, extendedResponse(base, pair, combined, modal_room));
+      prediction.analysis =
+          analysePair(pair, on_top ? extendedResponse(base.analysis.omni, base, pair, extension, nullptr)
+                                   : extendedResponse(base.simulated_omni, base, pair, combined, modal_room));
       evaluation.predictions.push_back(std::move(prediction));
     }
   } catch (const InputError& e) {

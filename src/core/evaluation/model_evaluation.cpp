@@ -74,10 +74,10 @@ void score(Evaluation& evaluation, const MeasuredEvidence& evidence, const Evalu
   evaluation.heldout_error_jnd = meanAbsoluteError(evaluation.terms, 1);
 }
 
-AudioBuffer extendedResponse(const PairPrediction& prediction, const MeasurementPair& pair,
-                             const ModelExtension& extension, const ModalRoom* modal_room) {
+AudioBuffer extendedResponse(const std::vector<float>& omni_response, const PairPrediction& prediction,
+                             const MeasurementPair& pair, const ModelExtension& extension, const ModalRoom* modal_room) {
   AudioBuffer omni;
-  omni.channels.push_back(prediction.simulated_omni);
+  omni.channels.push_back(omni_response);
   const double direct_delay_s = prediction.paths.empty() ? 0.0 : prediction.paths.front().delay_s;
   applyResponseExtensions(omni, extension, modal_room, pair, direct_delay_s, prediction.seed);
   return omni;
@@ -149,7 +149,8 @@ Evaluation ModelEvaluator::evaluate(const ModelExtension& extension, std::uint32
       prediction.simulated_omni = std::move(result.impulse_response.channels.front());
       prediction.paths = std::move(result.paths);
       prediction.seed = s.rays.seed;
-      prediction.analysis = analysePair(pair, extendedResponse(prediction, pair, extension, modal_room ? &*modal_room : nullptr));
+      prediction.analysis = analysePair(pair, extendedResponse(prediction.simulated_omni, prediction, pair, extension,
+                                                                   modal_room ? &*modal_room : nullptr));
       evaluation.predictions.push_back(std::move(prediction));
     }
   } catch (const InputError& e) {
