@@ -10,6 +10,7 @@
 #include "room_reverb/audio/audio_buffer.h"
 #include "room_reverb/evaluation/early_energy.h"
 #include "room_reverb/evaluation/measurements.h"
+#include "room_reverb/evaluation/reflection_matching.h"
 #include "room_reverb/metrics/room_acoustic_parameters.h"
 #include "room_reverb/rsao/rsao.h"
 
@@ -28,6 +29,9 @@ struct PairEvidence {
   MetricsReport metrics;     // octave bands
   EarlyEnergyProfile early;
   std::optional<Rsao> rsao;  // B-format files with a clear direct sound only
+  // B-format files with a clear direct sound: the reflections the diagnosis sets against
+  // the simulation's (reflection_evidence.h).
+  std::optional<std::vector<RelativeReflection>> reflections;
 };
 
 struct MeasuredEvidence {
@@ -46,7 +50,7 @@ struct MeasuredEvidence {
 MeasuredEvidence measuredEvidence(const Measurements& measurements);
 
 // The analysis one response gets, measured or simulated alike (omni channel 0 of a 48 kHz
-// buffer; the RSAO when `bformat_ambix` has four channels).
+// buffer; the RSAO and the reflection evidence when `bformat_ambix` has four channels).
 PairEvidence analysePair(const MeasurementPair& pair, const AudioBuffer& ambix_or_omni);
 
 }  // namespace room_reverb::core

@@ -29,7 +29,7 @@ std::vector<ReflectionPoint> unexplainedPoints(const FitContext& context, double
   const bool split = evidence.rirs.size() >= 2;
   for (std::size_t i = 0; i < evidence.rirs.size() && i < context.current.predictions.size(); ++i) {
     if ((split && i % 2 == 1) || !evidence.rirs[i].rsao) continue;
-    const auto found = unexplainedReflections(*evidence.rirs[i].rsao, context.current.predictions[i].paths,
+    const auto found = unexplainedReflections(relativeReflections(*evidence.rirs[i].rsao), context.current.predictions[i].paths,
                                               evidence.rirs[i].pair, scene, speed_of_sound);
     points.insert(points.end(), found.begin(), found.end());
   }

@@ -75,13 +75,14 @@ std::string errorPerBand(const Diagnosis& d, const std::string& path) {
   std::vector<BarPanel> panels;
   for (const auto& [group, bands] : before) {
     BarPanel panel;
-    panel.title = group + (group == "early" ? " (mean over windows)" : "");
+    panel.title = group + (group == "early" ? " (mean over windows)" : group == "reflections" ? " (unmatched strong, per pair)" : "");
     panel.y_label = "error (JND)";
     panel.x_label = "octave band (Hz)";
     panel.reference_lines = {-1.0, 1.0};
     BarGroup b{"before", {}, kBefore}, a{"after", {}, kAfter};
     for (const auto& [band, value] : bands) {
-      panel.categories.push_back(band >= 1000 ? std::to_string(static_cast<int>(band / 1000)) + "k"
+      panel.categories.push_back(band <= 0.0 ? std::string("broadband")
+                                 : band >= 1000 ? std::to_string(static_cast<int>(band / 1000)) + "k"
                                               : std::to_string(static_cast<int>(band)));
       b.values.push_back(value);
       const auto g = after.find(group);

@@ -112,7 +112,13 @@ std::string diagnosisToMarkdown(const Diagnosis& d, const std::string& extended_
     os << "| " << group << " | " << value << " | " << (after.count(group) ? after.at(group) : NAN) << " |\n";
   }
   os << "\n(`early`: the early energy profile, windows of 2.5 ms after the direct sound per octave from 500 Hz, in dB "
-        "re the direct sound; 1 dB counts as one JND.)\n\n";
+        "re the direct sound; 1 dB counts as one JND.";
+  if (before.count("reflections")) {
+    os << " `reflections`: per pair, the strong measured early reflections (within 30 ms, at most 14 dB below the "
+          "direct sound) that no path of the model explains and a missing surface could make, each counted by its "
+          "level above -14 dB.";
+  }
+  os << ")\n\n";
   os << "## Every hypothesis tried (first round)\n\n| cause | fitted | target | held-out gain (JND) | fit or why not |\n"
      << "|---|---|---|---:|---|\n";
   for (const HypothesisTrial& t : d.trials) {

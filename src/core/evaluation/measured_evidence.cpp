@@ -9,6 +9,7 @@
 #include "room_reverb/audio/resample.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/metrics/impulse_response_metrics.h"
+#include "room_reverb/evaluation/reflection_evidence.h"
 #include "room_reverb/rsao/rsao_estimator.h"
 
 namespace room_reverb::core {
@@ -80,6 +81,7 @@ PairEvidence analysePair(const MeasurementPair& pair, const AudioBuffer& respons
     } catch (const InputError&) {
       evidence.rsao.reset();
     }
+    evidence.reflections = reflectionEvidence(internal);
   }
   return evidence;
 }

@@ -7,10 +7,13 @@
 
 #include "room_reverb/common/error.h"
 #include "room_reverb/evaluation/parameter_comparison.h"
+#include "room_reverb/evaluation/reflection_evidence.h"
 #include "room_reverb/evaluation/simulated_pairs.h"
 
 namespace room_reverb::core {
 namespace {
+
+constexpr double kTermCapJnd = 10.0;
 
 // The ISO 3382 parameters the diagnosis scores. C50 and Ts say little that C80, D50 and
 // EDT do not; T30 carries the late slope that coupled volumes bend.
@@ -64,6 +67,17 @@ void addEarly(const EarlyEnergyProfile& simulated, const EarlyEnergyProfile& mea
   }
 }
 
+// One term per pair, split by pair like the rest; from one pair it is held out (no fit
+// of the catalogue aims at reflection times and directions directly).
+void addReflections(double error_jnd, int pair, bool split_by_pair, std::vector<ErrorTerm>& terms) {
+  ErrorTerm term;
+  term.pair = pair;
+  term.group = "reflections";
+  term.error_jnd = error_jnd;
+  term.held_out = split_by_pair ? (pair % 2 == 1) : true;
+  terms.push_back(term);
+}
+
 }  // namespace
 
 void score(Evaluation& evaluation, const MeasuredEvidence& evidence, const EvaluationSettings& settings) {
@@ -89,7 +103,9 @@ std::map<std::string, double> groupMeanAbsoluteErrors(const std::vector<ErrorTer
     if (selection == 0 && t.held_out) continue;
     if (selection == 1 && !t.held_out) continue;
     auto& [sum, n] = sums[t.group];
-    sum += std::min(10.0, std::abs(t.error_jnd));
+    // A pair's reflection term sums reflections already capped one by one (a pair that
+    // misses two strong ones is worse off than one that misses one).
+    sum += t.group == "reflections" ? std::abs(t.error_jnd) : std::min(kTermCapJnd, std::abs(t.error_jnd));
     ++n;
   }
   std::map<std::string, double> means;
@@ -115,6 +131,9 @@ std::vector<ErrorTerm> errorTerms(const MeasuredEvidence& evidence, const std::v
       addRows(compareWithMeasured({predictions[i].analysis.metrics}, measured), static_cast<int>(i), split_by_pair,
               settings, terms);
       addEarly(predictions[i].analysis.early, evidence.rirs[i].early, static_cast<int>(i), split_by_pair, terms);
+      if (predictions[i].reflection_error_jnd) {
+        addReflections(*predictions[i].reflection_error_jnd, static_cast<int>(i), split_by_pair, terms);
+      }
     }
     return terms;
   }
@@ -128,6 +147,9 @@ std::vector<ErrorTerm> errorTerms(const MeasuredEvidence& evidence, const std::v
 
 ModelEvaluator::ModelEvaluator(const RoomUnderTest& room, const MeasuredEvidence& evidence, EvaluationSettings settings)
     : room_(room), evidence_(evidence), settings_(std::move(settings)) {
+  const bool directional = std::any_of(evidence_.rirs.begin(), evidence_.rirs.end(),
+                                       [](const PairEvidence& p) { return p.reflections.has_value(); });
+  if (settings_.score_reflections && directional) given_scene_ = std::make_shared<const AcousticScene>(room_.scene({}));
   settings_.simulation.ambisonic_order = 0;
 }
 
@@ -149,6 +171,12 @@ Evaluation ModelEvaluator::evaluate(const ModelExtension& extension, std::uint32
       prediction.simulated_omni = std::move(result.impulse_response.channels.front());
       prediction.paths = std::move(result.paths);
       prediction.seed = s.rays.seed;
+      if (given_scene_ && i < evidence_.rirs.size() && evidence_.rirs[i].reflections) {
+        prediction.reflection_error_jnd =
+            reflectionMismatch(*evidence_.rirs[i].reflections, prediction.paths, pair, *given_scene_,
+                               result.speed_of_sound_m_s)
+                .error_jnd;
+      }
       prediction.analysis = analysePair(pair, extendedResponse(prediction.simulated_omni, prediction, pair, extension,
                                                                    modal_room ? &*modal_room : nullptr));
       evaluation.predictions.push_back(std::move(prediction));
