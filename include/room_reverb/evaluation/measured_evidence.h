@@ -29,8 +29,8 @@ struct PairEvidence {
   MetricsReport metrics;     // octave bands
   EarlyEnergyProfile early;
   std::optional<Rsao> rsao;  // B-format files with a clear direct sound only
-  // B-format files with a clear direct sound: the reflections the diagnosis sets against
-  // the simulation's (reflection_evidence.h).
+  // B-format files with a clear direct sound: the reflections the diagnosis's reflection
+  // term sets against the model's specular paths (reflection_evidence.h).
   std::optional<std::vector<RelativeReflection>> reflections;
 };
 

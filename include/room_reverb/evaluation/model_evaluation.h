@@ -30,8 +30,8 @@ struct EvaluationSettings {
 
 // One number of the comparison: parameter `group` (T20, T30, EDT, C80, D50, DRR or
 // early) in one band (and, for `early`, one window) of one pair (-1: the averaged table);
-// or, for B-format measurements, `reflections` (band 0): the pair's strong reflections
-// that the model and the measurement do not share (reflection_evidence.h).
+// or, with score_reflections and B-format measurements, `reflections` (band 0): the pair's
+// strong measured reflections that no path of the model explains (reflection_evidence.h).
 struct ErrorTerm {
   int pair = -1;
   std::string group;
