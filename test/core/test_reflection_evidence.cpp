@@ -104,15 +104,15 @@ TEST(ReflectionEvidence, AnUnexplainedReflectionIsPlacedOnTheSurfaceThatMadeIt) 
 
 TEST(ReflectionEvidence, TheTermCountsEachUnexplainedReflectionByItsLevelAboveTheThreshold) {
   const PanelCase k;
-  EXPECT_NEAR(reflectionMismatch({k.panelReflection(-6.0)}, k.paths, k.pair, k.scene, k.c).error_jnd, 8.0, 1e-9);
+  EXPECT_NEAR(reflectionMismatchJnd({k.panelReflection(-6.0)}, k.paths, k.pair, k.scene, k.c), 8.0, 1e-9);
   // Weak ones, late ones and those whose point would lie outside the room do not count.
-  EXPECT_EQ(reflectionMismatch({k.panelReflection(-15.0)}, k.paths, k.pair, k.scene, k.c).error_jnd, 0.0);
+  EXPECT_EQ(reflectionMismatchJnd({k.panelReflection(-15.0)}, k.paths, k.pair, k.scene, k.c), 0.0);
   RelativeReflection late = k.panelReflection(-6.0);
   late.delay_s = 0.031;
-  EXPECT_EQ(reflectionMismatch({late}, k.paths, k.pair, k.scene, k.c).error_jnd, 0.0);
+  EXPECT_EQ(reflectionMismatchJnd({late}, k.paths, k.pair, k.scene, k.c), 0.0);
   // Capped at 10 per reflection, summed over reflections.
   RelativeReflection loud = k.panelReflection(0.0);
-  EXPECT_NEAR(reflectionMismatch({loud}, k.paths, k.pair, k.scene, k.c).error_jnd, 10.0, 1e-9);
+  EXPECT_NEAR(reflectionMismatchJnd({loud}, k.paths, k.pair, k.scene, k.c), 10.0, 1e-9);
   // A first-order wall reflection of the model explains its measured counterpart.
   const SpecularPath& wall = k.paths[1];
   RelativeReflection seen;
@@ -126,14 +126,14 @@ TEST(ReflectionEvidence, TheTermCountsEachUnexplainedReflectionByItsLevelAboveTh
   astray.azimuth_deg += 180.0;
   astray.elevation_deg = -astray.elevation_deg;
   EXPECT_FALSE(explainedBySpecularPath(k.paths, astray));
-  EXPECT_EQ(reflectionMismatch({seen, k.panelReflection(-6.0)}, k.paths, k.pair, k.scene, k.c).error_jnd, 8.0);
+  EXPECT_EQ(reflectionMismatchJnd({seen, k.panelReflection(-6.0)}, k.paths, k.pair, k.scene, k.c), 8.0);
   // With the panel's path in the model, nothing is left.
   std::vector<SpecularPath> with_panel = k.paths;
   SpecularPath panel_path = wall;
   panel_path.delay_s = k.paths.front().delay_s + k.panelReflection(-6.0).delay_s;
   panel_path.arrival_direction = (k.panel_point - k.pair.receiver_m).normalized();
   with_panel.push_back(panel_path);
-  EXPECT_EQ(reflectionMismatch({k.panelReflection(-6.0)}, with_panel, k.pair, k.scene, k.c).error_jnd, 0.0);
+  EXPECT_EQ(reflectionMismatchJnd({k.panelReflection(-6.0)}, with_panel, k.pair, k.scene, k.c), 0.0);
 }
 
 TEST(ReflectionEvidence, CoincidentPathsExplainTheOneReflectionTheRsaoReadsFromThem) {

@@ -25,11 +25,6 @@ namespace room_reverb::core {
 // with fewer than four channels.
 std::optional<std::vector<RelativeReflection>> reflectionEvidence(const AudioBuffer& ambix_48k);
 
-struct ReflectionMismatch {
-  std::vector<UnexplainedReflection> measured_only;  // strong, unexplained, inside the room
-  double error_jnd = 0.0;
-};
-
 // The error of one pair in JND (1 dB of level per JND, as the early-energy windows): over
 // the strong measured reflections that no path explains and that a missing surface inside
 // the room could make (unexplained_reflections.h), the sum of their levels above -14 dB
@@ -41,8 +36,7 @@ struct ReflectionMismatch {
 // as a second part and withdrawn (session 10): the RSAO misses or merges some real paths
 // (a floor and a ceiling reflection 0.3 ms apart), and a model could lower that part by
 // weakening its paths (more scattering) instead of by placing them right.
-ReflectionMismatch reflectionMismatch(const std::vector<RelativeReflection>& measured,
-                                      const std::vector<SpecularPath>& paths, const MeasurementPair& pair,
-                                      const AcousticScene& scene, double speed_of_sound_m_s);
+double reflectionMismatchJnd(const std::vector<RelativeReflection>& measured, const std::vector<SpecularPath>& paths,
+                             const MeasurementPair& pair, const AcousticScene& scene, double speed_of_sound_m_s);
 
 }  // namespace room_reverb::core

@@ -173,9 +173,8 @@ Evaluation ModelEvaluator::evaluate(const ModelExtension& extension, std::uint32
       prediction.seed = s.rays.seed;
       if (given_scene_ && i < evidence_.rirs.size() && evidence_.rirs[i].reflections) {
         prediction.reflection_error_jnd =
-            reflectionMismatch(*evidence_.rirs[i].reflections, prediction.paths, pair, *given_scene_,
-                               result.speed_of_sound_m_s)
-                .error_jnd;
+            reflectionMismatchJnd(*evidence_.rirs[i].reflections, prediction.paths, pair, *given_scene_,
+                                  result.speed_of_sound_m_s);
       }
       prediction.analysis = analysePair(pair, extendedResponse(prediction.simulated_omni, prediction, pair, extension,
                                                                    modal_room ? &*modal_room : nullptr));

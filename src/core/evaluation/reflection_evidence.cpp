@@ -31,16 +31,14 @@ std::optional<std::vector<RelativeReflection>> reflectionEvidence(const AudioBuf
   }
 }
 
-ReflectionMismatch reflectionMismatch(const std::vector<RelativeReflection>& measured,
-                                      const std::vector<SpecularPath>& paths, const MeasurementPair& pair,
-                                      const AcousticScene& scene, double speed_of_sound_m_s) {
-  ReflectionMismatch out;
-  out.measured_only = unexplainedReflections(measured, paths, pair, scene, speed_of_sound_m_s,
-                                             ExplanationRule::kAudibleOrMerged);
-  for (const UnexplainedReflection& r : out.measured_only) {
-    out.error_jnd += std::min(kReflectionCapJnd, r.level_db - kStrongReflectionLevelDb);
+double reflectionMismatchJnd(const std::vector<RelativeReflection>& measured, const std::vector<SpecularPath>& paths,
+                             const MeasurementPair& pair, const AcousticScene& scene, double speed_of_sound_m_s) {
+  double error_jnd = 0.0;
+  for (const UnexplainedReflection& r : unexplainedReflections(measured, paths, pair, scene, speed_of_sound_m_s,
+                                                               ExplanationRule::kAudibleOrMerged)) {
+    error_jnd += std::min(kReflectionCapJnd, r.level_db - kStrongReflectionLevelDb);
   }
-  return out;
+  return error_jnd;
 }
 
 }  // namespace room_reverb::core

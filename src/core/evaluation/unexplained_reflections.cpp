@@ -72,7 +72,7 @@ bool explainedByAudiblePaths(const std::vector<SpecularPath>& paths, const Relat
   int count = 0;
   for (const SpecularPath& p : paths) {
     if (p.order == 0 || !audible(p) || std::abs((p.delay_s - direct) - reflection.delay_s) > kMergeWindowS) continue;
-    const double energy = p.pressure_gain[4] * p.pressure_gain[4];  // 1 kHz
+    const double energy = std::pow(10.0, 0.1 * pathLevelDb(p, direct_path));
     sum += energy * p.arrival_direction;
     weighted_delay += energy * p.delay_s;
     weight += energy;
