@@ -21,17 +21,18 @@ struct EvaluationSettings {
   SimulationSettings simulation;  // omni; its seed is the base seed of every evaluation
   std::vector<double> bands_hz{125, 250, 500, 1000, 2000, 4000, 8000};
   EarlyEnergyOptions early;
-  // Score the `reflections` term (reflection_evidence.h) for B-format measurements. Off by
-  // default: on the planted test rooms it lets a panel placed from one phantom reflection
-  // (seed 11, no panel planted) gain 0.32 JND held out, while the planted panel of seed 14
-  // gains 0.38 only at a size the fit pairs do not choose (docs/diagnosis.md).
-  bool score_reflections = false;
+  // Score the `reflections` term (reflection_evidence.h) for two or more B-format pairs: it
+  // judges fits on the held-out pairs and does not steer them (the fit error leaves it
+  // out). Without it a missing panel that one held-out pair hears at -7 dB moves the
+  // averaged decay and early-energy terms too little to be named (docs/diagnosis.md).
+  bool score_reflections = true;
 };
 
 // One number of the comparison: parameter `group` (T20, T30, EDT, C80, D50, DRR or
 // early) in one band (and, for `early`, one window) of one pair (-1: the averaged table);
-// or, with score_reflections and B-format measurements, `reflections` (band 0): the pair's
-// strong measured reflections that no path of the model explains (reflection_evidence.h).
+// or, with score_reflections and two or more B-format measurements, `reflections` (band 0):
+// the pair's strong measured reflections that no path of the model explains
+// (reflection_evidence.h).
 struct ErrorTerm {
   int pair = -1;
   std::string group;

@@ -26,9 +26,10 @@ bool pathMatchesReflection(const SpecularPath& path, double direct_delay_s, cons
 // Whether any of `paths` (paths.front() the direct sound) does.
 bool explainedBySpecularPath(const std::vector<SpecularPath>& paths, const RelativeReflection& reflection);
 // The stricter rule of the reflection term (reflection_evidence.h): only paths at most 24
-// dB below the direct sound count, alone or, for paths that share the RSAO's analysis
-// window, merged into their energy-weighted mean direction (the one reflection the RSAO
-// reads from a floor and a ceiling path 0.3 ms apart comes from the horizon).
+// dB below the direct sound count, alone or, for paths each within 0.6 ms of the
+// reflection (inside the RSAO's 2 ms analysis window), merged into their energy-weighted
+// mean direction (the one reflection the RSAO reads from a floor and a ceiling path 0.3 ms
+// apart comes from the horizon).
 bool explainedByAudiblePaths(const std::vector<SpecularPath>& paths, const RelativeReflection& reflection);
 
 enum class ExplanationRule { kAnyPath, kAudibleOrMerged };

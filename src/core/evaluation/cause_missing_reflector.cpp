@@ -1,15 +1,14 @@
 // missing_reflector: a strong early reflection in a measured B-format RIR that no specular
 // path of the model explains is taken as a surface the model lacks, placed by image-source
-// geometry from its time and direction (unexplained_reflections.h). Points found at several fit pairs are clustered; the panel (a thin cuboid, upright or
-// level, whichever the normal is closer to) goes where most agree, and its size is fitted.
-#include <algorithm>
+// geometry from its time and direction (unexplained_reflections.h). Points found at
+// several fit pairs are clustered; the panel (a thin cuboid, upright or level) goes where
+// most agree, over the extent the fit pairs' geometry allows (panel_extent.h).
 #include <cmath>
-#include <limits>
-#include <sstream>
 
 #include "cause_fitting.h"
 #include "room_reverb/acoustics/propagation.h"
 #include "room_reverb/common/directions.h"
+#include "room_reverb/evaluation/panel_extent.h"
 #include "room_reverb/evaluation/unexplained_reflections.h"
 
 namespace room_reverb::core {
@@ -58,22 +57,53 @@ std::vector<ReflectionPoint> largestCluster(const std::vector<ReflectionPoint>& 
   return best;
 }
 
-CuboidObject panelAt(const Eigen::Vector3d& point, const Eigen::Vector3d& normal, double size_m) {
+// The panel's plane through the reflection point: upright or level, whichever the
+// reflection's normal is closer to (walls, screens and partitions; table tops, canopies).
+PanelPlane panelPlane(const Eigen::Vector3d& point, const Eigen::Vector3d& normal) {
+  PanelPlane plane;
+  plane.origin = point;
+  if (std::abs(normal.z()) > std::sqrt(0.5)) {
+    plane.normal = Eigen::Vector3d(0, 0, normal.z() > 0.0 ? 1.0 : -1.0);
+    plane.u = Eigen::Vector3d::UnitX();
+    plane.v = Eigen::Vector3d::UnitY();
+  } else {
+    plane.normal = Eigen::Vector3d(normal.x(), normal.y(), 0.0).normalized();
+    plane.u = Eigen::Vector3d(-plane.normal.y(), plane.normal.x(), 0.0);
+    plane.v = Eigen::Vector3d::UnitZ();
+  }
+  return plane;
+}
+
+// A thin cuboid behind the plane's reflecting face over the extent. An upright panel's own
+// x axis is its normal (its yaw), y its width along u; a level one is unrotated.
+CuboidObject panelOver(const PanelPlane& plane, const PanelExtent& extent) {
   CuboidObject panel;
   panel.label = "fitted_reflector";
   panel.material = kPanelMaterial;
-  if (std::abs(normal.z()) > std::sqrt(0.5)) {
-    // Closer to level: a horizontal panel (a table top, a canopy) below or above the point.
-    const double side = normal.z() > 0.0 ? -1.0 : 1.0;
-    panel.size_m = {size_m, size_m, kPanelThicknessM};
-    panel.center_m = point + Eigen::Vector3d(0, 0, side * 0.5 * kPanelThicknessM);
+  panel.center_m = plane.origin + 0.5 * (extent.u_min + extent.u_max) * plane.u +
+                   0.5 * (extent.v_min + extent.v_max) * plane.v - 0.5 * kPanelThicknessM * plane.normal;
+  if (plane.normal.z() != 0.0) {
+    panel.size_m = {extent.width(), extent.height(), kPanelThicknessM};
   } else {
-    const Eigen::Vector3d horizontal = Eigen::Vector3d(normal.x(), normal.y(), 0.0).normalized();
-    panel.yaw_rad = std::atan2(horizontal.y(), horizontal.x());
-    panel.size_m = {kPanelThicknessM, size_m, size_m};
-    panel.center_m = point - horizontal * 0.5 * kPanelThicknessM;
+    panel.yaw_rad = std::atan2(plane.normal.y(), plane.normal.x());
+    panel.size_m = {kPanelThicknessM, extent.width(), extent.height()};
   }
   return panel;
+}
+
+// The fit pairs with their measured reflections and the model's paths: where they confirm
+// the panel and where they deny it.
+std::vector<PanelWitness> fitWitnesses(const FitContext& context) {
+  const MeasuredEvidence& evidence = context.evaluator.evidence();
+  std::vector<PanelWitness> witnesses;
+  const bool split = evidence.rirs.size() >= 2;
+  for (std::size_t i = 0; i < evidence.rirs.size(); ++i) {
+    if ((split && i % 2 == 1) || !evidence.rirs[i].rsao) continue;
+    if (i >= context.current.predictions.size()) break;
+    witnesses.push_back({evidence.rirs[i].pair, relativeReflections(*evidence.rirs[i].rsao),
+                         context.current.predictions[i].paths});
+  }
+  return witnesses;
 }
 
 }  // namespace
@@ -94,19 +124,29 @@ std::optional<FittedCause> fitMissingReflector(const FitContext& context, std::s
   }
   point /= static_cast<double>(cluster.size());
   normal.normalize();
-  const auto make = [&](double size) {
+  const PanelPlane plane = panelPlane(point, normal);
+  std::vector<Eigen::Vector3d> support;
+  for (const ReflectionPoint& p : cluster) support.push_back(p.point);
+  const PanelBounds bounds =
+      panelBounds(plane, support, fitWitnesses(context), context.evaluator.room().scene(context.accepted), c);
+  const auto make = [&](double side) {
     ModelExtension e;
-    e.reflectors.push_back(panelAt(point, normal, size));
+    e.reflectors.push_back(panelOver(plane, placePanel(bounds, side)));
     return e;
   };
-  const ScalarFit fit = fitScalar([&](double size) { return evaluateWith(context, make(size)); }, 0.5, 1.5, 3, 0);
+  // The area from the decay terms; 0.5-2.5 m a side in five steps (each one simulation).
+  const ScalarFit fit = fitScalar([&](double side) { return evaluateWith(context, make(side)); }, 0.5, 2.5, 5, 0);
+  const PanelExtent extent = placePanel(bounds, fit.value);
   FittedCause cause;
   cause.cause = "missing_reflector";
   cause.target = "fitted_reflector";
   cause.extension = make(fit.value);
+  const CuboidObject& panel = cause.extension.reflectors.front();
   cause.parameters.values = {{"x_m", point.x()}, {"y_m", point.y()}, {"z_m", point.z()},
-                             {"normal_x", normal.x()}, {"normal_y", normal.y()}, {"normal_z", normal.z()},
-                             {"size_m", fit.value}, {"supporting_reflections", static_cast<double>(cluster.size())}};
+                             {"normal_x", plane.normal.x()}, {"normal_y", plane.normal.y()}, {"normal_z", plane.normal.z()},
+                             {"center_x_m", panel.center_m.x()}, {"center_y_m", panel.center_m.y()},
+                             {"center_z_m", panel.center_m.z()}, {"width_m", extent.width()},
+                             {"height_m", extent.height()}, {"supporting_reflections", static_cast<double>(cluster.size())}};
   cause.parameters.text["material"] = kPanelMaterial;
   cause.evaluation = fit.evaluation;
   return cause;
