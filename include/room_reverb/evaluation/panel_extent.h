@@ -4,13 +4,13 @@
 // extent. A square centred on that point and sized by the fit pairs came out about the
 // right area but in the wrong place: it did not reach the point a held-out pair hears,
 // 1.14 m away (docs/diagnosis.md, session 10). So the two are separated here. The fit
-// pairs' geometry bounds where the panel may
-// lie: it holds the points that saw it, grows in its plane up to a prior size and the
-// room's bounds, and is cut back where a fit pair denies it (where it would give that pair
-// a strong reflection its measurement lacks, or stand between its source and receiver).
-// Its area, which the decay times do measure (a wood panel's two faces add absorption),
-// is fitted; the panel of that area goes to the middle of what the bounds allow, the
-// placement furthest from being wrong when nothing else says where it is.
+// pairs' geometry bounds where the panel may lie: it holds the points that saw it, grows
+// in its plane up to a prior size and the room's bounds, and is cut back where a fit pair
+// denies it (where it would give that pair a strong reflection its measurement lacks, or
+// stand between its source and receiver). Its area, which the decay times do measure (a
+// wood panel's two faces add absorption), is fitted; the panel of that area goes to the
+// middle of what the bounds allow, the placement furthest from being wrong when nothing
+// else says where it is.
 #include <optional>
 #include <vector>
 
