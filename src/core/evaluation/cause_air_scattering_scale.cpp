@@ -41,7 +41,7 @@ std::optional<FittedCause> fitScattering(const FitContext& context, std::string&
     e.global_scattering = s;
     return e;
   };
-  return scalarCause(context, "scattering", "scattering", make, 0.0, 1.0, 5, 3);
+  return scalarCause(context, "scattering", "scattering", make, 0.0, 1.0, 5, 6);
 }
 
 std::optional<FittedCause> fitGeometryScale(const FitContext& context, std::string& /*why*/) {
