@@ -62,9 +62,17 @@ struct Evaluation {
   double heldout_error_jnd = 0.0;  // the part they may not
 };
 
-// Mean absolute error in JND over the terms selected (each term capped at 10 JND, so one
-// wild value cannot outweigh the rest; a pair's reflection term is capped per reflection): each parameter group's mean, then the mean over the
-// groups, so that no group counts more for having more numbers.
+// With two or more measured pairs the evidence is split by pair: indices 0, 2, 4... fit
+// and 1, 3, 5... are held out. One pair is split by parameter and window instead.
+inline bool splitsByPair(std::size_t pair_count) { return pair_count >= 2; }
+inline bool isHeldOutPair(std::size_t pair) { return pair % 2 == 1; }
+
+// No term counts more than this, so that one wild value cannot outweigh the rest.
+constexpr double kTermCapJnd = 10.0;
+
+// Mean absolute error in JND over the terms selected (each term capped at kTermCapJnd, a
+// pair's reflection term per reflection): each parameter group's mean, then the mean over
+// the groups, so that no group counts more for having more numbers.
 double meanAbsoluteError(const std::vector<ErrorTerm>& terms, int selection);  // -1 all, 0 fit, 1 held out
 // The per-group means that meanAbsoluteError averages.
 std::map<std::string, double> groupMeanAbsoluteErrors(const std::vector<ErrorTerm>& terms, int selection);

@@ -20,16 +20,25 @@ constexpr const char* kPanelMaterial = "wood_panel";
 
 using ReflectionPoint = UnexplainedReflection;
 
-// The unexplained reflections of the fit pairs (held-out pairs do not place the panel).
-std::vector<ReflectionPoint> unexplainedPoints(const FitContext& context, double speed_of_sound) {
+// The fit pairs with an RSAO (held-out pairs neither place nor bound the panel), with
+// their measured reflections and the model's paths.
+std::vector<PanelWitness> fitWitnesses(const FitContext& context) {
   const MeasuredEvidence& evidence = context.evaluator.evidence();
-  const AcousticScene scene = context.evaluator.room().scene(context.accepted);
-  std::vector<ReflectionPoint> points;
-  const bool split = evidence.rirs.size() >= 2;
+  std::vector<PanelWitness> witnesses;
   for (std::size_t i = 0; i < evidence.rirs.size() && i < context.current.predictions.size(); ++i) {
-    if ((split && i % 2 == 1) || !evidence.rirs[i].rsao) continue;
-    const auto found = unexplainedReflections(relativeReflections(*evidence.rirs[i].rsao), context.current.predictions[i].paths,
-                                              evidence.rirs[i].pair, scene, speed_of_sound);
+    if ((splitsByPair(evidence.rirs.size()) && isHeldOutPair(i)) || !evidence.rirs[i].rsao) continue;
+    witnesses.push_back({evidence.rirs[i].pair, relativeReflections(*evidence.rirs[i].rsao),
+                         context.current.predictions[i].paths});
+  }
+  return witnesses;
+}
+
+// The fit pairs' unexplained reflections, placed.
+std::vector<ReflectionPoint> unexplainedPoints(const std::vector<PanelWitness>& witnesses, const AcousticScene& scene,
+                                               double speed_of_sound) {
+  std::vector<ReflectionPoint> points;
+  for (const PanelWitness& w : witnesses) {
+    const auto found = unexplainedReflections(w.reflections, w.paths, w.pair, scene, speed_of_sound);
     points.insert(points.end(), found.begin(), found.end());
   }
   return points;
@@ -91,26 +100,13 @@ CuboidObject panelOver(const PanelPlane& plane, const PanelExtent& extent) {
   return panel;
 }
 
-// The fit pairs with their measured reflections and the model's paths: where they confirm
-// the panel and where they deny it.
-std::vector<PanelWitness> fitWitnesses(const FitContext& context) {
-  const MeasuredEvidence& evidence = context.evaluator.evidence();
-  std::vector<PanelWitness> witnesses;
-  const bool split = evidence.rirs.size() >= 2;
-  for (std::size_t i = 0; i < evidence.rirs.size(); ++i) {
-    if ((split && i % 2 == 1) || !evidence.rirs[i].rsao) continue;
-    if (i >= context.current.predictions.size()) break;
-    witnesses.push_back({evidence.rirs[i].pair, relativeReflections(*evidence.rirs[i].rsao),
-                         context.current.predictions[i].paths});
-  }
-  return witnesses;
-}
-
 }  // namespace
 
 std::optional<FittedCause> fitMissingReflector(const FitContext& context, std::string& why) {
   const double c = speedOfSoundMPerS(context.evaluator.room().airWith(context.accepted).temperature_c);
-  const std::vector<ReflectionPoint> cluster = largestCluster(unexplainedPoints(context, c));
+  const std::vector<PanelWitness> witnesses = fitWitnesses(context);
+  const AcousticScene scene = context.evaluator.room().scene(context.accepted);
+  const std::vector<ReflectionPoint> cluster = largestCluster(unexplainedPoints(witnesses, scene, c));
   if (cluster.empty()) {
     why = context.evaluator.evidence().rirs.empty() || !context.evaluator.evidence().rirs.front().rsao
               ? "needs B-format measurements (reflection directions)"
@@ -127,8 +123,7 @@ std::optional<FittedCause> fitMissingReflector(const FitContext& context, std::s
   const PanelPlane plane = panelPlane(point, normal);
   std::vector<Eigen::Vector3d> support;
   for (const ReflectionPoint& p : cluster) support.push_back(p.point);
-  const PanelBounds bounds =
-      panelBounds(plane, support, fitWitnesses(context), context.evaluator.room().scene(context.accepted), c);
+  const PanelBounds bounds = panelBounds(plane, support, witnesses, scene, c);
   const auto make = [&](double side) {
     ModelExtension e;
     e.reflectors.push_back(panelOver(plane, placePanel(bounds, side)));
@@ -137,11 +132,11 @@ std::optional<FittedCause> fitMissingReflector(const FitContext& context, std::s
   // The area from the decay terms; 0.5-2.5 m a side in five steps (each one simulation).
   const ScalarFit fit = fitScalar([&](double side) { return evaluateWith(context, make(side)); }, 0.5, 2.5, 5, 0);
   const PanelExtent extent = placePanel(bounds, fit.value);
+  const CuboidObject panel = panelOver(plane, extent);
   FittedCause cause;
   cause.cause = "missing_reflector";
   cause.target = "fitted_reflector";
-  cause.extension = make(fit.value);
-  const CuboidObject& panel = cause.extension.reflectors.front();
+  cause.extension.reflectors.push_back(panel);
   cause.parameters.values = {{"x_m", point.x()}, {"y_m", point.y()}, {"z_m", point.z()},
                              {"normal_x", plane.normal.x()}, {"normal_y", plane.normal.y()}, {"normal_z", plane.normal.z()},
                              {"center_x_m", panel.center_m.x()}, {"center_y_m", panel.center_m.y()},

@@ -14,8 +14,6 @@
 namespace room_reverb::core {
 namespace {
 
-constexpr double kTermCapJnd = 10.0;
-
 // The ISO 3382 parameters the diagnosis scores. C50 and Ts say little that C80, D50 and
 // EDT do not; T30 carries the late slope that coupled volumes bend.
 constexpr std::array<ComparedParameter, 6> kScored = {ComparedParameter::kT20, ComparedParameter::kT30,
@@ -42,7 +40,7 @@ void addRows(const std::vector<BandComparison>& rows, int pair, bool split_by_pa
       term.group = toString(p);
       term.band_hz = row.nominal_hz;
       term.error_jnd = *e;
-      term.held_out = split_by_pair ? (pair % 2 == 1) : heldOutParameter(term.group);
+      term.held_out = split_by_pair ? isHeldOutPair(static_cast<std::size_t>(pair)) : heldOutParameter(term.group);
       terms.push_back(term);
     }
   }
@@ -62,7 +60,7 @@ void addEarly(const EarlyEnergyProfile& simulated, const EarlyEnergyProfile& mea
       term.band_hz = measured.bands_hz[b];
       term.window = static_cast<int>(w);
       term.error_jnd = sim[w] - meas[w];  // 1 dB: the JND of a level
-      term.held_out = split_by_pair ? (pair % 2 == 1) : (w % 2 == 0);
+      term.held_out = split_by_pair ? isHeldOutPair(static_cast<std::size_t>(pair)) : (w % 2 == 0);
       terms.push_back(term);
     }
   }
@@ -74,7 +72,7 @@ void addReflections(double error_jnd, int pair, std::vector<ErrorTerm>& terms) {
   term.pair = pair;
   term.group = "reflections";
   term.error_jnd = error_jnd;
-  term.held_out = pair % 2 == 1;
+  term.held_out = isHeldOutPair(static_cast<std::size_t>(pair));
   terms.push_back(term);
 }
 
@@ -131,7 +129,7 @@ std::vector<ErrorTerm> errorTerms(const MeasuredEvidence& evidence, const std::v
                                   const EvaluationSettings& settings) {
   std::vector<ErrorTerm> terms;
   if (evidence.usesRirs()) {
-    const bool split_by_pair = evidence.rirs.size() >= 2;
+    const bool split_by_pair = splitsByPair(evidence.rirs.size());
     for (std::size_t i = 0; i < evidence.rirs.size() && i < predictions.size(); ++i) {
       const MeasuredParameters measured = parametersFromReport(evidence.rirs[i].metrics);
       addRows(compareWithMeasured({predictions[i].analysis.metrics}, measured), static_cast<int>(i), split_by_pair,

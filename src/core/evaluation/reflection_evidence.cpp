@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "room_reverb/common/error.h"
+#include "room_reverb/evaluation/model_evaluation.h"
 #include "room_reverb/rsao/early_reflections.h"
 
 namespace room_reverb::core {
@@ -11,7 +12,6 @@ namespace {
 
 constexpr double kMarginDb = 10.0;
 constexpr double kWindowMarginS = 0.004;
-constexpr double kReflectionCapJnd = 10.0;  // as every other term of the diagnosis
 
 }  // namespace
 
@@ -36,7 +36,7 @@ double reflectionMismatchJnd(const std::vector<RelativeReflection>& measured, co
   double error_jnd = 0.0;
   for (const UnexplainedReflection& r : unexplainedReflections(measured, paths, pair, scene, speed_of_sound_m_s,
                                                                ExplanationRule::kAudibleOrMerged)) {
-    error_jnd += std::min(kReflectionCapJnd, r.level_db - kStrongReflectionLevelDb);
+    error_jnd += std::min(kTermCapJnd, r.level_db - kStrongReflectionLevelDb);
   }
   return error_jnd;
 }

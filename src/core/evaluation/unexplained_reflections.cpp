@@ -11,11 +11,6 @@ namespace {
 constexpr double kMatchTimeS = 0.0006;   // 20 cm of path: a model's wall errors, twice over
 constexpr double kMatchAngleRad = 0.55;  // 30 degrees: the steered cardioid's spread on real rooms
 constexpr double kWallClearanceM = 0.3;
-// Paths merged into one reading must each lie within the match time of it: merging over
-// the RSAO's whole 2 ms analysis window let a path 0.65 ms early pull a wall path's
-// direction onto a measured reflection neither explains (seed 11 of the planted tests,
-// where a phantom panel's path did so at a held-out pair).
-constexpr double kMergeWindowS = kMatchTimeS;
 // 10 dB below the strong threshold: the RSAO reads a reflection several dB above its
 // path's own level (the diffuse energy in its window; a -15 dB path read at -4.6 dB).
 constexpr double kExplainingPathLevelDb = kStrongReflectionLevelDb - 10.0;
@@ -68,14 +63,17 @@ bool explainedByAudiblePaths(const std::vector<SpecularPath>& paths, const Relat
   }
   // Paths close together in the RSAO's analysis window read as one reflection from their
   // energy-weighted mean direction (a floor and a ceiling reflection 0.3 ms apart read as
-  // one from the horizon), which none of them has alone.
+  // one from the horizon), which none of them has alone. Each must lie within the match
+  // time of the reflection: merging over the whole 2 ms window let a path 0.65 ms early
+  // pull a wall path's direction onto a measured reflection neither explains (seed 11 of
+  // the planted tests, a phantom panel's path at a held-out pair).
   SpecularPath merged;
   merged.order = 1;
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   double weight = 0.0, weighted_delay = 0.0;
   int count = 0;
   for (const SpecularPath& p : paths) {
-    if (p.order == 0 || !audible(p) || std::abs((p.delay_s - direct) - reflection.delay_s) > kMergeWindowS) continue;
+    if (p.order == 0 || !audible(p) || std::abs((p.delay_s - direct) - reflection.delay_s) > kMatchTimeS) continue;
     const double energy = std::pow(10.0, 0.1 * pathLevelDb(p, direct_path));
     sum += energy * p.arrival_direction;
     weighted_delay += energy * p.delay_s;
