@@ -3,7 +3,8 @@
 //
 // A catalogue of model defects, each a hypothesis with a few parameters (model_extension.h):
 //   air_absorption      ISO 9613-1 air, humidity fitted (decay error growing above 2 kHz)
-//   surface_absorption  one surface's (or material's) absorption per band fitted
+//   surface_absorption  one surface's (or material's) absorption per band fitted, or one
+//                       per-band change to every surface's (target all_surfaces)
 //   scattering          one scattering coefficient for every surface fitted (EDT, C80, D50)
 //   missing_reflector   a panel placed from an unexplained early reflection's time and
 //                       direction (image-source geometry; B-format measurements)
@@ -14,12 +15,13 @@
 //                       room's modes, their damping scaled
 // and the measurement's own limits (clipping, noise floor, B-format convention), which are
 // flagged, never fitted. Each hypothesis is fitted on part of the evidence and its gain is
-// measured on the rest (other pairs; or, with one pair or a table, other parameters), and
+// measured on the rest (other pairs; or, with one pair or a table, other octave bands), and
 // a cause is named only when that held-out gain stands clear of the noise of the
 // simulation itself (the spread of the held-out error over ray-tracing seeds) and the
 // error over all the evidence does not rise. Causes are
 // accepted greedily: the best first, then the others are fitted again on top of it.
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -83,6 +85,20 @@ struct Diagnosis {
   int simulations = 0;          // model evaluations run
   double wall_time_s = 0.0;
 };
+
+// How many parameters a cause's fit is free to choose (per-band absorption: nine);
+// InputError for an unknown id.
+int freeParameters(const std::string& cause);
+
+// One round's causes with a real gain, by their held-out error after the fit.
+struct CauseCandidate {
+  double heldout_error_jnd = 0.0;
+  int free_parameters = 0;
+};
+// The index of the cause a round names: the lowest held-out error, unless a cause with
+// fewer free parameters comes within `margin_jnd` of it (errors that close are within the
+// simulation's noise, and the simpler explanation is the better bet); nothing for none.
+std::optional<std::size_t> chooseCause(const std::vector<CauseCandidate>& candidates, double margin_jnd);
 
 // InputError for unknown cause ids or a measurement the room cannot hold (pairs outside).
 Diagnosis diagnose(const RoomUnderTest& room, const MeasuredEvidence& evidence, const DiagnosisOptions& options = {});

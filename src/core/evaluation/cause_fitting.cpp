@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
 #include <optional>
 
 #include "room_reverb/common/error.h"
@@ -29,6 +30,17 @@ CauseFitter causeFitter(const std::string& cause) {
   std::string known;
   for (const std::string& c : kCatalogueCauses) known += (known.empty() ? "" : ", ") + c;
   throw InputError("unknown cause '" + cause + "'; the catalogue has " + known);
+}
+
+int freeParameters(const std::string& cause) {
+  // humidity; nine bands; one coefficient; the panel's point, normal and side (its
+  // material is fixed); one factor; decay time and level; pattern and axis; damping.
+  static const std::map<std::string, int> counts = {
+      {"air_absorption", 1},  {"surface_absorption", 9}, {"scattering", 1},         {"missing_reflector", 6},
+      {"geometry_scale", 1},  {"coupled_volume", 2},     {"source_directivity", 3}, {"low_frequency_modes", 1}};
+  const auto it = counts.find(cause);
+  if (it == counts.end()) throw InputError("unknown cause '" + cause + "'");
+  return it->second;
 }
 
 Evaluation evaluateWith(const FitContext& context, const ModelExtension& extension) {

@@ -14,7 +14,7 @@ namespace {
 // What each cause means, for readers of the report.
 const std::map<std::string, std::string> kCauseMeaning = {
     {"air_absorption", "the air absorbs high frequencies differently from the model (humidity fitted, ISO 9613-1)"},
-    {"surface_absorption", "one surface absorbs differently from the material the model gives it"},
+    {"surface_absorption", "one surface absorbs differently from the material the model gives it (or, target all_surfaces, every surface absorbs more or less by the same amount per band)"},
     {"scattering", "the surfaces scatter differently from the model (one coefficient for all)"},
     {"missing_reflector", "a reflecting surface the model lacks (placed from the reflection's time and direction)"},
     {"geometry_scale", "the room's dimensions are off by one factor"},

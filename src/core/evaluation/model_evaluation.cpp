@@ -20,10 +20,6 @@ constexpr std::array<ComparedParameter, 6> kScored = {ComparedParameter::kT20, C
                                                       ComparedParameter::kEdt, ComparedParameter::kC80,
                                                       ComparedParameter::kD50, ComparedParameter::kDrr};
 
-// Held out when fitting from one pair or from a table: the parameters that answer to the
-// same physics as a fitted one (EDT to T20, D50 to C80) but were not used to fit.
-bool heldOutParameter(const std::string& group) { return group == "EDT" || group == "D50" || group == "DRR"; }
-
 bool wanted(const std::vector<double>& bands, double nominal_hz) {
   return std::any_of(bands.begin(), bands.end(), [&](double b) { return std::abs(std::log2(b / nominal_hz)) < 1.0 / 6.0; });
 }
@@ -40,7 +36,7 @@ void addRows(const std::vector<BandComparison>& rows, int pair, bool split_by_pa
       term.group = toString(p);
       term.band_hz = row.nominal_hz;
       term.error_jnd = *e;
-      term.held_out = split_by_pair ? isHeldOutPair(static_cast<std::size_t>(pair)) : heldOutParameter(term.group);
+      term.held_out = split_by_pair ? isHeldOutPair(static_cast<std::size_t>(pair)) : isHeldOutBand(row.nominal_hz);
       terms.push_back(term);
     }
   }
@@ -60,7 +56,7 @@ void addEarly(const EarlyEnergyProfile& simulated, const EarlyEnergyProfile& mea
       term.band_hz = measured.bands_hz[b];
       term.window = static_cast<int>(w);
       term.error_jnd = sim[w] - meas[w];  // 1 dB: the JND of a level
-      term.held_out = split_by_pair ? isHeldOutPair(static_cast<std::size_t>(pair)) : (w % 2 == 0);
+      term.held_out = split_by_pair ? isHeldOutPair(static_cast<std::size_t>(pair)) : isHeldOutBand(term.band_hz);
       terms.push_back(term);
     }
   }
