@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <limits>
-#include <map>
 #include <optional>
 
 #include "room_reverb/common/error.h"
@@ -12,36 +11,42 @@ namespace {
 
 double fitError(const Evaluation& e) { return e.valid ? e.fit_error_jnd : std::numeric_limits<double>::infinity(); }
 
-}  // namespace
+// The catalogue, once: each cause's id, its fit, and how many parameters the fit is free
+// to choose (humidity; nine bands; one coefficient; the panel's point, normal and side, its
+// material fixed; one factor; decay time and level; pattern and axis; damping).
+struct CatalogueEntry {
+  const char* id;
+  std::optional<FittedCause> (*fit)(const FitContext&, std::string&);
+  int free_parameters;
+};
+constexpr CatalogueEntry kCatalogue[] = {
+    {"air_absorption", fitAirAbsorption, 1},         {"surface_absorption", fitSurfaceAbsorption, 9},
+    {"scattering", fitScattering, 1},                {"missing_reflector", fitMissingReflector, 6},
+    {"geometry_scale", fitGeometryScale, 1},         {"coupled_volume", fitCoupledVolume, 2},
+    {"source_directivity", fitSourceDirectivity, 3}, {"low_frequency_modes", fitLowFrequencyModes, 1}};
 
-const std::vector<std::string> kCatalogueCauses = {"air_absorption",   "surface_absorption", "scattering",
-                                                   "missing_reflector", "geometry_scale",     "coupled_volume",
-                                                   "source_directivity", "low_frequency_modes"};
-
-CauseFitter causeFitter(const std::string& cause) {
-  if (cause == "air_absorption") return fitAirAbsorption;
-  if (cause == "surface_absorption") return fitSurfaceAbsorption;
-  if (cause == "scattering") return fitScattering;
-  if (cause == "missing_reflector") return fitMissingReflector;
-  if (cause == "geometry_scale") return fitGeometryScale;
-  if (cause == "coupled_volume") return fitCoupledVolume;
-  if (cause == "source_directivity") return fitSourceDirectivity;
-  if (cause == "low_frequency_modes") return fitLowFrequencyModes;
+const CatalogueEntry& entry(const std::string& cause) {
+  for (const CatalogueEntry& e : kCatalogue) {
+    if (cause == e.id) return e;
+  }
   std::string known;
-  for (const std::string& c : kCatalogueCauses) known += (known.empty() ? "" : ", ") + c;
+  for (const CatalogueEntry& e : kCatalogue) known += (known.empty() ? "" : ", ") + std::string(e.id);
   throw InputError("unknown cause '" + cause + "'; the catalogue has " + known);
 }
 
-int freeParameters(const std::string& cause) {
-  // humidity; nine bands; one coefficient; the panel's point, normal and side (its
-  // material is fixed); one factor; decay time and level; pattern and axis; damping.
-  static const std::map<std::string, int> counts = {
-      {"air_absorption", 1},  {"surface_absorption", 9}, {"scattering", 1},         {"missing_reflector", 6},
-      {"geometry_scale", 1},  {"coupled_volume", 2},     {"source_directivity", 3}, {"low_frequency_modes", 1}};
-  const auto it = counts.find(cause);
-  if (it == counts.end()) throw InputError("unknown cause '" + cause + "'");
-  return it->second;
+std::vector<std::string> catalogueIds() {
+  std::vector<std::string> ids;
+  for (const CatalogueEntry& e : kCatalogue) ids.emplace_back(e.id);
+  return ids;
 }
+
+}  // namespace
+
+const std::vector<std::string> kCatalogueCauses = catalogueIds();
+
+CauseFitter causeFitter(const std::string& cause) { return entry(cause).fit; }
+
+int freeParameters(const std::string& cause) { return entry(cause).free_parameters; }
 
 Evaluation evaluateWith(const FitContext& context, const ModelExtension& extension) {
   ModelExtension combined = context.accepted;

@@ -84,7 +84,6 @@ struct TargetFit {
   std::vector<std::string> surfaces;  // the targets whose absorption changes
   double area = 0.0;
   std::map<std::string, OctaveBandValues> alpha;
-  OctaveBandValues added{};           // all_surfaces: the absorption added to each
 };
 
 TargetFit startFit(const FitContext& context, const std::string& name, std::vector<std::string> surfaces) {
@@ -98,19 +97,15 @@ TargetFit startFit(const FitContext& context, const std::string& name, std::vect
   return fit;
 }
 
-// Applies one Newton step; returns the change in the model's absorption area.
-OctaveBandValues step(const FitContext& context, TargetFit& fit, const OctaveBandValues& area_total,
-                      const std::map<double, double>& bias) {
+// Applies one Newton step, keeping the model's absorption area up to date.
+void step(const FitContext& context, TargetFit& fit, OctaveBandValues& area_total, const std::map<double, double>& bias) {
   const OctaveBandValues change = newtonChange(area_total, fit.area, bias);
-  OctaveBandValues area_change{};
   for (const std::string& s : fit.surfaces) {
     const OctaveBandValues next = clampedSum(fit.alpha[s], change);
     const double area = context.evaluator.room().areaOf(s);
-    for (std::size_t b = 0; b < next.size(); ++b) area_change[b] += area * (next[b] - fit.alpha[s][b]);
+    for (std::size_t b = 0; b < next.size(); ++b) area_total[b] += area * (next[b] - fit.alpha[s][b]);
     fit.alpha[s] = next;
   }
-  for (std::size_t b = 0; b < change.size(); ++b) fit.added[b] += change[b];
-  return area_change;
 }
 
 CauseParameters parametersOf(const FitContext& context, const TargetFit& fit) {
@@ -121,7 +116,15 @@ CauseParameters parametersOf(const FitContext& context, const TargetFit& fit) {
     const OctaveBandValues before = currentAbsorption(context, fit.surfaces.front());
     parameters.bands["absorption_before"] = std::vector<double>(before.begin(), before.end());
   } else {
-    parameters.bands["absorption_added"] = std::vector<double>(fit.added.begin(), fit.added.end());
+    // What was added, as applied (clamped to 0.01-0.99 per surface): the change in
+    // absorption area over the area of all the surfaces.
+    std::vector<double> added(kOctaveBandCount, 0.0);
+    for (const std::string& s : fit.surfaces) {
+      const OctaveBandValues before = currentAbsorption(context, s);
+      const double area = context.evaluator.room().areaOf(s);
+      for (std::size_t b = 0; b < added.size(); ++b) added[b] += area * (fit.alpha.at(s)[b] - before[b]) / fit.area;
+    }
+    parameters.bands["absorption_added"] = added;
   }
   return parameters;
 }
@@ -150,8 +153,7 @@ std::optional<FittedCause> fitSurfaceAbsorption(const FitContext& context, std::
     OctaveBandValues area_total = area0;
     std::map<double, double> bias = bias0;
     for (int k = 0; k < kNewtonSteps; ++k) {
-      const OctaveBandValues area_change = step(context, fit, area_total, bias);
-      for (std::size_t b = 0; b < area_total.size(); ++b) area_total[b] += area_change[b];
+      step(context, fit, area_total, bias);
       ModelExtension extension;
       extension.absorption = fit.alpha;
       Evaluation evaluation = evaluateWith(context, extension);

@@ -106,19 +106,19 @@ Diagnosis diagnose(const RoomUnderTest& room, const MeasuredEvidence& evidence, 
     for (const FittedCause& f : real_fits) candidates.push_back({f.evaluation.heldout_error_jnd, freeParameters(f.cause)});
     const std::optional<std::size_t> chosen = chooseCause(candidates, options.noise_factor * diagnosis.noise_jnd);
     if (!chosen) break;
-    FittedCause* best = &real_fits[*chosen];
+    FittedCause& best = real_fits[*chosen];
     NamedCause named;
-    named.cause = best->cause;
-    named.target = best->target;
-    named.parameters = best->parameters;
-    named.extension = best->extension;
+    named.cause = best.cause;
+    named.target = best.target;
+    named.parameters = best.parameters;
+    named.extension = best.extension;
     named.error_before_jnd = current.error_jnd;
     named.heldout_before_jnd = current.heldout_error_jnd;
-    named.error_after_jnd = best->evaluation.error_jnd;
-    named.heldout_after_jnd = best->evaluation.heldout_error_jnd;
+    named.error_after_jnd = best.evaluation.error_jnd;
+    named.heldout_after_jnd = best.evaluation.heldout_error_jnd;
     diagnosis.causes.push_back(named);
-    diagnosis.extension.add(best->extension);
-    current = std::move(best->evaluation);
+    diagnosis.extension.add(best.extension);
+    current = std::move(best.evaluation);
     next_round.erase(std::remove(next_round.begin(), next_round.end(), named.cause), next_round.end());
     worth_trying = next_round;
   }

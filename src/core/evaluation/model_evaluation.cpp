@@ -83,7 +83,7 @@ void score(Evaluation& evaluation, const MeasuredEvidence& evidence, const Evalu
   // scale of seed 15 fitted 0.929 for 0.906). It judges fits on the held-out pairs.
   std::vector<ErrorTerm> fit_terms;
   std::copy_if(evaluation.terms.begin(), evaluation.terms.end(), std::back_inserter(fit_terms),
-               [](const ErrorTerm& t) { return !t.held_out && t.group != "reflections"; });
+               [](const ErrorTerm& t) { return t.group != "reflections"; });
   evaluation.fit_error_jnd = meanAbsoluteError(fit_terms, 0);
   evaluation.heldout_error_jnd = meanAbsoluteError(evaluation.terms, 1);
 }
