@@ -246,6 +246,8 @@ bool EvaluationServer::diagnose(room_reverb::DiagnoseRoom::Request& request,
     const core::DiagnosisFiles files = core::writeDiagnosis(diagnosis, room, evidence, out);
     response.baseline_error_jnd = diagnosis.baseline_error_jnd;
     response.noise_jnd = diagnosis.noise_jnd;
+    response.threshold_jnd = diagnosis.threshold_jnd;
+    response.noise_limited = diagnosis.noiseLimited();
     for (const core::NamedCause& c : diagnosis.causes) {
       room_reverb::DiagnosedCause m;
       m.cause = c.cause;

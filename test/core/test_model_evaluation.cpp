@@ -108,5 +108,25 @@ TEST(ModelEvaluation, EveryCatalogueCauseCountsItsParameters) {
   EXPECT_THROW(freeParameters("ghosts"), InputError);
 }
 
+TEST(ModelEvaluation, ADiagnosisWhoseNoiseHidesEveryCauseSaysSo) {
+  // The demo's one pair (session 13): held-out error 1.14 JND, noise 0.66, threshold 1.32.
+  Diagnosis d;
+  d.baseline_error_jnd = 1.21;
+  d.baseline_heldout_jnd = 1.14;
+  d.noise_jnd = 0.66;
+  d.threshold_jnd = 1.32;
+  EXPECT_TRUE(d.noiseLimited());
+  EXPECT_NE(diagnosisToMarkdown(d, "", {}).find("No cause could be named"), std::string::npos);
+  EXPECT_NE(diagnosisToJson(d, "").find("\"noise_limited\": true"), std::string::npos);
+  // Five pairs of the same room (bench_diagnosis): noise 0.09, nothing named would be a
+  // finding, not a limit.
+  d.noise_jnd = 0.09;
+  d.threshold_jnd = 0.18;
+  EXPECT_FALSE(d.noiseLimited());
+  const std::string report = diagnosisToMarkdown(d, "", {});
+  EXPECT_EQ(report.find("No cause could be named"), std::string::npos);
+  EXPECT_NE(report.find("No cause named"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace room_reverb::test

@@ -84,6 +84,11 @@ struct Diagnosis {
   Evaluation before, after;     // the base model and the extended one
   int simulations = 0;          // model evaluations run
   double wall_time_s = 0.0;
+  // No cause could have been named, whatever is wrong: a fit cannot gain more than the
+  // whole held-out error, and the threshold is at least that. The evidence is too noisy
+  // for the model's error (one pair in a room whose decay rides on a few ray paths, as the
+  // demo's sample room); more pairs or more rays lower the noise.
+  bool noiseLimited() const { return threshold_jnd >= baseline_heldout_jnd; }
 };
 
 // How many parameters a cause's fit is free to choose (per-band absorption: nine);

@@ -54,6 +54,7 @@ class RoomUnderTest {
 
   bool isRoomModel() const { return room_.has_value(); }
   const AirConditions& air() const { return air_; }
+  const MaterialLibrary& library() const { return library_; }
 
   // What a per-surface absorption fit may target: the room's used surfaces and objects, or
   // the mesh's materials; with each target's current absorption and area.

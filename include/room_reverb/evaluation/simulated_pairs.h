@@ -21,8 +21,17 @@ struct SimulatedPair {
 // noise; every simulation of measured pairs (compare, the diagnosis) follows this rule.
 std::uint32_t pairSeed(std::uint32_t base_seed, std::size_t pair);
 
-// Pair i is simulated with pairSeed(settings.rays.seed, i).
-// `progress` (may be empty) is called after each pair with its index.
+// Calls job(i, threads_of_i) for every pair i in [0, count): up to `threads` pairs at once
+// (0: all hardware threads), in rounds; each pair of a full round gets one thread and the
+// pairs of a last, smaller round share the threads (the tracer parallelises within a
+// simulation, the analysis of a response does not). Which thread count a pair gets
+// depends only on i, count and threads, so results are reproducible. The first exception
+// (lowest i) of a job is rethrown after every job has ended.
+void runPairsInRounds(std::size_t count, int threads, const std::function<void(std::size_t, int)>& job);
+
+// Pair i is simulated with pairSeed(settings.rays.seed, i), in rounds (runPairsInRounds)
+// with settings.rays.threads. `progress` (may be empty) is called on the calling thread
+// with each pair's index, in order, once its round has ended.
 std::vector<SimulatedPair> simulatePairs(const AcousticScene& scene, const std::vector<MeasurementPair>& pairs,
                                          const SimulationSettings& settings, BandResolution resolution,
                                          const std::function<void(std::size_t, const SimulatedPair&)>& progress = {});

@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "room_reverb/common/error.h"
+#include "room_reverb/evaluation/simulated_pairs.h"
 
 namespace room_reverb::core {
 namespace {
@@ -69,14 +70,15 @@ Evaluation reanalyseWith(const FitContext& context, const ModelExtension& extens
   }
   Evaluation evaluation;
   try {
-    for (const PairPrediction& base : context.current.predictions) {
-      PairPrediction prediction = base;
+    const std::vector<PairPrediction>& bases = context.current.predictions;
+    evaluation.predictions = bases;
+    runPairsInRounds(bases.size(), evaluator.settings().simulation.rays.threads, [&](std::size_t i, int) {
+      const PairPrediction& base = bases[i];
       const MeasurementPair& pair = base.analysis.pair;
-      prediction.analysis =
+      evaluation.predictions[i].analysis =
           analysePair(pair, on_top ? extendedResponse(base.analysis.omni, base, pair, extension, nullptr)
                                    : extendedResponse(base.simulated_omni, base, pair, combined, modal_room));
-      evaluation.predictions.push_back(std::move(prediction));
-    }
+    });
   } catch (const InputError& e) {
     evaluation.reason = e.what();
     return evaluation;

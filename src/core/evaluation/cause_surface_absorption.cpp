@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "cause_fitting.h"
+#include "room_reverb/evaluation/material_match.h"
 
 namespace room_reverb::core {
 namespace {
@@ -115,6 +116,14 @@ CauseParameters parametersOf(const FitContext& context, const TargetFit& fit) {
     parameters.bands["absorption"] = std::vector<double>(alpha.begin(), alpha.end());
     const OctaveBandValues before = currentAbsorption(context, fit.surfaces.front());
     parameters.bands["absorption_before"] = std::vector<double>(before.begin(), before.end());
+    // What the surface is, by what it absorbs: the report names the material and flags a
+    // fit that absorbs like nothing in the library (material_match.h).
+    const MaterialMatch match = nearestMaterial(alpha, context.evaluator.room().library());
+    if (!match.material.empty()) {
+      parameters.text["nearest_material"] = match.material;
+      parameters.values["nearest_material_difference"] = match.max_difference;
+      parameters.values["nearest_material_worst_band_hz"] = match.worst_band_hz;
+    }
   } else {
     // What was added, as applied (clamped to 0.01-0.99 per surface): the change in
     // absorption area over the area of all the surfaces.

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "room_reverb/evaluation/diagnosis.h"
+#include "room_reverb/evaluation/material_match.h"
 
 namespace room_reverb::core {
 namespace {
@@ -51,6 +52,7 @@ std::string diagnosisToJson(const Diagnosis& d, const std::string& extended_room
   j["baseline_heldout_error_jnd"] = rounded(d.baseline_heldout_jnd, 4);
   j["noise_jnd"] = rounded(d.noise_jnd, 4);
   j["threshold_jnd"] = rounded(d.threshold_jnd, 4);
+  j["noise_limited"] = d.noiseLimited();
   j["causes"] = nlohmann::json::array();
   for (const NamedCause& c : d.causes) {
     j["causes"].push_back({{"cause", c.cause},
@@ -87,7 +89,12 @@ std::string diagnosisToMarkdown(const Diagnosis& d, const std::string& extended_
      << "group weighted equally; " << d.baseline_heldout_jnd << " JND on the held-out evidence). "
      << "Noise of the held-out error over ray-tracing seeds: " << d.noise_jnd << " JND, so a cause must gain more than "
      << d.threshold_jnd << " JND on evidence its fit did not use to be named.\n\n";
-  if (d.causes.empty()) {
+  if (d.causes.empty() && d.noiseLimited()) {
+    os << "**No cause could be named**: the threshold (" << d.threshold_jnd << " JND) is at least the whole held-out "
+       << "error (" << d.baseline_heldout_jnd << " JND), so no fit, however right, could gain enough. The simulation's "
+       << "own noise hides whatever the model gets wrong; more measured pairs (the evidence is then split by pair and "
+       << "the noise averages over them) or more rays (`--rays`) lower it.\n\n";
+  } else if (d.causes.empty()) {
     os << "**No cause named**: no extension of the model gains more than the threshold on held-out evidence.\n\n";
   } else {
     os << "## Causes, ranked\n\n| # | cause | target | parameters | error before → after (JND) | held-out gain (JND) |\n"
@@ -101,7 +108,20 @@ std::string diagnosisToMarkdown(const Diagnosis& d, const std::string& extended_
     os << "\n";
     for (const NamedCause& c : d.causes) {
       const auto it = kCauseMeaning.find(c.cause);
-      os << "- `" << c.cause << "`: " << (it != kCauseMeaning.end() ? it->second : c.cause) << ".\n";
+      os << "- `" << c.cause << "`: " << (it != kCauseMeaning.end() ? it->second : c.cause) << ".";
+      const auto nearest = c.parameters.text.find("nearest_material");
+      if (nearest != c.parameters.text.end()) {
+        const double off = c.parameters.values.at("nearest_material_difference");
+        os << " The fitted absorption is closest to the library's `" << nearest->second << "` (at most " << off
+           << " apart, 125 Hz-8 kHz)";
+        if (off > kImplausibleAbsorptionDifference) {
+          os << "; **no material in the library absorbs like this** (" << off << " off at "
+             << c.parameters.values.at("nearest_material_worst_band_hz")
+             << " Hz): the fit may be taking up another cause's error rather than finding the surface's material";
+        }
+        os << ".";
+      }
+      os << "\n";
     }
     os << "\nError after all named causes: **" << d.after.error_jnd << " JND** (held out " << d.after.heldout_error_jnd
        << ").\n\n";
