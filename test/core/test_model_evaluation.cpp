@@ -4,12 +4,14 @@
 // is known in closed form.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <set>
 
 #include "room_reverb/common/error.h"
 #include "room_reverb/evaluation/diagnosis.h"
 #include "room_reverb/evaluation/model_evaluation.h"
+#include "room_reverb/evaluation/simulated_pairs.h"
 #include "synthetic_rir.h"
 
 namespace room_reverb::test {
@@ -106,6 +108,30 @@ TEST(ModelEvaluation, EveryCatalogueCauseCountsItsParameters) {
   EXPECT_EQ(freeParameters("surface_absorption"), 9);
   EXPECT_EQ(freeParameters("air_absorption"), 1);
   EXPECT_THROW(freeParameters("ghosts"), InputError);
+}
+
+TEST(ModelEvaluation, PairsRunInRoundsWithReproducibleThreadCounts) {
+  // Five pairs on two threads: two full rounds of one thread each, then the last pair alone
+  // with both (the tracer's threads).
+  std::vector<int> threads_of(5, 0);
+  runPairsInRounds(5, 2, [&](std::size_t i, int threads) { threads_of[i] = threads; });
+  EXPECT_EQ(threads_of, (std::vector<int>{1, 1, 1, 1, 2}));
+  std::vector<int> one(1, 0);
+  runPairsInRounds(1, 2, [&](std::size_t i, int threads) { one[i] = threads; });
+  EXPECT_EQ(one, std::vector<int>{2});
+  // A failing pair (an extension that puts it outside the room) fails the evaluation, with
+  // its own message, after the other pairs have run.
+  std::vector<std::atomic<int>> ran(4);
+  try {
+    runPairsInRounds(4, 2, [&](std::size_t i, int) {
+      ran[i] = 1;
+      if (i == 1 || i == 3) throw InputError("pair " + std::to_string(i) + " is outside the room");
+    });
+    ADD_FAILURE() << "no exception";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "pair 1 is outside the room");
+  }
+  for (const auto& r : ran) EXPECT_EQ(r.load(), 1);
 }
 
 TEST(ModelEvaluation, ADiagnosisWhoseNoiseHidesEveryCauseSaysSo) {

@@ -31,7 +31,7 @@ void runPairsInRounds(std::size_t count, int threads, const std::function<void(s
 
 // Pair i is simulated with pairSeed(settings.rays.seed, i), in rounds (runPairsInRounds)
 // with settings.rays.threads. `progress` (may be empty) is called on the calling thread
-// with each pair's index, in order, once its round has ended.
+// with each pair's index, in order, once every pair has been simulated.
 std::vector<SimulatedPair> simulatePairs(const AcousticScene& scene, const std::vector<MeasurementPair>& pairs,
                                          const SimulationSettings& settings, BandResolution resolution,
                                          const std::function<void(std::size_t, const SimulatedPair&)>& progress = {});
