@@ -157,6 +157,7 @@ std::optional<FittedCause> fitSurfaceAbsorption(const FitContext& context, std::
   if (candidates.size() > 1) candidates.push_back(startFit(context, kAllSurfaces, all));
 
   std::optional<FittedCause> best;
+  std::optional<TargetFit> best_fit;  // its parameters are described once, after the search
   double best_error = std::numeric_limits<double>::infinity();
   for (TargetFit& fit : candidates) {
     OctaveBandValues area_total = area0;
@@ -174,13 +175,17 @@ std::optional<FittedCause> fitSurfaceAbsorption(const FitContext& context, std::
         cause.cause = "surface_absorption";
         cause.target = fit.name;
         cause.extension = extension;
-        cause.parameters = parametersOf(context, fit);
         cause.evaluation = std::move(evaluation);
         best = std::move(cause);
+        best_fit = fit;
       }
     }
   }
-  if (!best) why = "no surface large enough to move a decay time";
+  if (!best) {
+    why = "no surface large enough to move a decay time";
+    return best;
+  }
+  best->parameters = parametersOf(context, *best_fit);
   return best;
 }
 

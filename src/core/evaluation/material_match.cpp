@@ -1,18 +1,22 @@
 #include "room_reverb/evaluation/material_match.h"
 
 #include <cmath>
+#include <vector>
+
+#include "room_reverb/audio/frequency_bands.h"
 
 namespace room_reverb::core {
 
 MaterialMatch nearestMaterial(const OctaveBandValues& absorption, const MaterialLibrary& library) {
+  const std::vector<FrequencyBand> bands = standardBands(BandResolution::kOctave);  // 63 Hz .. 16 kHz
   MaterialMatch best;
   best.max_difference = INFINITY;
   for (const std::string& name : library.names()) {
     const OctaveBandValues& other = library.get(name).absorption;
     MaterialMatch m{name, 0.0, 0.0};
-    // Bands 1-7 of the nine (63 Hz .. 16 kHz): 125 Hz - 8 kHz.
-    for (std::size_t b = 1; b + 1 < static_cast<std::size_t>(kOctaveBandCount); ++b) {
-      const double hz = 125.0 * std::ldexp(1.0, static_cast<int>(b) - 1);
+    for (std::size_t b = 0; b < bands.size(); ++b) {
+      const double hz = bands[b].nominal_hz;
+      if (hz < 125.0 || hz > 8000.0) continue;
       const double d = std::abs(absorption[b] - other[b]);
       if (d > m.max_difference) m = {name, d, hz};
     }
