@@ -42,6 +42,11 @@ DIR/extended_room.yaml (the corrected room).
   --threads N        worker threads (default: all cores)
   --materials FILE   material library (default config/materials.yaml)
   --no-air           the model has no air absorption (whatever the files say)
+  --noise-seeds N    extra ray-tracing seeds that measure the simulation's noise, which a
+                     cause's gain must stand clear of (default 3; 1-20)
+  --no-reflection-term
+                     leave the strong measured reflections no model path explains out of
+                     the score (B-format pairs); e.g. when the rig's orientation is doubtful
 )";
 
 std::vector<std::string> splitList(const std::string& text) {
@@ -56,8 +61,8 @@ std::vector<std::string> splitList(const std::string& text) {
 int runDiagnose(const std::vector<std::string>& raw) {
   const Arguments args(raw,
                        {"measured", "room", "mesh", "out", "causes", "max-causes", "rays", "order", "duration", "seed",
-                        "threads", "materials"},
-                       {"y-up", "no-air"});
+                        "threads", "materials", "noise-seeds"},
+                       {"y-up", "no-air", "no-reflection-term"});
   if (!args.positional().empty()) throw UsageError("unexpected argument '" + args.positional().front() + "'");
   if (!args.has("measured")) throw UsageError("--measured FILE is required");
   if (!args.has("out")) throw UsageError("--out DIR is required");
@@ -81,6 +86,9 @@ int runDiagnose(const std::vector<std::string>& raw) {
   if (args.has("causes")) options.causes = splitList(args.value("causes", ""));
   options.max_causes = args.intValue("max-causes", 3);
   if (options.max_causes < 0) throw InputError("--max-causes must not be negative");
+  options.noise_seeds = args.intValue("noise-seeds", options.noise_seeds);
+  if (options.noise_seeds < 1 || options.noise_seeds > 20) throw InputError("--noise-seeds must be 1-20");
+  options.evaluation.score_reflections = !args.has("no-reflection-term");
   SimulationSettings& sim = options.evaluation.simulation;
   const int rays = args.intValue("rays", 10000);
   if (rays <= 0) throw InputError("--rays must be at least 1");

@@ -9,6 +9,7 @@
 #include "room_reverb/acoustics/room_model.h"
 #include "room_reverb/acoustics/room_simulation.h"
 #include "room_reverb/audio/audio_file.h"
+#include "room_reverb/evaluation/diagnosis.h"
 #include "test_files.h"
 #include "test_rooms.h"
 #include "tool_run.h"
@@ -58,7 +59,7 @@ TEST(DiagnoseTool, WritesJsonReportPlotsAndTheCorrectedRoom) {
   const std::string meas = measurements("m.yaml", measuredFile("ok.wav"), "ambix");
   const std::string out = tempPath("diag_out").string();
   const ToolRun run = runTool("diagnose --measured " + meas + " --room " + room + " --out " + out +
-                              " --causes air_absorption,scattering --rays 2000 --max-causes 1");
+                              " --causes air_absorption,scattering --rays 2000 --max-causes 1 --noise-seeds 2");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   std::ifstream in(out + "/diagnosis.json");
   const nlohmann::json j = nlohmann::json::parse(in);
@@ -66,6 +67,9 @@ TEST(DiagnoseTool, WritesJsonReportPlotsAndTheCorrectedRoom) {
   EXPECT_GE(j["baseline_error_jnd"].get<double>(), 0.0);
   EXPECT_EQ(j["extended_room"].get<std::string>(), out + "/extended_room.yaml");
   EXPECT_EQ(j["hypotheses"].size(), 2u);
+  // The base seed and the two asked for, and the noise is their spread.
+  ASSERT_EQ(j["heldout_over_seeds_jnd"].size(), 3u);
+  EXPECT_NEAR(j["noise_jnd"].get<double>(), heldoutNoise(j["heldout_over_seeds_jnd"].get<std::vector<double>>()), 1e-3);
   // The measurement is the room itself: nothing may be named.
   EXPECT_TRUE(j["causes"].empty()) << j.dump(2);
   for (const char* file : {"/report.md", "/decay_curves.png", "/error_per_band.png", "/extended_room.yaml"}) {
@@ -92,6 +96,7 @@ TEST(DiagnoseTool, BadInputsGetOneLineErrors) {
                                                       "parameters:\n  bands_hz: [500, 1000]\n  t20_s: [0.5]\n")),
                      "parameters.t20_s");
   expectOneLineError(diagnose(measurements("cause.yaml", good, "ambix"), "--causes nonsense"), "unknown cause");
+  expectOneLineError(diagnose(measurements("seeds.yaml", good, "ambix"), "--noise-seeds 0"), "--noise-seeds must be 1-20");
   const std::string empty_mesh = writeFile("empty.obj", "# no faces\nv 0 0 0\n");
   expectOneLineError(runTool("diagnose --measured " + measurements("mesh.yaml", good, "ambix") + " --mesh " +
                              empty_mesh + " --out " + out),

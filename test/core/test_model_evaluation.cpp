@@ -4,14 +4,17 @@
 // is known in closed form.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <random>
 #include <set>
 
 #include "room_reverb/common/error.h"
 #include "room_reverb/evaluation/diagnosis.h"
 #include "room_reverb/evaluation/model_evaluation.h"
 #include "room_reverb/evaluation/simulated_pairs.h"
+#include "planted_room.h"
 #include "synthetic_rir.h"
 
 namespace room_reverb::test {
@@ -103,8 +106,43 @@ TEST(ModelEvaluation, ASimplerCauseWithinTheMarginIsNamed) {
   EXPECT_FALSE(chooseCause({}, 0.11).has_value());
 }
 
+TEST(ModelEvaluation, HeldoutNoiseIsTheSpreadOfADifferenceBetweenSeeds) {
+  // Values 1, 2, 3, 4: sample variance 5/3, so the noise is sqrt(2 * 5/3).
+  EXPECT_NEAR(heldoutNoise({1.0, 2.0, 3.0, 4.0}), std::sqrt(10.0 / 3.0), 1e-12);
+  EXPECT_DOUBLE_EQ(heldoutNoise({1.5, 1.5, 1.5}), 0.0);
+  EXPECT_DOUBLE_EQ(heldoutNoise({1.5}), 0.0);
+  EXPECT_DOUBLE_EQ(heldoutNoise({}), 0.0);
+  // Normal draws of known sigma: the estimate converges on sqrt(2) sigma.
+  std::mt19937 rng(7);
+  std::normal_distribution<double> draw(1.4, 0.17);
+  std::vector<double> many(20000);
+  for (double& e : many) e = draw(rng);
+  EXPECT_NEAR(heldoutNoise(many), std::sqrt(2.0) * 0.17, 0.005);
+}
+
+TEST(ModelEvaluation, TheReflectionTermCanBeLeftOut) {
+  // Four B-format pairs that hear a panel the model lacks: the term scores the unexplained
+  // reflections; without it (diagnose --no-reflection-term) no pair has one.
+  const PlantedCase c = plantedCase("missing_reflector", 14);
+  const RoomUnderTest room = RoomUnderTest::fromRoomModel(c.room, c.library);
+  EvaluationSettings settings = testDiagnosisOptions().evaluation;
+  settings.simulation.rays.ray_count = 1000;
+  const auto reflection_terms = [&](bool score) {
+    settings.score_reflections = score;
+    const Evaluation e = ModelEvaluator(room, c.evidence, settings).evaluate({});
+    EXPECT_TRUE(e.valid) << e.reason;
+    return std::count_if(e.terms.begin(), e.terms.end(), [](const ErrorTerm& t) { return t.group == "reflections"; });
+  };
+  EXPECT_EQ(reflection_terms(true), 4);
+  EXPECT_EQ(reflection_terms(false), 0);
+}
+
 TEST(ModelEvaluation, EveryCatalogueCauseCountsItsParameters) {
-  for (const std::string& cause : kCatalogueCauses) EXPECT_GE(freeParameters(cause), 1) << cause;
+  for (const std::string& cause : kCatalogueCauses) {
+    EXPECT_GE(freeParameters(cause), 1) << cause;
+    EXPECT_GT(causeMeaning(cause).size(), 20u) << cause;
+  }
+  EXPECT_THROW(causeMeaning("ghosts"), InputError);
   EXPECT_EQ(freeParameters("surface_absorption"), 9);
   EXPECT_EQ(freeParameters("air_absorption"), 1);
   EXPECT_THROW(freeParameters("ghosts"), InputError);

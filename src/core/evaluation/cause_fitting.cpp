@@ -12,19 +12,32 @@ namespace {
 
 double fitError(const Evaluation& e) { return e.valid ? e.fit_error_jnd : std::numeric_limits<double>::infinity(); }
 
-// The catalogue, once: each cause's id, its fit, and how many parameters the fit is free
-// to choose (humidity; nine bands; one coefficient; the panel's point, normal and side, its
-// material fixed; one factor; decay time and level; pattern and axis; damping).
+// The catalogue, once: each cause's id, its fit, how many parameters the fit is free to
+// choose (humidity; nine bands; one coefficient; the panel's point, normal and side, its
+// material fixed; one factor; decay time and level; pattern and axis; damping), and what
+// it means, for readers of the report.
 struct CatalogueEntry {
   const char* id;
   std::optional<FittedCause> (*fit)(const FitContext&, std::string&);
   int free_parameters;
+  const char* meaning;
 };
 constexpr CatalogueEntry kCatalogue[] = {
-    {"air_absorption", fitAirAbsorption, 1},         {"surface_absorption", fitSurfaceAbsorption, 9},
-    {"scattering", fitScattering, 1},                {"missing_reflector", fitMissingReflector, 6},
-    {"geometry_scale", fitGeometryScale, 1},         {"coupled_volume", fitCoupledVolume, 2},
-    {"source_directivity", fitSourceDirectivity, 3}, {"low_frequency_modes", fitLowFrequencyModes, 1}};
+    {"air_absorption", fitAirAbsorption, 1,
+     "the air absorbs high frequencies differently from the model (humidity fitted, ISO 9613-1)"},
+    {"surface_absorption", fitSurfaceAbsorption, 9,
+     "one surface absorbs differently from the material the model gives it (or, target all_surfaces, every "
+     "surface absorbs more or less by the same amount per band)"},
+    {"scattering", fitScattering, 1, "the surfaces scatter differently from the model (one coefficient for all)"},
+    {"missing_reflector", fitMissingReflector, 6,
+     "a reflecting surface the model lacks (placed from the reflection's time and direction)"},
+    {"geometry_scale", fitGeometryScale, 1, "the room's dimensions are off by one factor"},
+    {"coupled_volume", fitCoupledVolume, 2, "a second, slower decay: a coupled volume the model does not contain"},
+    {"source_directivity", fitSourceDirectivity, 3,
+     "the source radiates with a directivity the model lacks (cardioid family fitted)"},
+    {"low_frequency_modes", fitLowFrequencyModes, 1,
+     "below the Schroeder frequency the room rings in modes that rays cannot show (modal synthesis, damping "
+     "fitted)"}};
 
 const CatalogueEntry& entry(const std::string& cause) {
   for (const CatalogueEntry& e : kCatalogue) {
@@ -48,6 +61,8 @@ const std::vector<std::string> kCatalogueCauses = catalogueIds();
 CauseFitter causeFitter(const std::string& cause) { return entry(cause).fit; }
 
 int freeParameters(const std::string& cause) { return entry(cause).free_parameters; }
+
+std::string causeMeaning(const std::string& cause) { return entry(cause).meaning; }
 
 Evaluation evaluateWith(const FitContext& context, const ModelExtension& extension) {
   ModelExtension combined = context.accepted;

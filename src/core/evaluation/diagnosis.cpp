@@ -12,17 +12,29 @@
 namespace room_reverb::core {
 namespace {
 
-// The held-out error's spread over ray-tracing seeds: what a gain must stand clear of.
-double heldoutNoise(const ModelEvaluator& evaluator, const Evaluation& base, int seeds) {
-  double noise = 0.0;
+// The held-out error at the base seed and at `seeds` more.
+std::vector<double> heldoutOverSeeds(const ModelEvaluator& evaluator, const Evaluation& base, int seeds) {
+  std::vector<double> errors{base.heldout_error_jnd};
   for (int k = 1; k <= seeds; ++k) {
     const Evaluation other = evaluator.evaluate({}, static_cast<std::uint32_t>(k));
-    if (other.valid) noise = std::max(noise, std::abs(other.heldout_error_jnd - base.heldout_error_jnd));
+    if (other.valid) errors.push_back(other.heldout_error_jnd);
   }
-  return noise;
+  return errors;
 }
 
 }  // namespace
+
+double heldoutNoise(const std::vector<double>& heldout_over_seeds) {
+  const std::size_t n = heldout_over_seeds.size();
+  if (n < 2) return 0.0;
+  double mean = 0.0;
+  for (double e : heldout_over_seeds) mean += e;
+  mean /= static_cast<double>(n);
+  double sum_sq = 0.0;
+  for (double e : heldout_over_seeds) sum_sq += (e - mean) * (e - mean);
+  // sqrt(2) sigma: the spread of the difference between two independent evaluations.
+  return std::sqrt(2.0 * sum_sq / static_cast<double>(n - 1));
+}
 
 std::optional<std::size_t> chooseCause(const std::vector<CauseCandidate>& candidates, double margin_jnd) {
   // In the planted air room (seed 11) one absorption per band added to every surface
@@ -60,7 +72,8 @@ Diagnosis diagnose(const RoomUnderTest& room, const MeasuredEvidence& evidence, 
   if (!diagnosis.before.valid) throw InputError("the measured pairs cannot be simulated in this room: " + diagnosis.before.reason);
   diagnosis.baseline_error_jnd = diagnosis.before.error_jnd;
   diagnosis.baseline_heldout_jnd = diagnosis.before.heldout_error_jnd;
-  diagnosis.noise_jnd = heldoutNoise(evaluator, diagnosis.before, options.noise_seeds);
+  diagnosis.heldout_over_seeds = heldoutOverSeeds(evaluator, diagnosis.before, options.noise_seeds);
+  diagnosis.noise_jnd = heldoutNoise(diagnosis.heldout_over_seeds);
 
   Evaluation current = diagnosis.before;
   std::vector<std::string> worth_trying;

@@ -12,18 +12,6 @@
 namespace room_reverb::core {
 namespace {
 
-// What each cause means, for readers of the report.
-const std::map<std::string, std::string> kCauseMeaning = {
-    {"air_absorption", "the air absorbs high frequencies differently from the model (humidity fitted, ISO 9613-1)"},
-    {"surface_absorption", "one surface absorbs differently from the material the model gives it (or, target all_surfaces, every surface absorbs more or less by the same amount per band)"},
-    {"scattering", "the surfaces scatter differently from the model (one coefficient for all)"},
-    {"missing_reflector", "a reflecting surface the model lacks (placed from the reflection's time and direction)"},
-    {"geometry_scale", "the room's dimensions are off by one factor"},
-    {"coupled_volume", "a second, slower decay: a coupled volume the model does not contain"},
-    {"source_directivity", "the source radiates with a directivity the model lacks (cardioid family fitted)"},
-    {"low_frequency_modes", "below the Schroeder frequency the room rings in modes that rays cannot show (modal synthesis, damping fitted)"},
-};
-
 double rounded(double v, int digits) {
   const double scale = std::pow(10.0, digits);
   return std::round(v * scale) / scale;
@@ -51,6 +39,8 @@ std::string diagnosisToJson(const Diagnosis& d, const std::string& extended_room
   j["baseline_error_jnd"] = rounded(d.baseline_error_jnd, 4);
   j["baseline_heldout_error_jnd"] = rounded(d.baseline_heldout_jnd, 4);
   j["noise_jnd"] = rounded(d.noise_jnd, 4);
+  j["heldout_over_seeds_jnd"] = nlohmann::json::array();
+  for (double e : d.heldout_over_seeds) j["heldout_over_seeds_jnd"].push_back(rounded(e, 4));
   j["threshold_jnd"] = rounded(d.threshold_jnd, 4);
   j["noise_limited"] = d.noiseLimited();
   j["causes"] = nlohmann::json::array();
@@ -87,8 +77,11 @@ std::string diagnosisToMarkdown(const Diagnosis& d, const std::string& extended_
   os << "# Diagnosis: measured against simulated\n\n";
   os << "Error of the model as given: **" << d.baseline_error_jnd << " JND** (mean absolute error, each parameter "
      << "group weighted equally; " << d.baseline_heldout_jnd << " JND on the held-out evidence). "
-     << "Noise of the held-out error over ray-tracing seeds: " << d.noise_jnd << " JND, so a cause must gain more than "
-     << d.threshold_jnd << " JND on evidence its fit did not use to be named.\n\n";
+     << "Noise of the held-out error over ray-tracing seeds: " << d.noise_jnd << " JND (√2 times the standard "
+     << "deviation of";
+  for (std::size_t i = 0; i < d.heldout_over_seeds.size(); ++i) os << (i == 0 ? " " : ", ") << d.heldout_over_seeds[i];
+  os << " JND), so a cause must gain more than " << d.threshold_jnd
+     << " JND on evidence its fit did not use to be named.\n\n";
   if (d.causes.empty() && d.noiseLimited()) {
     os << "**No cause could be named**: the threshold (" << d.threshold_jnd << " JND) is at least the whole held-out "
        << "error (" << d.baseline_heldout_jnd << " JND), so no fit, however right, could gain enough. The simulation's "
@@ -107,8 +100,7 @@ std::string diagnosisToMarkdown(const Diagnosis& d, const std::string& extended_
     }
     os << "\n";
     for (const NamedCause& c : d.causes) {
-      const auto it = kCauseMeaning.find(c.cause);
-      os << "- `" << c.cause << "`: " << (it != kCauseMeaning.end() ? it->second : c.cause) << ".";
+      os << "- `" << c.cause << "`: " << causeMeaning(c.cause) << ".";
       const auto nearest = c.parameters.text.find("nearest_material");
       if (nearest != c.parameters.text.end()) {
         const double off = c.parameters.values.at("nearest_material_difference");
