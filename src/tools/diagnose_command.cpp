@@ -43,7 +43,7 @@ DIR/extended_room.yaml (the corrected room).
   --materials FILE   material library (default config/materials.yaml)
   --no-air           the model has no air absorption (whatever the files say)
   --noise-seeds N    extra ray-tracing seeds that measure the simulation's noise, which a
-                     cause's gain must stand clear of (default 3; 1-20)
+                     cause's gain must stand clear of (default 5; 1-20)
   --no-reflection-term
                      leave the strong measured reflections no model path explains out of
                      the score (B-format pairs); e.g. when the rig's orientation is doubtful

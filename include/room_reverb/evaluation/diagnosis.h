@@ -63,11 +63,13 @@ struct DiagnosisOptions {
   EvaluationSettings evaluation;
   std::vector<std::string> causes = kCatalogueCauses;  // which hypotheses to try
   int max_causes = 3;
-  // Extra ray-tracing seeds to measure the held-out error's noise (with the base seed, four
-  // samples of it). With two, the largest difference from the base was the estimate: in
-  // the sample room's five pairs it came out at 0.09 JND where eight seeds spread with a
-  // standard deviation of 0.17, and a 0.23 JND gain of the wrong cause was named.
-  int noise_seeds = 3;
+  // Extra ray-tracing seeds to measure the held-out error's noise (with the base seed, six
+  // samples of it). Until session 14 two, and the estimate was the largest difference from
+  // the base: in the sample room's five pairs it came out at 0.09 JND where eight seeds
+  // spread with a standard deviation of 0.17, and a 0.23 JND gain of the wrong cause was
+  // named. For normal errors an estimate from six samples falls below half the true noise
+  // 5 % of the time (from four: 11 %; the old one: 16 %), for two evaluations more.
+  int noise_seeds = 5;
   // A gain must exceed this many times the noise... Gains compare evaluations that share
   // their seeds (common random numbers), so their own noise is well below the spread
   // between seeds that `noise_jnd` measures; twice that spread is a conservative bar.
@@ -97,8 +99,8 @@ struct Diagnosis {
 };
 
 // The noise of a held-out error from its values over ray-tracing seeds: sqrt(2) times
-// their sample standard deviation, the spread of the difference between two independent
-// evaluations (0 for fewer than two values).
+// their standard deviation (the sample one over c4, unbiased for normal errors), the
+// spread of the difference between two independent evaluations (0 for fewer than two).
 double heldoutNoise(const std::vector<double>& heldout_over_seeds);
 
 // How many parameters a cause's fit is free to choose (per-band absorption: nine);
