@@ -71,6 +71,8 @@ EvaluationServer::EvaluationServer(::ros::NodeHandle& private_nh) {
   diagnosis_rays_ = positiveIntParam(private_nh, "diagnosis_rays", 10000);
   seed_ = positiveIntParam(private_nh, "seed", 1);
   max_causes_ = positiveIntParam(private_nh, "max_causes", 3);
+  noise_seeds_ = positiveIntParam(private_nh, "noise_seeds", core::DiagnosisOptions{}.noise_seeds);
+  if (noise_seeds_ > 20) throw core::InputError("parameter ~noise_seeds must be 1-20");
   private_nh.param("threads", threads_, 0);
   if (threads_ < 0) throw core::InputError("parameter ~threads must not be negative");
   private_nh.param<std::string>("out_root", out_root_, "/tmp/room_reverb_evaluation");
@@ -235,6 +237,7 @@ bool EvaluationServer::diagnose(room_reverb::DiagnoseRoom::Request& request,
     core::DiagnosisOptions options;
     if (!request.causes.empty()) options.causes = request.causes;
     options.max_causes = request.max_causes >= 0 ? request.max_causes : max_causes_;
+    options.noise_seeds = noise_seeds_;
     core::SimulationSettings& sim = options.evaluation.simulation;
     sim.rays.ray_count = static_cast<std::size_t>(request.rays > 0 ? request.rays : diagnosis_rays_);
     sim.rays.seed = static_cast<std::uint32_t>(request.seed > 0 ? request.seed : seed_);

@@ -53,6 +53,7 @@ class EvaluationServer {
   int diagnosis_rays_ = 10000;
   int seed_ = 1;
   int max_causes_ = 3;
+  int noise_seeds_ = 5;  // ~noise_seeds
   int threads_ = 0;
   std::string out_root_;
   core::MaterialLibrary library_;
