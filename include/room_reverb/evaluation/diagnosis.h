@@ -68,7 +68,7 @@ struct DiagnosisOptions {
   // the base: in the sample room's five pairs it came out at 0.09 JND where eight seeds
   // spread with a standard deviation of 0.17, and a 0.23 JND gain of the wrong cause was
   // named. For normal errors an estimate from six samples falls below half the true noise
-  // 5 % of the time (from four: 11 %; the old one: 16 %), for two evaluations more.
+  // 5 % of the time (from four: 11 %; the old one: 16 %), for three evaluations more.
   int noise_seeds = 5;
   // A gain must exceed this many times the noise... Gains compare evaluations that share
   // their seeds (common random numbers), so their own noise is well below the spread

@@ -33,7 +33,7 @@ double heldoutNoise(const std::vector<double>& heldout_over_seeds) {
   double sum_sq = 0.0;
   for (double e : heldout_over_seeds) sum_sq += (e - mean) * (e - mean);
   // The sample standard deviation underestimates sigma by c4(n) on average (for normal
-  // errors, 0.92 at n = 4); divided by it, the estimate is unbiased, which matters for a
+  // errors, 0.95 at the default n = 6); divided by it, the estimate is unbiased, which matters for a
   // bar that decides what is named.
   const double nd = static_cast<double>(n);
   const double c4 = std::sqrt(2.0 / (nd - 1.0)) * std::exp(std::lgamma(nd / 2.0) - std::lgamma((nd - 1.0) / 2.0));
