@@ -5,7 +5,7 @@
 // scatter 5 %, an absorbing floor and ceiling), at the demo's source and listener, omni.
 // Per band, twelve seeds: the coefficient of variation of T20 read from the synthesised
 // response (cv_<band>, %) and from the ray-traced late energy itself (hist_cv_<band>, %:
-// the Schroeder integral of the histogram, -5 to -25 dB; no noise synthesis), and the
+// the Schroeder curve of the histogram, -5 to -25 dB; no noise synthesis), and the
 // mean T20 at 1 kHz. A Monte Carlo spread would halve for each fourfold rise in rays.
 // Run: .ws/devel/lib/room_reverb/bench_decay_spread (about 2 minutes on 2 cores).
 #include <benchmark/benchmark.h>
@@ -16,6 +16,7 @@
 
 #include "room_reverb/acoustics/room_simulation.h"
 #include "room_reverb/evaluation/diagnosis_setup.h"
+#include "room_reverb/metrics/energy_decay.h"
 #include "room_reverb/metrics/room_acoustic_parameters.h"
 
 namespace {
@@ -33,18 +34,12 @@ double coefficientOfVariationPercent(const std::vector<double>& v) {
   return 100.0 * std::sqrt(sum_sq / static_cast<double>(v.size() - 1)) / mean;
 }
 
-// T20 of one band of the late histogram: three times the time from -5 to -25 dB of its
-// backward-integrated energy.
+// T20 of one band of the late histogram, by the same Schroeder-curve fit as a response's
+// (EnergyDecay): the bins' energies are the squared "signal" at one sample per bin.
 double histogramT20(const EnergyHistogram& late, int band) {
-  std::vector<double> backward(late.bins() + 1, 0.0);
-  for (std::size_t k = late.bins(); k-- > 0;) backward[k] = backward[k + 1] + late.energy(k, band);
-  double t5 = -1.0, t25 = -1.0;
-  for (std::size_t k = 0; k < late.bins() && t25 < 0.0; ++k) {
-    const double level_db = 10.0 * std::log10(backward[k] / backward[0]);
-    if (t5 < 0.0 && level_db <= -5.0) t5 = static_cast<double>(k) * late.binS();
-    if (level_db <= -25.0) t25 = static_cast<double>(k) * late.binS();
-  }
-  return 3.0 * (t25 - t5);
+  std::vector<float> amplitude(late.bins());
+  for (std::size_t k = 0; k < late.bins(); ++k) amplitude[k] = static_cast<float>(std::sqrt(late.energy(k, band)));
+  return EnergyDecay(amplitude, 0, 1.0 / late.binS()).decayTimeS(-5.0, -25.0);
 }
 
 int octaveIndex(double nominal_hz) {

@@ -72,7 +72,9 @@ EvaluationServer::EvaluationServer(::ros::NodeHandle& private_nh) {
   seed_ = positiveIntParam(private_nh, "seed", 1);
   max_causes_ = positiveIntParam(private_nh, "max_causes", 3);
   noise_seeds_ = positiveIntParam(private_nh, "noise_seeds", core::DiagnosisOptions{}.noise_seeds);
-  if (noise_seeds_ > 20) throw core::InputError("parameter ~noise_seeds must be 1-20");
+  if (noise_seeds_ > core::DiagnosisOptions::kMaxNoiseSeeds) {
+    throw core::InputError("parameter ~noise_seeds must be 1-" + std::to_string(core::DiagnosisOptions::kMaxNoiseSeeds));
+  }
   private_nh.param("threads", threads_, 0);
   if (threads_ < 0) throw core::InputError("parameter ~threads must not be negative");
   private_nh.param<std::string>("out_root", out_root_, "/tmp/room_reverb_evaluation");

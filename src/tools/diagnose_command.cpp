@@ -87,7 +87,9 @@ int runDiagnose(const std::vector<std::string>& raw) {
   options.max_causes = args.intValue("max-causes", 3);
   if (options.max_causes < 0) throw InputError("--max-causes must not be negative");
   options.noise_seeds = args.intValue("noise-seeds", options.noise_seeds);
-  if (options.noise_seeds < 1 || options.noise_seeds > 20) throw InputError("--noise-seeds must be 1-20");
+  if (options.noise_seeds < 1 || options.noise_seeds > DiagnosisOptions::kMaxNoiseSeeds) {
+    throw InputError("--noise-seeds must be 1-" + std::to_string(DiagnosisOptions::kMaxNoiseSeeds));
+  }
   options.evaluation.score_reflections = !args.has("no-reflection-term");
   SimulationSettings& sim = options.evaluation.simulation;
   const int rays = args.intValue("rays", 10000);
@@ -105,7 +107,8 @@ int runDiagnose(const std::vector<std::string>& raw) {
             << " JND (held out " << diagnosis.baseline_heldout_jnd << ", noise " << diagnosis.noise_jnd << ")\n";
   if (diagnosis.causes.empty() && diagnosis.noiseLimited()) {
     std::cout << "no cause could be named: the threshold " << diagnosis.threshold_jnd
-              << " JND is not below the held-out error; more pairs or --rays would lower it\n";
+              << " JND is not below the held-out error; more measured pairs would lower it (more --rays may not: "
+                 "docs/diagnosis.md)\n";
   } else if (diagnosis.causes.empty()) {
     std::cout << "no cause named (threshold " << diagnosis.threshold_jnd << " JND)\n";
   }

@@ -70,6 +70,7 @@ struct DiagnosisOptions {
   // named. For normal errors an estimate from six samples falls below half the true noise
   // 5 % of the time (from four: 11 %; the old one: 16 %), for three evaluations more.
   int noise_seeds = 5;
+  static constexpr int kMaxNoiseSeeds = 20;  // what the tool and the node accept
   // A gain must exceed this many times the noise... Gains compare evaluations that share
   // their seeds (common random numbers), so their own noise is well below the spread
   // between seeds that `noise_jnd` measures; twice that spread is a conservative bar.
@@ -94,7 +95,8 @@ struct Diagnosis {
   // No cause could have been named, whatever is wrong: a fit cannot gain more than the
   // whole held-out error, and the threshold is at least that. The evidence is too noisy
   // for the model's error (one pair in a room whose decay rides on a few ray paths, as the
-  // demo's sample room); more pairs or more rays lower the noise.
+  // demo's sample room); more pairs lower the noise, more rays only where the spread
+  // between seeds is sampling noise (not in the sample room: docs/diagnosis.md).
   bool noiseLimited() const { return threshold_jnd >= baseline_heldout_jnd; }
 };
 
