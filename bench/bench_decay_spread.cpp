@@ -59,11 +59,14 @@ void BM_SampleRoomT20SpreadOverSeeds(benchmark::State& state) {
   s.ambisonic_order = 0;
   s.air = model.air();
   s.rays.ray_count = static_cast<std::size_t>(state.range(0));
+  s.rays.receiver_radius_m = static_cast<double>(state.range(1)) / 100.0;  // 0: automatic
+  double last_radius_m = 0.0;
   std::vector<std::vector<double>> rir_t20(kBandsHz.size()), hist_t20(kBandsHz.size());
   for (auto _ : state) {
     for (int seed = 1; seed <= kSeeds; ++seed) {
       s.rays.seed = static_cast<std::uint32_t>(seed);
       const SimulationResult r = simulateRoom(scene, Eigen::Vector3d(4.6, 2.9, 1.5), Eigen::Vector3d(2.7, 2.1, 1.4), s);
+      last_radius_m = r.stats.receiver_radius_m;
       const MetricsReport m = computeRoomAcousticParameters(r.impulse_response.channels[0], 48000.0);
       for (std::size_t i = 0; i < kBandsHz.size(); ++i) {
         hist_t20[i].push_back(histogramT20(r.late, octaveIndex(kBandsHz[i])));
@@ -81,8 +84,9 @@ void BM_SampleRoomT20SpreadOverSeeds(benchmark::State& state) {
   double mean_1k = 0.0;
   for (double t : rir_t20[2]) mean_1k += t / static_cast<double>(rir_t20[2].size());
   state.counters["t20_1000_s"] = mean_1k;
+  state.counters["radius_m"] = last_radius_m;
 }
-BENCHMARK(BM_SampleRoomT20SpreadOverSeeds)->ArgName("rays")->Arg(10000)->Arg(40000)->Arg(160000)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+BENCHMARK(BM_SampleRoomT20SpreadOverSeeds)->ArgNames({"rays", "radius_cm"})->ArgsProduct({{10000, 40000, 160000}, {0, 50, 126}})->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 
 }  // namespace
 

@@ -5,8 +5,10 @@
 // (data/sample_room/acoustic.yaml: parquet floor, a hidden cabinet, air at 24 degC / 35 %),
 // the model is what the cameras see (visible.yaml). The label names what was found, so a
 // run also shows whether five pairs tell the room's three differences apart (one pair, as
-// in scripts/demo, cannot: docs/diagnosis.md). Run: scripts/bench, or
-// .ws/devel/lib/room_reverb/bench_diagnosis.
+// in scripts/demo, cannot: docs/diagnosis.md). The second case gives the ray tracer four
+// times the rays and its detection sphere four times the crossings (the sphere the first
+// case gets, where the listener's clearance allows), to see whether the rays then lower the
+// noise: they did not (about 4 times the runtime; docs/diagnosis.md, session 15). Run: scripts/bench, or .ws/devel/lib/room_reverb/bench_diagnosis.
 #include <benchmark/benchmark.h>
 
 #include <sstream>
@@ -68,8 +70,9 @@ void BM_DiagnoseSampleRoomFivePairs(benchmark::State& state) {
   const MeasuredEvidence& evidence = measuredEvidence();
   const RoomUnderTest model =
       RoomUnderTest::fromRoomModel(loadRoomModel(kSampleRoom + "visible.yaml"), MaterialLibrary::loadDefault());
-  DiagnosisOptions options;  // the diagnose tool's defaults
-  options.evaluation.simulation.rays.ray_count = 10000;
+  DiagnosisOptions options;  // the diagnose tool's defaults but for rays and crossings
+  options.evaluation.simulation.rays.ray_count = static_cast<std::size_t>(state.range(0));
+  options.evaluation.simulation.rays.crossings_per_ms = static_cast<double>(state.range(1));
   options.evaluation.simulation.image_source_order = 3;
   options.evaluation.simulation.rays.seed = 1;
   options.evaluation.simulation.duration_s = diagnosisDurationS(evidence);
@@ -81,15 +84,22 @@ void BM_DiagnoseSampleRoomFivePairs(benchmark::State& state) {
   state.counters["simulations"] = last.simulations;
   state.counters["baseline_jnd"] = last.baseline_error_jnd;
   state.counters["noise_jnd"] = last.noise_jnd;
+  state.counters["threshold_jnd"] = last.threshold_jnd;
+  state.counters["heldout_jnd"] = last.baseline_heldout_jnd;
   state.counters["after_jnd"] = last.after.error_jnd;
   std::ostringstream named;
   for (const NamedCause& c : last.causes) {
-    named << (named.tellp() > 0 ? ", " : "") << c.cause << (c.target.empty() ? "" : "(" + c.target + ")");
+    named << (named.tellp() > 0 ? ", " : "") << c.cause << (c.target.empty() ? "" : "(" + c.target + ")") << " +"
+          << c.heldoutGainJnd();
   }
   state.SetLabel(last.causes.empty() ? "no cause named" : named.str());
 }
 // One diagnosis takes about a minute: one iteration per repetition.
-BENCHMARK(BM_DiagnoseSampleRoomFivePairs)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+BENCHMARK(BM_DiagnoseSampleRoomFivePairs)
+    ->ArgNames({"rays", "crossings_per_ms"})
+    ->Args({10000, 300})
+    ->Args({40000, 1200})
+    ->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 
 }  // namespace
 

@@ -107,8 +107,8 @@ int runDiagnose(const std::vector<std::string>& raw) {
             << " JND (held out " << diagnosis.baseline_heldout_jnd << ", noise " << diagnosis.noise_jnd << ")\n";
   if (diagnosis.causes.empty() && diagnosis.noiseLimited()) {
     std::cout << "no cause could be named: the threshold " << diagnosis.threshold_jnd
-              << " JND is not below the held-out error; more measured pairs would lower it (more --rays may not: "
-                 "docs/diagnosis.md)\n";
+              << " JND is not below the held-out error; more measured pairs would lower it (more --rays did not "
+                 "in the sample room: docs/diagnosis.md)\n";
   } else if (diagnosis.causes.empty()) {
     std::cout << "no cause named (threshold " << diagnosis.threshold_jnd << " JND)\n";
   }

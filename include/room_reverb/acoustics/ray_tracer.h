@@ -29,6 +29,10 @@ struct RayTracingOptions {
   double bin_s = 0.001;             // histogram resolution
   // Detection sphere of specular arrivals; 0: automatic (autoReceiverRadius).
   double receiver_radius_m = 0.0;
+  // Crossings of the automatic sphere per millisecond that it is sized for. The spread
+  // of late decay times between seeds falls with it: raise it with the ray count to make
+  // more rays lower the spread rather than shrink the sphere (docs/diagnosis.md).
+  double crossings_per_ms = 300.0;
   // A branch whose every band has fallen this far below its launch energy (air included)
   // plays Russian roulette: unbiased, and the faded paths stop costing reflections.
   double roulette_db = -60.0;
@@ -60,14 +64,16 @@ struct RayTracingResult {
 // Radius of the detection sphere when none is given. Its crossings are the only estimate
 // of specular energy after the image sources, and their count sets the seed-to-seed
 // spread of late decay times in rooms with low scattering: about N pi r^2 c / V
-// crossings per millisecond (N rays, volume V, no absorption). The radius gives 300 per
-// ms: in the sample room (89 m^3, low scattering) T20 varied over seeds by 5-25 % with
-// 35 per ms (100 000 rays, 0.3 m) and by 1.5-5 % with 300 per ms (0.5 m). It is kept
-// between 0.1 m and 1.5 m and within 90 % of the listener's distance to the nearest
-// surface, so the sphere never pokes through a wall (crossings lost there would bias the
-// energy low). Measured in docs/simulation.md.
+// crossings per millisecond (N rays, volume V, no absorption). The radius gives
+// `crossings_per_ms` (300 by default): in the sample room (89 m^3, low scattering) T20
+// varied over seeds by 5-25 % with 35 per ms (100 000 rays, 0.3 m) and by 1.5-5 % with
+// 300 per ms (0.5 m). At a fixed count more rays buy a smaller sphere, not a smaller
+// spread (the rest of it, from the rays' paths, still falls). It is kept between 0.1 m
+// and 1.5 m and within 90 % of the listener's distance to the nearest surface, so the
+// sphere never pokes through a wall (crossings lost there would bias the energy low).
+// Measured in docs/simulation.md and docs/diagnosis.md.
 double autoReceiverRadius(const AcousticScene& scene, const Eigen::Vector3d& listener, std::size_t ray_count,
-                          double speed_of_sound_m_s);
+                          double speed_of_sound_m_s, double crossings_per_ms = 300.0);
 
 RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& source,
                            const Eigen::Vector3d& listener, const PropagationModel& model,

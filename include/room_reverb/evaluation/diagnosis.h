@@ -95,8 +95,8 @@ struct Diagnosis {
   // No cause could have been named, whatever is wrong: a fit cannot gain more than the
   // whole held-out error, and the threshold is at least that. The evidence is too noisy
   // for the model's error (one pair in a room whose decay rides on a few ray paths, as the
-  // demo's sample room); more pairs lower the noise, more rays only where the spread
-  // between seeds is sampling noise (not in the sample room: docs/diagnosis.md).
+  // demo's sample room); more pairs lower the noise. More rays did not there, though
+  // each decay time's spread fell as it should (docs/diagnosis.md, session 15).
   bool noiseLimited() const { return threshold_jnd >= baseline_heldout_jnd; }
 };
 

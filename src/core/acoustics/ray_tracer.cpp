@@ -305,11 +305,10 @@ void addStats(RayTracingStats& total, const RayTracingStats& part) {
 }  // namespace
 
 double autoReceiverRadius(const AcousticScene& scene, const Eigen::Vector3d& listener, std::size_t ray_count,
-                          double speed_of_sound_m_s) {
-  constexpr double kCrossingsPerMs = 300.0;
+                          double speed_of_sound_m_s, double crossings_per_ms) {
   const double volume_m3 = scene.volumeM3() > 0.0 ? scene.volumeM3() : 1.0;
   const double rays = static_cast<double>(std::max<std::size_t>(ray_count, 1));
-  const double wanted = std::sqrt(kCrossingsPerMs * volume_m3 / (rays * kPi * speed_of_sound_m_s * 1e-3));
+  const double wanted = std::sqrt(crossings_per_ms * volume_m3 / (rays * kPi * speed_of_sound_m_s * 1e-3));
   const double clearance = 0.9 * scene.distanceToNearestSurface(listener);
   return std::max(std::min({wanted, 1.5, clearance}), std::min(0.1, clearance));
 }
@@ -321,11 +320,13 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
   if (!(options.roulette_db <= 0.0)) throw InputError("the Russian roulette level must be 0 dB or below");
   if (!(options.max_time_s > 0.0) || !(options.bin_s > 0.0)) throw InputError("ray tracing needs a positive duration and bin width");
   if (!(options.receiver_radius_m >= 0.0)) throw InputError("the receiver radius must be positive (or 0: automatic)");
+  if (!(options.crossings_per_ms > 0.0)) throw InputError("the detection sphere's crossings per millisecond must be positive");
   const int threads = options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
   const auto bins = static_cast<std::size_t>(std::ceil(options.max_time_s / options.bin_s));
   const double radius = options.receiver_radius_m > 0.0
                             ? options.receiver_radius_m
-                            : autoReceiverRadius(scene, listener, options.ray_count, model.speed_of_sound_m_s);
+                            : autoReceiverRadius(scene, listener, options.ray_count, model.speed_of_sound_m_s,
+                                                                 options.crossings_per_ms);
   const Tracer tracer(scene, source, listener, model, options, radius, 1.0 / static_cast<double>(options.ray_count), bins);
   const std::size_t chunks = (options.ray_count + kRaysPerChunk - 1) / kRaysPerChunk;
 

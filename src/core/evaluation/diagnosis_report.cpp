@@ -86,8 +86,8 @@ std::string diagnosisToMarkdown(const Diagnosis& d, const std::string& extended_
     os << "**No cause could be named**: the threshold (" << d.threshold_jnd << " JND) is at least the whole held-out "
        << "error (" << d.baseline_heldout_jnd << " JND), so no fit, however right, could gain enough. The simulation's "
        << "own noise hides whatever the model gets wrong; more measured pairs (the evidence is then split by pair and "
-       << "the noise averages over them) lower it; more rays (`--rays`) only where the spread between seeds is "
-       << "sampling noise, which it was not in the demo's sample room (docs/diagnosis.md, session 14).\n\n";
+       << "the noise averages over them) lower it; more rays (`--rays`) did not in the demo's sample room, "
+       << "even with the ray tracer's detection sphere crossed as much more often (docs/diagnosis.md, session 15).\n\n";
   } else if (d.causes.empty()) {
     os << "**No cause named**: no extension of the model gains more than the threshold on held-out evidence.\n\n";
   } else {
