@@ -7,7 +7,11 @@
 // response (cv_<band>, %) and from the ray-traced late energy itself (hist_cv_<band>, %:
 // the Schroeder curve of the histogram, -5 to -25 dB; no noise synthesis), and the
 // mean T20 at 1 kHz. A Monte Carlo spread would halve for each fourfold rise in rays.
-// Run: .ws/devel/lib/room_reverb/bench_decay_spread (about 2 minutes on 2 cores).
+// Each ray count runs with the automatic detection sphere (radius_cm 0, sized for a fixed
+// count of crossings, so it shrinks as the rays rise) and with fixed 0.5 m and 1.26 m
+// spheres (1.26 m: the listener's clearance), which tell the sphere's share of the spread
+// from the rays' (docs/diagnosis.md, session 15).
+// Run: .ws/devel/lib/room_reverb/bench_decay_spread (about 4 minutes on 2 cores).
 #include <benchmark/benchmark.h>
 
 #include <cmath>

@@ -8,7 +8,8 @@
 // in scripts/demo, cannot: docs/diagnosis.md). The second case gives the ray tracer four
 // times the rays and its detection sphere four times the crossings (the sphere the first
 // case gets, where the listener's clearance allows), to see whether the rays then lower the
-// noise: they did not (about 4 times the runtime; docs/diagnosis.md, session 15). Run: scripts/bench, or .ws/devel/lib/room_reverb/bench_diagnosis.
+// noise: they did not (about 4 times the runtime; docs/diagnosis.md, session 15).
+// Run: scripts/bench, or .ws/devel/lib/room_reverb/bench_diagnosis.
 #include <benchmark/benchmark.h>
 
 #include <sstream>

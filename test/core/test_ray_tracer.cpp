@@ -19,16 +19,21 @@ AirConditions noAir() {
   return air;
 }
 
+RayTracingOptions twoThreads(std::size_t rays, double max_time_s) {
+  RayTracingOptions options;
+  options.ray_count = rays;
+  options.max_time_s = max_time_s;
+  options.threads = 2;
+  return options;
+}
+
 }  // namespace
 
 TEST(RayTracer, LosslessRoomKeepsItsEnergyAndHoldsTheDiffuseFieldLevel) {
   const Eigen::Vector3d size(5, 4, 3);
   const AcousticScene scene(room_reverb::test::shoeboxMesh(size), room_reverb::test::uniformLibrary(0.0, 0.5));
   const PropagationModel model = PropagationModel::from(noAir(), {});
-  RayTracingOptions options;
-  options.ray_count = 4000;
-  options.max_time_s = 0.4;
-  options.threads = 2;
+  const RayTracingOptions options = twoThreads(4000, 0.4);
   const RayTracingResult result = traceRays(scene, {1.2, 1.1, 1.3}, {3.6, 2.7, 1.7}, model, options);
   EXPECT_EQ(result.stats.leaked_rays, 0u);
   EXPECT_EQ(result.stats.rays, 4000u);
@@ -186,12 +191,9 @@ TEST(RayTracer, TheAutomaticSphereIsCrossedAsOftenAsItWasSizedFor) {
   const Eigen::Vector3d size(10, 8, 4);
   const AcousticScene scene(room_reverb::test::shoeboxMesh(size), room_reverb::test::uniformLibrary(0.0, 0.0));
   const PropagationModel model = PropagationModel::from(noAir(), {});
-  RayTracingOptions options;
-  options.ray_count = 200000;
-  options.max_time_s = 0.2;
+  RayTracingOptions options = twoThreads(200000, 0.2);
   options.image_source_order = -1;  // count every crossing, the image sources' too
   options.diffuse_rain = false;
-  options.threads = 2;
   const Eigen::Vector3d source(2.5, 2.0, 1.5), listener(5.0, 4.0, 2.0);
   const RayTracingResult at300 = traceRays(scene, source, listener, model, options);
   options.crossings_per_ms = 1200.0;
