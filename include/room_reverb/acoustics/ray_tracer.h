@@ -73,8 +73,7 @@ struct RayTracingResult {
 // sphere never pokes through a wall (crossings lost there would bias the energy low).
 // Measured in docs/simulation.md and docs/diagnosis.md.
 double autoReceiverRadius(const AcousticScene& scene, const Eigen::Vector3d& listener, std::size_t ray_count,
-                          double speed_of_sound_m_s,
-                          double crossings_per_ms = RayTracingOptions{}.crossings_per_ms);
+                          double speed_of_sound_m_s, double crossings_per_ms);
 
 RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& source,
                            const Eigen::Vector3d& listener, const PropagationModel& model,

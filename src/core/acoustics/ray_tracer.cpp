@@ -326,7 +326,7 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
   const double radius = options.receiver_radius_m > 0.0
                             ? options.receiver_radius_m
                             : autoReceiverRadius(scene, listener, options.ray_count, model.speed_of_sound_m_s,
-                                                                 options.crossings_per_ms);
+                                                 options.crossings_per_ms);
   const Tracer tracer(scene, source, listener, model, options, radius, 1.0 / static_cast<double>(options.ray_count), bins);
   const std::size_t chunks = (options.ray_count + kRaysPerChunk - 1) / kRaysPerChunk;
 

@@ -1,7 +1,6 @@
 // diagnosis.json and report.md of a diagnosis.
 #include <cmath>
 #include <iomanip>
-#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <vector>
