@@ -148,8 +148,12 @@ TEST(MeasurementComparison, RirFilesAreComparedPairByPairWithTheirReflections) {
 
 TEST(MeasurementComparison, TheSameRoomComparesWithinNoise) {
   // The measurement is the model itself (another seed): the averaged T20 error in the
-  // mid bands stays within the seed noise of a 20 000-ray simulation (1.5 JND = 7.5 %;
-  // measured -0.08, +1.33, +0.15 JND at 500 Hz, 1 kHz, 2 kHz with these seeds).
+  // mid bands stays within the seed noise of a 20 000-ray simulation. Measured with the
+  // measurement's seed at 99-110 (session 16, keyed random numbers): at 1 kHz -0.57 to
+  // +2.26 JND, standard deviation 0.78 (500 Hz: 0.5); seed 99 gives +1.19, +2.26, +0.79 at
+  // 500 Hz, 1 kHz, 2 kHz. The difference of two runs spreads by sqrt(2) times one run's,
+  // about 1.1 JND, so 3 JND (15 %) is about three standard deviations: a bias of the
+  // simulate-then-analyse route against itself larger than that still fails.
   const Eigen::Vector3d s1(1.2, 1.0, 1.4), r1(3.6, 2.8, 1.3);
   Measurements meas;
   meas.pairs = {{"P1", measuredRir("same.wav", 1.0, s1, r1), "ambix", s1, r1}};
@@ -162,7 +166,7 @@ TEST(MeasurementComparison, TheSameRoomComparesWithinNoise) {
   for (const BandComparison& row : c.average) {
     if (row.nominal_hz < 500.0 || row.nominal_hz > 2000.0) continue;
     ASSERT_TRUE(row.error_jnd[t20]);
-    EXPECT_LT(std::abs(*row.error_jnd[t20]), 1.5) << row.nominal_hz;
+    EXPECT_LT(std::abs(*row.error_jnd[t20]), 3.0) << row.nominal_hz;
   }
 }
 

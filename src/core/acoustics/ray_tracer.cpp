@@ -13,11 +13,36 @@ namespace room_reverb::core {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-// Rays are traced in fixed chunks with their own generator, and chunk c always goes to
-// thread c mod T: the same seed and thread count give the same sums in the same order.
+// Rays are traced in fixed chunks, and chunk c always goes to thread c mod T: the same
+// seed and thread count give the same sums in the same order.
 constexpr std::size_t kRaysPerChunk = 256;
 // A new leg starts this far off the wall, after the point is put back onto its plane.
 constexpr double kSurfaceOffset_m = 1e-6;
+
+// The tracer's random numbers are not drawn from a running generator but computed from
+// (the branch's key, its reflection order, a slot): common random numbers. Two models that
+// differ in one wall's material then trace the same paths with the same decisions until a
+// decision itself changes (a roulette or scattering draw between the two models'
+// thresholds), so the difference of their results, the held-out gain of a fitted cause in
+// the diagnosis, carries only the noise of the paths that differ. With one generator per
+// chunk of rays, the first extra draw shifted every later ray of the chunk onto new
+// numbers, and a gain was as noisy as the difference of two independent runs
+// (docs/diagnosis.md, session 16).
+enum DrawSlot : std::uint64_t { kLaunch = 0, kRoulette = 0, kScatter = 1, kLambertRadius = 2, kLambertAzimuth = 3, kSlots = 4 };
+
+// The SplitMix64 finaliser (Steele, Lea and Flood 2014) as a 64-bit hash.
+std::uint64_t mix64(std::uint64_t z) {
+  z += 0x9e3779b97f4a7c15ull;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
+
+// Uniform in [0, 1) from the top 53 bits of the hash of (key, order, slot).
+double keyedUniform(std::uint64_t key, int order, DrawSlot slot) {
+  const std::uint64_t counter = static_cast<std::uint64_t>(order) * kSlots + slot;
+  return static_cast<double>(mix64(key ^ mix64(counter)) >> 11) * 0x1.0p-53;
+}
 
 // Launch direction of ray `index` of `count`: stratified rather than independent. Ray i
 // takes z uniform in the i-th of `count` equal-area zones (z = 1 - 2 (i + u) / count) and
@@ -28,10 +53,9 @@ constexpr double kSurfaceOffset_m = 1e-6;
 // carried by the few rays that graze the absorbing floor and ceiling, and their count
 // drove most of the seed-to-seed spread of T20 (measured in docs/simulation.md).
 Eigen::Vector3d stratifiedDirection(std::size_t index, std::size_t count, const Eigen::Matrix3d& rotation,
-                                    std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> u(0.0, 1.0);
+                                    double jitter) {
   const double golden_fraction = 0.61803398874989484820;  // 1 / golden ratio
-  const double z = 1.0 - 2.0 * (static_cast<double>(index) + u(rng)) / static_cast<double>(count);
+  const double z = 1.0 - 2.0 * (static_cast<double>(index) + jitter) / static_cast<double>(count);
   const double turns = static_cast<double>(index) * golden_fraction;
   const double phi = 2.0 * kPi * (turns - std::floor(turns));
   const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
@@ -49,11 +73,10 @@ Eigen::Matrix3d randomRotation(std::uint32_t seed) {
   return q.normalized().toRotationMatrix();
 }
 
-// Lambert (cosine-weighted) direction about the unit normal n.
-Eigen::Vector3d lambertDirection(const Eigen::Vector3d& n, std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  const double r = std::sqrt(u(rng));
-  const double phi = 2.0 * kPi * u(rng);
+// Lambert (cosine-weighted) direction about the unit normal n from two uniform numbers.
+Eigen::Vector3d lambertDirection(const Eigen::Vector3d& n, double u_radius, double u_azimuth) {
+  const double r = std::sqrt(u_radius);
+  const double phi = 2.0 * kPi * u_azimuth;
   const Eigen::Vector3d helper = std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
   const Eigen::Vector3d t1 = n.cross(helper).normalized();
   const Eigen::Vector3d t2 = n.cross(t1);
@@ -75,6 +98,7 @@ struct RayBranch {
   Eigen::Vector3d direction;
   OctaveBandValues energy;
   BandMask bands = kAllBands;
+  std::uint64_t key = 0;  // of its random numbers (keyedUniform)
   double travelled = 0.0;
   int order = 0;
   bool specular_only = true;
@@ -95,6 +119,7 @@ struct Tracer {
   double bin_length_m;
   double roulette_level;  // J: below it a branch plays Russian roulette
   Eigen::Matrix3d launch_rotation;
+  std::uint64_t seed_key;  // every ray's key derives from it and the ray's index
 
   Tracer(const AcousticScene& scene_, const Eigen::Vector3d& source_, const Eigen::Vector3d& listener_,
          const PropagationModel& model_, const RayTracingOptions& options_, double receiver_radius_m_,
@@ -122,6 +147,7 @@ struct Tracer {
     }
     roulette_level = ray_energy * std::pow(10.0, options.roulette_db / 10.0);
     launch_rotation = randomRotation(options.seed);
+    seed_key = mix64(0x7ace5eedull ^ static_cast<std::uint64_t>(options.seed));
   }
 
   // Arrival of `energy` after `distance_m` scaled by `factor`, with air: exp(-m d) as the
@@ -162,22 +188,23 @@ struct Tracer {
   // expected energy is unchanged and no energy is lost to a cut-off. A faded branch costs
   // about 1 / (1 - reflectance) more reflections on average instead of running to the
   // time limit. True when the branch ends.
-  bool rouletteEnds(RayBranch& ray, std::mt19937_64& rng) const {
+  bool rouletteEnds(RayBranch& ray) const {
     const std::optional<double> loudest = loudestBelowRoulette(ray.energy, ray.travelled);
     if (!loudest) return false;
     const double survival = *loudest / roulette_level;
-    if (std::uniform_real_distribution<double>(0.0, 1.0)(rng) >= survival) return true;
+    if (keyedUniform(ray.key, ray.order, kRoulette) >= survival) return true;
     for (double& e : ray.energy) e /= survival;
     return false;
   }
 
   // `pending` is the caller's scratch queue of branches (kept across rays so the hot loop
   // does not allocate per ray); empty on entry and on return.
-  void traceRay(std::size_t index, std::mt19937_64& rng, std::vector<RayBranch>& pending, EnergyHistogram& histogram,
+  void traceRay(std::size_t index, std::vector<RayBranch>& pending, EnergyHistogram& histogram,
                 RayTracingStats& stats) const {
     RayBranch start;
     start.position = source;
-    start.direction = stratifiedDirection(index, options.ray_count, launch_rotation, rng);
+    start.key = mix64(seed_key ^ mix64(index));
+    start.direction = stratifiedDirection(index, options.ray_count, launch_rotation, keyedUniform(start.key, 0, kLaunch));
     const double gain = model.directivity.pressureGain(start.direction);
     start.energy.fill(ray_energy * gain * gain);
     ++stats.rays;
@@ -185,7 +212,7 @@ struct Tracer {
     while (!pending.empty()) {
       RayBranch branch = pending.back();
       pending.pop_back();
-      traceBranch(branch, pending, rng, histogram, stats);
+      traceBranch(branch, pending, histogram, stats);
     }
   }
 
@@ -199,9 +226,8 @@ struct Tracer {
   // or (1-s)/(1-p), as before, is unbiased too, but the weights multiply over reflections
   // into a log-normal spread: T20 at 125 Hz varied by 25 % between seeds at 100 000 rays
   // in the sample room.)
-  void traceBranch(RayBranch& ray, std::vector<RayBranch>& pending, std::mt19937_64& rng, EnergyHistogram& histogram,
+  void traceBranch(RayBranch& ray, std::vector<RayBranch>& pending, EnergyHistogram& histogram,
                    RayTracingStats& stats) const {
-    std::uniform_real_distribution<double> u(0.0, 1.0);
     const double max_distance = options.max_time_s * model.speed_of_sound_m_s;
     const double r = receiver_radius_m;
     const double sphere_factor = 1.0 / (kPi * r * r);
@@ -241,11 +267,11 @@ struct Tracer {
       // Back onto the wall's plane (the float hit distance leaves the point up to ~1e-6 m
       // either side of it), then just off it on the room's side.
       ray.position += (wall_offset - normal.dot(ray.position)) * normal + kSurfaceOffset_m * normal;
-      if (rouletteEnds(ray, rng)) {
+      if (rouletteEnds(ray)) {
         ++stats.stopped_by_energy;
         return;
       }
-      const double draw = u(rng);
+      const double draw = keyedUniform(ray.key, ray.order, kScatter);
       BandMask diffuse = 0;
       for (int b = 0; b < kOctaveBandCount; ++b) {
         if ((ray.bands >> b & 1u) && draw < m.scattering[b]) diffuse |= 1u << b;
@@ -255,6 +281,9 @@ struct Tracer {
         RayBranch specular = ray;
         specular.bands = ray.bands & ~diffuse;
         specular.direction = mirrored;
+        // The diffuse part keeps the key, so it follows the path a model in which every band
+        // scattered here would take; the specular part gets its own numbers.
+        specular.key = mix64(ray.key ^ (0x5eed5eedull + static_cast<std::uint64_t>(ray.order)));
         for (int b = 0; b < kOctaveBandCount; ++b) {
           if (diffuse >> b & 1u) specular.energy[b] = 0.0;
           else ray.energy[b] = 0.0;
@@ -263,7 +292,8 @@ struct Tracer {
         ray.bands = diffuse;
       }
       if (diffuse != 0) {
-        ray.direction = lambertDirection(normal, rng);
+        ray.direction = lambertDirection(normal, keyedUniform(ray.key, ray.order, kLambertRadius),
+                                         keyedUniform(ray.key, ray.order, kLambertAzimuth));
         ray.specular_only = false;
         ray.last_specular = false;
       } else {
@@ -335,10 +365,8 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
   auto work = [&](int thread) {
     std::vector<RayBranch> pending;
     for (std::size_t chunk = static_cast<std::size_t>(thread); chunk < chunks; chunk += static_cast<std::size_t>(threads)) {
-      std::seed_seq seq{options.seed, static_cast<std::uint32_t>(chunk), static_cast<std::uint32_t>(chunk >> 32)};
-      std::mt19937_64 rng(seq);
       const std::size_t end = std::min(options.ray_count, (chunk + 1) * kRaysPerChunk);
-      for (std::size_t ray = chunk * kRaysPerChunk; ray < end; ++ray) tracer.traceRay(ray, rng, pending, histograms[thread], stats[thread]);
+      for (std::size_t ray = chunk * kRaysPerChunk; ray < end; ++ray) tracer.traceRay(ray, pending, histograms[thread], stats[thread]);
     }
   };
   std::vector<std::thread> pool;
