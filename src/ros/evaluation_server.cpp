@@ -252,7 +252,6 @@ bool EvaluationServer::diagnose(room_reverb::DiagnoseRoom::Request& request,
     response.baseline_error_jnd = diagnosis.baseline_error_jnd;
     response.noise_jnd = diagnosis.noise_jnd;
     response.threshold_jnd = diagnosis.threshold_jnd;
-    response.noise_limited = diagnosis.noiseLimited();
     for (const core::NamedCause& c : diagnosis.causes) {
       room_reverb::DiagnosedCause m;
       m.cause = c.cause;
@@ -261,6 +260,8 @@ bool EvaluationServer::diagnose(room_reverb::DiagnoseRoom::Request& request,
       m.error_before_jnd = c.error_before_jnd;
       m.error_after_jnd = c.error_after_jnd;
       m.heldout_gain_jnd = c.heldoutGainJnd();
+      m.heldout_gain_over_seeds_jnd = c.over_seeds.mean_jnd;
+      m.heldout_gain_standard_error_jnd = c.over_seeds.standard_error_jnd;
       response.causes.push_back(m);
     }
     if (room.isRoomModel()) {

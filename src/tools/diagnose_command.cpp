@@ -105,16 +105,14 @@ int runDiagnose(const std::vector<std::string>& raw) {
   const DiagnosisFiles files = writeDiagnosis(diagnosis, room, evidence, args.value("out", ""));
   std::cout << std::fixed << std::setprecision(2) << "baseline error " << diagnosis.baseline_error_jnd
             << " JND (held out " << diagnosis.baseline_heldout_jnd << ", noise " << diagnosis.noise_jnd << ")\n";
-  if (diagnosis.causes.empty() && diagnosis.noiseLimited()) {
-    std::cout << "no cause could be named: the threshold " << diagnosis.threshold_jnd
-              << " JND is not below the held-out error; more measured pairs would lower it (more --rays did not "
-                 "in the sample room: docs/diagnosis.md)\n";
-  } else if (diagnosis.causes.empty()) {
+  if (diagnosis.causes.empty()) {
     std::cout << "no cause named (threshold " << diagnosis.threshold_jnd << " JND)\n";
   }
   for (const NamedCause& c : diagnosis.causes) {
     std::cout << c.cause << (c.target.empty() ? "" : " (" + c.target + ")") << ": error " << c.error_before_jnd
-              << " -> " << c.error_after_jnd << " JND, held-out gain " << c.heldoutGainJnd() << " JND\n";
+              << " -> " << c.error_after_jnd << " JND, held-out gain " << c.heldoutGainJnd() << " JND ("
+              << c.over_seeds.mean_jnd << " +- " << c.over_seeds.standard_error_jnd << " over "
+              << c.over_seeds.gains.size() << " seeds)\n";
   }
   for (const MeasurementFlag& f : diagnosis.flags) std::cout << "measurement_limits: " << f.pair << ": " << f.issue << "\n";
   std::cout << "wrote " << files.json << ", " << files.report << (files.extended_room.empty() ? "" : ", " + files.extended_room)

@@ -42,7 +42,12 @@ Outcome run(const PlantedCase& c, const std::vector<std::string>& causes = kCata
     std::cout << "\n";
   }
   for (const HypothesisTrial& t : d.trials) {
-    std::cout << "[ trial    ] " << t.cause << " gain " << t.heldout_gain_jnd << ": " << t.note << "\n";
+    std::cout << "[ trial    ] " << t.cause << " gain " << t.heldout_gain_jnd;
+    if (t.over_seeds.gains.size() > 1) {
+      std::cout << " (over " << t.over_seeds.gains.size() << " seeds " << t.over_seeds.mean_jnd << " +- "
+                << t.over_seeds.standard_error_jnd << ")";
+    }
+    std::cout << ": " << t.note << "\n";
   }
   for (const NamedCause& n : d.causes) {
     std::cout << "[ named    ] " << n.cause << " " << n.target << " held out " << n.heldout_before_jnd << " -> "

@@ -3,6 +3,7 @@
 // The responses are synthetic decays with known T60 per band, so the error of each term
 // is known in closed form.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <atomic>
@@ -185,24 +186,31 @@ TEST(ModelEvaluation, PairsRunInRoundsWithReproducibleThreadCounts) {
   for (const auto& r : ran) EXPECT_EQ(r.load(), 1);
 }
 
-TEST(ModelEvaluation, ADiagnosisWhoseNoiseHidesEveryCauseSaysSo) {
-  // The demo's one pair (session 13): held-out error 1.14 JND, noise 0.66, threshold 1.32.
+TEST(ModelEvaluation, PairedGainsAreTakenSeedBySeedAndSkipSeedsThatCouldNotBeSimulated) {
+  // Gains 0.2, 0.1, 0.3 (the NaN seed left out): mean 0.2, sample sd 0.1, standard error 0.1 / sqrt(3).
+  const SeedGains g = pairedGains({1.5, 1.4, 1.6, 1.7}, {1.3, 1.3, std::nan(""), 1.4});
+  ASSERT_EQ(g.gains.size(), 3u);
+  EXPECT_NEAR(g.mean_jnd, 0.2, 1e-12);
+  EXPECT_NEAR(g.standard_error_jnd, 0.1 / std::sqrt(3.0), 1e-12);
+  EXPECT_EQ(pairedGains({1.0}, {0.8}).standard_error_jnd, 0.0);  // one seed: no spread to measure
+  EXPECT_NEAR(heldoutNoise({1.0, 1.2, std::nan("")}), heldoutNoise({1.0, 1.2}), 1e-12);
+}
+
+TEST(ModelEvaluation, TheReportShowsAGainOverSeedsWithItsStandardError) {
   Diagnosis d;
-  d.baseline_error_jnd = 1.21;
-  d.baseline_heldout_jnd = 1.14;
-  d.noise_jnd = 0.66;
-  d.threshold_jnd = 1.32;
-  EXPECT_TRUE(d.noiseLimited());
-  EXPECT_NE(diagnosisToMarkdown(d, "", {}).find("No cause could be named"), std::string::npos);
-  EXPECT_NE(diagnosisToJson(d, "").find("\"noise_limited\": true"), std::string::npos);
-  // A noise well below the held-out error (session 13's two-seed estimate for five pairs
-  // of the same room): nothing named is then a finding, not a limit.
-  d.noise_jnd = 0.09;
-  d.threshold_jnd = 0.18;
-  EXPECT_FALSE(d.noiseLimited());
+  d.baseline_error_jnd = 1.6;
+  d.baseline_heldout_jnd = 1.5;
+  d.threshold_jnd = 0.12;
+  HypothesisTrial trial{"surface_absorption", "floor", true, "{}", 0.3, pairedGains({1.5, 1.4}, {1.2, 1.2})};
+  d.trials.push_back(trial);
+  d.trials.push_back({"scattering", "", true, "{}", -0.5, {}});
   const std::string report = diagnosisToMarkdown(d, "", {});
-  EXPECT_EQ(report.find("No cause could be named"), std::string::npos);
+  EXPECT_NE(report.find("0.25 ± 0.05 (2 seeds)"), std::string::npos) << report;
+  EXPECT_NE(report.find("| -0.50 |"), std::string::npos) << report;  // not measured again: the base seed's gain
   EXPECT_NE(report.find("No cause named"), std::string::npos);
+  const nlohmann::json j = nlohmann::json::parse(diagnosisToJson(d, ""));
+  EXPECT_NEAR(j["hypotheses"][0]["gain_over_seeds"]["mean_jnd"].get<double>(), 0.25, 1e-9);
+  EXPECT_FALSE(j["hypotheses"][1].contains("gain_over_seeds"));
 }
 
 }  // namespace

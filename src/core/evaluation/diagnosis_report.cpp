@@ -29,6 +29,27 @@ nlohmann::json parametersJson(const CauseParameters& p) {
   return j;
 }
 
+nlohmann::json seedGainsJson(const SeedGains& g) {
+  nlohmann::json j;
+  j["gains_jnd"] = nlohmann::json::array();
+  for (double x : g.gains) j["gains_jnd"].push_back(rounded(x, 4));
+  j["mean_jnd"] = rounded(g.mean_jnd, 4);
+  j["standard_error_jnd"] = rounded(g.standard_error_jnd, 4);
+  return j;
+}
+
+// "0.19 ± 0.02 (6 seeds)", or the base seed's gain alone when it was not measured again.
+std::string gainText(double base_seed_gain, const SeedGains& g) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(2);
+  if (g.gains.size() < 2) {
+    os << base_seed_gain;
+  } else {
+    os << g.mean_jnd << " ± " << g.standard_error_jnd << " (" << g.gains.size() << " seeds)";
+  }
+  return os.str();
+}
+
 }  // namespace
 
 std::string describeParameters(const CauseParameters& parameters) { return parametersJson(parameters).dump(); }
@@ -41,7 +62,6 @@ std::string diagnosisToJson(const Diagnosis& d, const std::string& extended_room
   j["heldout_over_seeds_jnd"] = nlohmann::json::array();
   for (double e : d.heldout_over_seeds) j["heldout_over_seeds_jnd"].push_back(rounded(e, 4));
   j["threshold_jnd"] = rounded(d.threshold_jnd, 4);
-  j["noise_limited"] = d.noiseLimited();
   j["causes"] = nlohmann::json::array();
   for (const NamedCause& c : d.causes) {
     j["causes"].push_back({{"cause", c.cause},
@@ -51,12 +71,14 @@ std::string diagnosisToJson(const Diagnosis& d, const std::string& extended_room
                            {"error_after_jnd", rounded(c.error_after_jnd, 4)},
                            {"heldout_before_jnd", rounded(c.heldout_before_jnd, 4)},
                            {"heldout_after_jnd", rounded(c.heldout_after_jnd, 4)},
-                           {"heldout_gain_jnd", rounded(c.heldoutGainJnd(), 4)}});
+                           {"heldout_gain_jnd", rounded(c.heldoutGainJnd(), 4)},
+                           {"gain_over_seeds", seedGainsJson(c.over_seeds)}});
   }
   j["hypotheses"] = nlohmann::json::array();
   for (const HypothesisTrial& t : d.trials) {
     j["hypotheses"].push_back({{"cause", t.cause}, {"fitted", t.fitted}, {"target", t.target},
                                {"heldout_gain_jnd", rounded(t.heldout_gain_jnd, 4)}, {"note", t.note}});
+    if (!t.over_seeds.gains.empty()) j["hypotheses"].back()["gain_over_seeds"] = seedGainsJson(t.over_seeds);
   }
   j["measurement_flags"] = nlohmann::json::array();
   for (const MeasurementFlag& f : d.flags) {
@@ -76,19 +98,15 @@ std::string diagnosisToMarkdown(const Diagnosis& d, const std::string& extended_
   os << "# Diagnosis: measured against simulated\n\n";
   os << "Error of the model as given: **" << d.baseline_error_jnd << " JND** (mean absolute error, each parameter "
      << "group weighted equally; " << d.baseline_heldout_jnd << " JND on the held-out evidence). "
-     << "Noise of the held-out error over ray-tracing seeds: " << d.noise_jnd << " JND (√2 times the standard "
-     << "deviation of";
+     << "Over ray-tracing seeds the held-out error was";
   for (std::size_t i = 0; i < d.heldout_over_seeds.size(); ++i) os << (i == 0 ? " " : ", ") << d.heldout_over_seeds[i];
-  os << " JND), so a cause must gain more than " << d.threshold_jnd
-     << " JND on evidence its fit did not use to be named.\n\n";
-  if (d.causes.empty() && d.noiseLimited()) {
-    os << "**No cause could be named**: the threshold (" << d.threshold_jnd << " JND) is at least the whole held-out "
-       << "error (" << d.baseline_heldout_jnd << " JND), so no fit, however right, could gain enough. The simulation's "
-       << "own noise hides whatever the model gets wrong; more measured pairs (the evidence is then split by pair and "
-       << "the noise averages over them) lower it; more rays (`--rays`) did not in the demo's sample room, "
-       << "even with the ray tracer's detection sphere crossed as much more often (docs/diagnosis.md, session 15).\n\n";
-  } else if (d.causes.empty()) {
-    os << "**No cause named**: no extension of the model gains more than the threshold on held-out evidence.\n\n";
+  os << " JND (noise " << d.noise_jnd << " JND: √2 times their standard deviation). A cause is named when its fit "
+     << "gains more than " << d.threshold_jnd << " JND (at least the noise, 0.1 JND and 8 % of the held-out error) "
+     << "on evidence the fit did not use, at the base seed and on average over the seeds with the same fitted "
+     << "parameters, and the average stands clear of its own spread (three standard errors).\n\n";
+  if (d.causes.empty()) {
+    os << "**No cause named**: no extension of the model gained more than the threshold on held-out evidence, or "
+       << "its gain did not hold at the other seeds (the table of hypotheses below).\n\n";
   } else {
     os << "## Causes, ranked\n\n| # | cause | target | parameters | error before → after (JND) | held-out gain (JND) |\n"
        << "|---:|---|---|---|---|---:|\n";
@@ -96,7 +114,7 @@ std::string diagnosisToMarkdown(const Diagnosis& d, const std::string& extended_
       const NamedCause& c = d.causes[i];
       os << "| " << i + 1 << " | `" << c.cause << "` | " << (c.target.empty() ? "–" : c.target) << " | "
          << describeParameters(c.parameters) << " | " << c.error_before_jnd << " → " << c.error_after_jnd << " | "
-         << c.heldoutGainJnd() << " |\n";
+         << gainText(c.heldoutGainJnd(), c.over_seeds) << " |\n";
     }
     os << "\n";
     for (const NamedCause& c : d.causes) {
@@ -135,7 +153,7 @@ std::string diagnosisToMarkdown(const Diagnosis& d, const std::string& extended_
      << "|---|---|---|---:|---|\n";
   for (const HypothesisTrial& t : d.trials) {
     os << "| `" << t.cause << "` | " << (t.fitted ? "yes" : "no") << " | " << (t.target.empty() ? "–" : t.target) << " | "
-       << t.heldout_gain_jnd << " | " << t.note << " |\n";
+       << gainText(t.heldout_gain_jnd, t.over_seeds) << " | " << t.note << " |\n";
   }
   if (!d.flags.empty()) {
     os << "\n## Limits of the measurement (`measurement_limits`: the measurement's, not the model's)\n\n";
