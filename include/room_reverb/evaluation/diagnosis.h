@@ -85,9 +85,6 @@ struct DiagnosisOptions {
   // errors of its mean over the seeds (one-sided t test, 5 degrees of freedom at the
   // default seeds: p < 0.02)...
   double confirm_factor = 3.0;
-  // Two causes whose held-out errors are within this many times `noise_jnd` of each other
-  // are told apart by their number of free parameters, not their errors (chooseCause).
-  double noise_factor = 2.0;
   // ...and this many times `noise_jnd`, at the base seed and on average. The measurement
   // is one draw of the room's response, and a fit can take up part of its noise the same
   // way at every seed of the model, which the seeds cannot average away. Measured: the
@@ -99,6 +96,9 @@ struct DiagnosisOptions {
   double measurement_noise_factor = 1.0;
   double min_gain_jnd = 0.1;          // ...and this much...
   double min_relative_gain = 0.08;    // ...and this fraction of the held-out error
+  // Two causes whose held-out errors are within this many times `noise_jnd` of each other
+  // are told apart by their number of free parameters, not their errors (chooseCause).
+  double noise_factor = 2.0;
 };
 
 struct Diagnosis {
