@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "room_reverb/acoustics/room_simulation.h"
+#include "room_reverb/common/sample_statistics.h"
 #include "room_reverb/evaluation/diagnosis_setup.h"
 #include "room_reverb/metrics/energy_decay.h"
 #include "room_reverb/metrics/room_acoustic_parameters.h"
@@ -31,11 +32,7 @@ constexpr int kSeeds = 12;
 const std::vector<double> kBandsHz{250, 500, 1000, 2000};
 
 double coefficientOfVariationPercent(const std::vector<double>& v) {
-  double mean = 0.0, sum_sq = 0.0;
-  for (double x : v) mean += x;
-  mean /= static_cast<double>(v.size());
-  for (double x : v) sum_sq += (x - mean) * (x - mean);
-  return 100.0 * std::sqrt(sum_sq / static_cast<double>(v.size() - 1)) / mean;
+  return 100.0 * sampleStandardDeviation(v) / sampleMean(v);
 }
 
 // T20 of one band of the late histogram, by the same Schroeder-curve fit as a response's

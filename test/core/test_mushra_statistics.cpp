@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "room_reverb/common/quantile.h"
+#include "room_reverb/common/sample_statistics.h"
 #include "room_reverb/listening/mushra_results.h"
 #include "room_reverb/listening/mushra_screening.h"
 #include "room_reverb/listening/mushra_statistics.h"
@@ -535,4 +536,13 @@ TEST(MushraStatistics, ComparisonsPairByListenerAndPage) {
   EXPECT_FALSE(lonely[0].t_test.p_value);
   EXPECT_FALSE(lonely[0].t_test_holm_p);
   EXPECT_NE(lonely[0].t_test.not_testable.find("1 pair"), std::string::npos) << lonely[0].t_test.not_testable;
+}
+
+TEST(SampleStatistics, MeanAndBesselCorrectedDeviationWithClearErrors) {
+  // 2, 4, 4, 4, 5, 5, 7, 9: mean 5, squared deviations sum to 32, so s = sqrt(32 / 7).
+  const std::vector<double> v{2, 4, 4, 4, 5, 5, 7, 9};
+  EXPECT_DOUBLE_EQ(sampleMean(v), 5.0);
+  EXPECT_NEAR(sampleStandardDeviation(v), std::sqrt(32.0 / 7.0), 1e-12);
+  expectInputError([] { sampleMean({}); }, {"no values"});
+  expectInputError([] { sampleStandardDeviation({1.0}); }, {"at least two"});
 }

@@ -7,6 +7,7 @@
 
 #include "room_reverb/acoustics/room_simulation.h"
 #include "room_reverb/common/error.h"
+#include "room_reverb/common/sample_statistics.h"
 #include "room_reverb/metrics/room_acoustic_parameters.h"
 #include "shoebox.h"
 
@@ -208,18 +209,6 @@ TEST(RayTracer, TheAutomaticSphereIsCrossedAsOftenAsItWasSizedFor) {
   EXPECT_THROW(traceRays(scene, source, listener, model, options), InputError);
 }
 
-namespace {
-
-double sampleSd(const std::vector<double>& v) {
-  double mean = 0.0;
-  for (double x : v) mean += x / static_cast<double>(v.size());
-  double sum_sq = 0.0;
-  for (double x : v) sum_sq += (x - mean) * (x - mean);
-  return std::sqrt(sum_sq / static_cast<double>(v.size() - 1));
-}
-
-}  // namespace
-
 // Common random numbers: the tracer's decisions are keyed by ray, branch and reflection, so
 // two rooms that differ in one surface (here the floor: absorption and scattering 0.30 ->
 // 0.35) traced with the same seed follow the same paths until a decision on that floor
@@ -253,6 +242,6 @@ TEST(RayTracer, OneSurfaceChangedAtTheSameSeedChangesLittleElse) {
       paired.push_back(b - a);
       unpaired.push_back(c - a);
     }
-    EXPECT_LT(sampleSd(paired), 0.5 * sampleSd(unpaired)) << w[0] << "-" << w[1] << " s";
+    EXPECT_LT(sampleStandardDeviation(paired), 0.5 * sampleStandardDeviation(unpaired)) << w[0] << "-" << w[1] << " s";
   }
 }

@@ -28,6 +28,8 @@ constexpr double kSurfaceOffset_m = 1e-6;
 // chunk of rays, the first extra draw shifted every later ray of the chunk onto new
 // numbers, and a gain was as noisy as the difference of two independent runs
 // (docs/diagnosis.md, session 16).
+// The launch jitter is drawn at order 0 and the roulette only at reflections (order 1 and
+// up), so the two share a slot without sharing a number.
 enum DrawSlot : std::uint64_t { kLaunch = 0, kRoulette = 0, kScatter = 1, kLambertRadius = 2, kLambertAzimuth = 3, kSlots = 4 };
 
 // The SplitMix64 finaliser (Steele, Lea and Flood 2014) as a 64-bit hash.

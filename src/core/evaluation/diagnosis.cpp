@@ -8,6 +8,7 @@
 
 #include "cause_fitting.h"
 #include "room_reverb/common/error.h"
+#include "room_reverb/common/sample_statistics.h"
 
 namespace room_reverb::core {
 namespace {
@@ -32,12 +33,6 @@ std::vector<double> validOnly(const std::vector<double>& values) {
   return out;
 }
 
-double meanOf(const std::vector<double>& values) {
-  double sum = 0.0;
-  for (double v : values) sum += v;
-  return values.empty() ? 0.0 : sum / static_cast<double>(values.size());
-}
-
 // How many of a round's fits whose gain at the base seed cleared the bar are measured
 // again at the noise seeds (the best first): each costs `noise_seeds` evaluations.
 constexpr std::size_t kMaxConfirmedPerRound = 3;
@@ -50,12 +45,9 @@ SeedGains pairedGains(const std::vector<double>& before_over_seeds, const std::v
     const double gain = before_over_seeds[k] - after_over_seeds[k];
     if (std::isfinite(gain)) g.gains.push_back(gain);
   }
-  g.mean_jnd = meanOf(g.gains);
-  const std::size_t n = g.gains.size();
-  if (n >= 2) {
-    double sum_sq = 0.0;
-    for (double x : g.gains) sum_sq += (x - g.mean_jnd) * (x - g.mean_jnd);
-    g.standard_error_jnd = std::sqrt(sum_sq / static_cast<double>(n - 1) / static_cast<double>(n));
+  if (!g.gains.empty()) g.mean_jnd = sampleMean(g.gains);
+  if (g.gains.size() >= 2) {
+    g.standard_error_jnd = sampleStandardDeviation(g.gains) / std::sqrt(static_cast<double>(g.gains.size()));
   }
   return g;
 }
@@ -64,18 +56,13 @@ double heldoutNoise(const std::vector<double>& heldout_over_seeds_with_gaps) {
   const std::vector<double> heldout_over_seeds = validOnly(heldout_over_seeds_with_gaps);
   const std::size_t n = heldout_over_seeds.size();
   if (n < 2) return 0.0;
-  double mean = 0.0;
-  for (double e : heldout_over_seeds) mean += e;
-  mean /= static_cast<double>(n);
-  double sum_sq = 0.0;
-  for (double e : heldout_over_seeds) sum_sq += (e - mean) * (e - mean);
   // The sample standard deviation underestimates sigma by c4(n) on average (for normal
   // errors, 0.95 at the default n = 6); divided by it, the estimate is unbiased, which matters for a
   // bar that decides what is named.
   const double nd = static_cast<double>(n);
   const double c4 = std::sqrt(2.0 / (nd - 1.0)) * std::exp(std::lgamma(nd / 2.0) - std::lgamma((nd - 1.0) / 2.0));
   // sqrt(2) sigma: the spread of the difference between two independent evaluations.
-  return std::sqrt(2.0 * sum_sq / (nd - 1.0)) / c4;
+  return std::sqrt(2.0) * sampleStandardDeviation(heldout_over_seeds) / c4;
 }
 
 std::optional<std::size_t> chooseCause(const std::vector<CauseCandidate>& candidates, double margin_jnd) {
@@ -174,6 +161,10 @@ Diagnosis diagnose(const RoomUnderTest& room, const MeasuredEvidence& evidence, 
     std::vector<std::size_t> real;
     std::vector<std::vector<double>> real_over_seeds;
     std::vector<CauseCandidate> candidates;
+    for (std::size_t rank = kMaxConfirmedPerRound; rank < order.size(); ++rank) {
+      trials[cleared_trial[order[rank]]].note += "; not named: not measured again (only the " +
+                                                 std::to_string(kMaxConfirmedPerRound) + " best gains of a round are)";
+    }
     for (std::size_t rank = 0; rank < std::min(order.size(), kMaxConfirmedPerRound); ++rank) {
       const std::size_t i = order[rank];
       ModelExtension full = diagnosis.extension;
@@ -184,7 +175,7 @@ Diagnosis diagnose(const RoomUnderTest& room, const MeasuredEvidence& evidence, 
       const SeedGains& g = trial.over_seeds;
       if (g.mean_jnd > threshold && g.mean_jnd > options.confirm_factor * g.standard_error_jnd) {
         real.push_back(i);
-        candidates.push_back({meanOf(validOnly(over_seeds)), freeParameters(cleared[i].cause)});
+        candidates.push_back({sampleMean(validOnly(over_seeds)), freeParameters(cleared[i].cause)});
         real_over_seeds.push_back(std::move(over_seeds));
       } else {
         std::ostringstream note;

@@ -11,6 +11,7 @@
 
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/quantile.h"
+#include "room_reverb/common/sample_statistics.h"
 
 namespace room_reverb::core {
 namespace {
@@ -102,16 +103,14 @@ ScoreSummary summarizeScores(const std::vector<double>& scores, double confidenc
   summary.n = sorted.size();
   summary.confidence = confidence;
   const double n = static_cast<double>(summary.n);
-  summary.mean = std::accumulate(sorted.begin(), sorted.end(), 0.0) / n;
+  summary.mean = sampleMean(sorted);
   summary.median = quantileLinear(sorted, 0.5);
   summary.first_quartile = quantileLinear(sorted, 0.25);
   summary.third_quartile = quantileLinear(sorted, 0.75);
   summary.minimum = sorted.front();
   summary.maximum = sorted.back();
   if (summary.n < 2) return summary;
-  double squares = 0.0;
-  for (double score : sorted) squares += (score - summary.mean) * (score - summary.mean);
-  const double sd = std::sqrt(squares / (n - 1.0));
+  const double sd = sampleStandardDeviation(sorted);
   const boost::math::students_t t_distribution(n - 1.0);
   const double half_width =
       boost::math::quantile(boost::math::complement(t_distribution, (1.0 - confidence) / 2.0)) * sd / std::sqrt(n);
@@ -208,7 +207,7 @@ PairedTTest pairedTTest(const std::vector<double>& differences, double alpha) {
     return test;
   }
   const double n = static_cast<double>(test.n);
-  const double mean = std::accumulate(differences.begin(), differences.end(), 0.0) / n;
+  const double mean = sampleMean(differences);
   test.mean_difference = mean;
   test.degrees_of_freedom = n - 1.0;
   const bool constant =
@@ -218,9 +217,7 @@ PairedTTest pairedTTest(const std::vector<double>& differences, double alpha) {
         "every difference is " + numberText(differences.front()) + ": no variance, so the t statistic is undefined";
     return test;
   }
-  double squares = 0.0;
-  for (double d : differences) squares += (d - mean) * (d - mean);
-  const double standard_error = std::sqrt(squares / (n - 1.0)) / std::sqrt(n);
+  const double standard_error = sampleStandardDeviation(differences) / std::sqrt(n);
   test.t = mean / standard_error;
   const boost::math::students_t t_distribution(n - 1.0);
   test.p_value = 2.0 * boost::math::cdf(boost::math::complement(t_distribution, std::abs(*test.t)));
