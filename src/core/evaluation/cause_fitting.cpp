@@ -143,17 +143,4 @@ ScalarFit fitScalar(const std::function<Evaluation(double)>& evaluate, double lo
   return best;
 }
 
-std::map<double, double> decayBias(const Evaluation& evaluation) {
-  std::map<double, std::pair<double, int>> sums;
-  for (const ErrorTerm& t : evaluation.terms) {
-    if (t.held_out || (t.group != "T20" && t.group != "T30")) continue;
-    auto& [sum, n] = sums[t.band_hz];
-    sum += t.error_jnd * 0.05;  // JND of a decay time: 5 %
-    ++n;
-  }
-  std::map<double, double> bias;
-  for (const auto& [band, s] : sums) bias[band] = s.first / s.second;
-  return bias;
-}
-
 }  // namespace room_reverb::core

@@ -54,8 +54,4 @@ struct ScalarFit {
 ScalarFit fitScalar(const std::function<Evaluation(double)>& evaluate, double lo, double hi, int grid = 5,
                     int refinements = 5);
 
-// The mean signed relative error of the fit part's decay times (T20 and T30) per band, as
-// a fraction (0.1: the simulation decays 10 % too slowly); 0 where there is none.
-std::map<double, double> decayBias(const Evaluation& evaluation);
-
 }  // namespace room_reverb::core

@@ -1,40 +1,33 @@
-// surface_absorption: absorption per octave band fitted to the decay times of the fit
-// evidence by Newton steps whose slope comes from Sabine's formula (T ~ V / A: a relative
-// decay error e asks for e * A more absorption area). The target is one surface (or
-// material), or every surface at once (`all_surfaces`: one absorption per band added to
-// each, for a model whose materials all absorb too little or too much, as a visual route's
-// library guesses may). Decay times alone cannot tell targets apart, but the early profile
-// and clarity of other positions can: the target is the one whose fit leaves the smallest
-// fit error.
+// surface_absorption: absorption per octave band fitted to the fit evidence. The target is
+// one surface (or material), or every surface at once (`all_surfaces`: one absorption per
+// band added to each, for a model whose materials all absorb too little or too much, as a
+// visual route's library guesses may). Every target is probed once, its absorption moved by
+// kProbe in every band at the base seed, so that the slope of every fit term (decay times,
+// EDT, clarity, DRR, the early windows) is measured rather than taken from Sabine's formula
+// (absorption_step.h says why); the targets whose probe predicts the largest fall of the
+// fit error get Gauss-Newton steps, and the one whose fit leaves the smallest fit error is
+// the cause's target.
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
 
 #include "cause_fitting.h"
+#include "room_reverb/evaluation/absorption_step.h"
 #include "room_reverb/evaluation/material_match.h"
 
 namespace room_reverb::core {
 namespace {
 
-constexpr int kNewtonSteps = 2;
+constexpr double kProbe = 0.1;              // absorption added (or taken) to measure the slopes
+constexpr std::size_t kSteppedTargets = 4;  // targets that get steps, by the fall their probe predicts
+constexpr int kSteps = 2;                   // Gauss-Newton steps per stepped target
 constexpr double kMinTargetAreaM2 = 1.0;  // smaller objects cannot move a decay time
 constexpr const char* kAllSurfaces = "all_surfaces";  // the pseudo-target of one change on every surface
 
 OctaveBandValues currentAbsorption(const FitContext& context, const std::string& target) {
   const auto it = context.accepted.absorption.find(target);
   return it != context.accepted.absorption.end() ? it->second : context.evaluator.room().absorptionOf(target);
-}
-
-// Sabine's equivalent absorption area per band of the current model.
-OctaveBandValues absorptionArea(const FitContext& context) {
-  OctaveBandValues area{};
-  const RoomUnderTest& room = context.evaluator.room();
-  for (const std::string& target : room.absorptionTargets()) {
-    const OctaveBandValues alpha = currentAbsorption(context, target);
-    for (std::size_t b = 0; b < area.size(); ++b) area[b] += room.areaOf(target) * alpha[b];
-  }
-  return area;
 }
 
 // The per-band changes where the fit evidence has a decay bias, interpolated linearly
@@ -60,53 +53,62 @@ OctaveBandValues interpolatedChange(const std::vector<std::optional<double>>& kn
   return change;
 }
 
-// One Newton step: the absorption each band of the target must add, as a coefficient over
-// the target's area.
-OctaveBandValues newtonChange(const OctaveBandValues& area_total, double target_area, const std::map<double, double>& bias) {
-  const std::vector<FrequencyBand> bands = standardBands(BandResolution::kOctave);
-  std::vector<std::optional<double>> delta(bands.size());
-  for (std::size_t b = 0; b < bands.size(); ++b) {
-    const auto it = bias.find(bands[b].nominal_hz);
-    if (it != bias.end()) delta[b] = area_total[b] * it->second / target_area;
-  }
-  return interpolatedChange(delta);
-}
-
 OctaveBandValues clampedSum(const OctaveBandValues& alpha, const OctaveBandValues& change) {
   OctaveBandValues next{};
   for (std::size_t b = 0; b < next.size(); ++b) next[b] = std::clamp(alpha[b] + change[b], 0.01, 0.99);
   return next;
 }
 
-// What one target's fit changes: its absorptions, the model's absorption area, and the
-// cause's parameters.
+// One target: the surfaces whose absorption changes, their absorption before the fit and
+// after the best step so far.
 struct TargetFit {
   std::string name;
-  std::vector<std::string> surfaces;  // the targets whose absorption changes
-  double area = 0.0;
-  std::map<std::string, OctaveBandValues> alpha;
+  std::vector<std::string> surfaces;
+  std::map<std::string, OctaveBandValues> before, alpha;
 };
 
 TargetFit startFit(const FitContext& context, const std::string& name, std::vector<std::string> surfaces) {
   TargetFit fit;
   fit.name = name;
   fit.surfaces = std::move(surfaces);
-  for (const std::string& s : fit.surfaces) {
-    fit.area += context.evaluator.room().areaOf(s);
-    fit.alpha[s] = currentAbsorption(context, s);
-  }
+  for (const std::string& s : fit.surfaces) fit.before[s] = fit.alpha[s] = currentAbsorption(context, s);
   return fit;
 }
 
-// Applies one Newton step, keeping the model's absorption area up to date.
-void step(const FitContext& context, TargetFit& fit, OctaveBandValues& area_total, const std::map<double, double>& bias) {
-  const OctaveBandValues change = newtonChange(area_total, fit.area, bias);
+// What `alpha` adds to the target, as applied: the change in absorption area over the
+// target's area (clamping makes it differ from the offset asked for).
+OctaveBandValues appliedOffset(const FitContext& context, const TargetFit& fit,
+                               const std::map<std::string, OctaveBandValues>& alpha) {
+  OctaveBandValues applied{};
+  double total_area = 0.0;
   for (const std::string& s : fit.surfaces) {
-    const OctaveBandValues next = clampedSum(fit.alpha[s], change);
     const double area = context.evaluator.room().areaOf(s);
-    for (std::size_t b = 0; b < next.size(); ++b) area_total[b] += area * (next[b] - fit.alpha[s][b]);
-    fit.alpha[s] = next;
+    for (std::size_t b = 0; b < applied.size(); ++b) applied[b] += area * (alpha.at(s)[b] - fit.before.at(s)[b]);
+    total_area += area;
   }
+  for (double& a : applied) a /= total_area;
+  return applied;
+}
+
+// The target's absorption with `offset` added, clamped per surface to 0.01-0.99.
+std::map<std::string, OctaveBandValues> withOffset(const TargetFit& fit, const OctaveBandValues& offset) {
+  std::map<std::string, OctaveBandValues> alpha;
+  for (const std::string& s : fit.surfaces) alpha[s] = clampedSum(fit.before.at(s), offset);
+  return alpha;
+}
+
+// The probe moves each band towards the middle of the range, so that clamping cannot
+// swallow it: up where the target's (area-weighted) absorption is below 0.5, down above.
+OctaveBandValues probeOffset(const FitContext& context, const TargetFit& fit) {
+  OctaveBandValues mean{}, probe{};
+  double total_area = 0.0;
+  for (const std::string& s : fit.surfaces) {
+    const double area = context.evaluator.room().areaOf(s);
+    for (std::size_t b = 0; b < mean.size(); ++b) mean[b] += area * fit.before.at(s)[b];
+    total_area += area;
+  }
+  for (std::size_t b = 0; b < probe.size(); ++b) probe[b] = mean[b] / total_area < 0.5 ? kProbe : -kProbe;
+  return probe;
 }
 
 CauseParameters parametersOf(const FitContext& context, const TargetFit& fit) {
@@ -125,14 +127,9 @@ CauseParameters parametersOf(const FitContext& context, const TargetFit& fit) {
       parameters.values["nearest_material_worst_band_hz"] = match.worst_band_hz;
     }
   } else {
-    // What was added, as applied (clamped to 0.01-0.99 per surface): the change in
-    // absorption area over the area of all the surfaces.
-    std::vector<double> added(kOctaveBandCount, 0.0);
-    for (const std::string& s : fit.surfaces) {
-      const OctaveBandValues before = currentAbsorption(context, s);
-      const double area = context.evaluator.room().areaOf(s);
-      for (std::size_t b = 0; b < added.size(); ++b) added[b] += area * (fit.alpha.at(s)[b] - before[b]) / fit.area;
-    }
+    // What was added, as applied (clamped to 0.01-0.99 per surface).
+    const OctaveBandValues applied = appliedOffset(context, fit, fit.alpha);
+    const std::vector<double> added(applied.begin(), applied.end());
     parameters.bands["absorption_added"] = added;
   }
   return parameters;
@@ -142,12 +139,6 @@ CauseParameters parametersOf(const FitContext& context, const TargetFit& fit) {
 
 std::optional<FittedCause> fitSurfaceAbsorption(const FitContext& context, std::string& why) {
   const RoomUnderTest& room = context.evaluator.room();
-  const OctaveBandValues area0 = absorptionArea(context);
-  const std::map<double, double> bias0 = decayBias(context.current);
-  if (bias0.empty()) {
-    why = "no decay times in the fit evidence";
-    return std::nullopt;
-  }
   std::vector<TargetFit> candidates;
   std::vector<std::string> all;
   for (const std::string& target : room.absorptionTargets()) {
@@ -155,34 +146,74 @@ std::optional<FittedCause> fitSurfaceAbsorption(const FitContext& context, std::
     if (room.areaOf(target) >= kMinTargetAreaM2) candidates.push_back(startFit(context, target, {target}));
   }
   if (candidates.size() > 1) candidates.push_back(startFit(context, kAllSurfaces, all));
+  if (candidates.empty()) {
+    why = "no surface large enough to move a decay time";
+    return std::nullopt;
+  }
+
+  // The probes: one simulation per target, and the step each predicts.
+  struct Probe {
+    TargetFit* fit;
+    OffsetEvaluation at;
+    Evaluation evaluation;
+    AbsorptionStep step;
+  };
+  std::vector<Probe> probes;
+  const OffsetEvaluation current{{}, &context.current};
+  for (TargetFit& fit : candidates) {
+    Probe p{&fit, {}, {}, {}};
+    ModelExtension extension;
+    extension.absorption = withOffset(fit, probeOffset(context, fit));
+    p.at.offset = appliedOffset(context, fit, extension.absorption);
+    p.evaluation = evaluateWith(context, extension);
+    if (!p.evaluation.valid) continue;
+    probes.push_back(std::move(p));
+  }
+  for (Probe& p : probes) p.step = gaussNewtonAbsorptionStep(current, {{p.at.offset, &p.evaluation}});
+  std::sort(probes.begin(), probes.end(),
+            [](const Probe& a, const Probe& b) { return a.step.predicted_reduction > b.step.predicted_reduction; });
+  if (probes.size() > kSteppedTargets) probes.resize(kSteppedTargets);
+  for (Probe& p : probes) p.at.evaluation = &p.evaluation;  // where each probe now lies
 
   std::optional<FittedCause> best;
   std::optional<TargetFit> best_fit;  // its parameters are described once, after the search
   double best_error = std::numeric_limits<double>::infinity();
-  for (TargetFit& fit : candidates) {
-    OctaveBandValues area_total = area0;
-    std::map<double, double> bias = bias0;
-    for (int k = 0; k < kNewtonSteps; ++k) {
-      step(context, fit, area_total, bias);
+  for (Probe& p : probes) {
+    std::vector<OffsetEvaluation> known{current, p.at};
+    std::vector<Evaluation> stepped;  // kept alive for `known`
+    stepped.reserve(kSteps);
+    OffsetEvaluation at = current;
+    AbsorptionStep step = p.step;
+    for (int k = 0; k < kSteps; ++k) {
+      if (std::none_of(step.change.begin(), step.change.end(), [](const auto& c) { return c.has_value(); })) break;
+      const OctaveBandValues change = interpolatedChange(step.change);
+      OctaveBandValues asked{};
+      for (std::size_t b = 0; b < asked.size(); ++b) asked[b] = at.offset[b] + change[b];
       ModelExtension extension;
-      extension.absorption = fit.alpha;
-      Evaluation evaluation = evaluateWith(context, extension);
-      if (!evaluation.valid) break;
-      bias = decayBias(evaluation);
-      if (evaluation.fit_error_jnd < best_error) {
-        best_error = evaluation.fit_error_jnd;
+      OffsetEvaluation next;
+      extension.absorption = withOffset(*p.fit, asked);
+      next.offset = appliedOffset(context, *p.fit, extension.absorption);
+      stepped.push_back(evaluateWith(context, extension));
+      if (!stepped.back().valid) break;
+      next.evaluation = &stepped.back();
+      if (stepped.back().fit_error_jnd < best_error) {
+        best_error = stepped.back().fit_error_jnd;
         FittedCause cause;
         cause.cause = "surface_absorption";
-        cause.target = fit.name;
+        cause.target = p.fit->name;
         cause.extension = extension;
-        cause.evaluation = std::move(evaluation);
+        cause.evaluation = stepped.back();
         best = std::move(cause);
-        best_fit = fit;
+        best_fit = *p.fit;
+        best_fit->alpha = extension.absorption;
       }
+      step = gaussNewtonAbsorptionStep(next, known);
+      known.push_back(next);
+      at = next;
     }
   }
   if (!best) {
-    why = "no surface large enough to move a decay time";
+    why = "no target's absorption moved the fit evidence measurably";
     return best;
   }
   best->parameters = parametersOf(context, *best_fit);
