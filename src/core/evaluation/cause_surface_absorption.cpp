@@ -30,7 +30,7 @@ OctaveBandValues currentAbsorption(const FitContext& context, const std::string&
   return it != context.accepted.absorption.end() ? it->second : context.evaluator.room().absorptionOf(target);
 }
 
-// The per-band changes where the fit evidence has a decay bias, interpolated linearly
+// The per-band changes where a step measured a slope (absorption_step.h), interpolated linearly
 // over the octave index between them and held constant beyond them (63 Hz, 16 kHz, and
 // the held-out bands of a band split, model_evaluation.h): a material's absorption is
 // smooth in frequency, so a held-out band gets what its neighbours say, not a free value.
