@@ -19,7 +19,8 @@
 namespace room_reverb::core {
 namespace {
 
-constexpr double kProbe = 0.1;              // absorption added (or taken) to measure the slopes
+constexpr double kProbe = 0.1;              // largest absorption added (or taken) to measure the slopes
+constexpr double kProbeAreaFraction = 0.2;  // the probe's share of the room's absorption area
 constexpr std::size_t kSteppedTargets = 4;  // targets that get steps, by the fall their probe predicts
 constexpr int kSteps = 2;                   // Gauss-Newton steps per stepped target
 constexpr double kMinTargetAreaM2 = 1.0;  // smaller objects cannot move a decay time
@@ -97,9 +98,25 @@ std::map<std::string, OctaveBandValues> withOffset(const TargetFit& fit, const O
   return alpha;
 }
 
-// The probe moves each band towards the middle of the range, so that clamping cannot
-// swallow it: up where the target's (area-weighted) absorption is below 0.5, down above.
+// The equivalent absorption area per band of the current model (m^2).
+OctaveBandValues absorptionArea(const FitContext& context) {
+  OctaveBandValues area{};
+  const RoomUnderTest& room = context.evaluator.room();
+  for (const std::string& target : room.absorptionTargets()) {
+    const OctaveBandValues alpha = currentAbsorption(context, target);
+    for (std::size_t b = 0; b < area.size(); ++b) area[b] += room.areaOf(target) * alpha[b];
+  }
+  return area;
+}
+
+// The probe adds kProbeAreaFraction of the room's absorption area per band, at most kProbe
+// of absorption: in a room that absorbs little, 0.1 on every surface would triple its
+// absorption and the probe's secant would say little about the slope where the fit starts
+// (BRAS CR2's naive model, session 17). It moves each band towards the middle of the
+// range, so that clamping cannot swallow it: up where the target's (area-weighted)
+// absorption is below 0.5, down above.
 OctaveBandValues probeOffset(const FitContext& context, const TargetFit& fit) {
+  const OctaveBandValues room_area = absorptionArea(context);
   OctaveBandValues mean{}, probe{};
   double total_area = 0.0;
   for (const std::string& s : fit.surfaces) {
@@ -107,7 +124,10 @@ OctaveBandValues probeOffset(const FitContext& context, const TargetFit& fit) {
     for (std::size_t b = 0; b < mean.size(); ++b) mean[b] += area * fit.before.at(s)[b];
     total_area += area;
   }
-  for (std::size_t b = 0; b < probe.size(); ++b) probe[b] = mean[b] / total_area < 0.5 ? kProbe : -kProbe;
+  for (std::size_t b = 0; b < probe.size(); ++b) {
+    const double size = std::min(kProbe, kProbeAreaFraction * room_area[b] / total_area);
+    probe[b] = mean[b] / total_area < 0.5 ? size : -size;
+  }
   return probe;
 }
 
