@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "room_reverb/common/error.h"
+#include "room_reverb/common/hash_mix.h"
 
 namespace room_reverb::core {
 namespace {
@@ -32,18 +33,10 @@ constexpr double kSurfaceOffset_m = 1e-6;
 // up), so the two share a slot without sharing a number.
 enum DrawSlot : std::uint64_t { kLaunch = 0, kRoulette = 0, kScatter = 1, kLambertRadius = 2, kLambertAzimuth = 3, kSlots = 4 };
 
-// The SplitMix64 finaliser (Steele, Lea and Flood 2014) as a 64-bit hash.
-std::uint64_t mix64(std::uint64_t z) {
-  z += 0x9e3779b97f4a7c15ull;
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
-
-// Uniform in [0, 1) from the top 53 bits of the hash of (key, order, slot).
+// Uniform in [0, 1) from the hash of (key, order, slot).
 double keyedUniform(std::uint64_t key, int order, DrawSlot slot) {
   const std::uint64_t counter = static_cast<std::uint64_t>(order) * kSlots + slot;
-  return static_cast<double>(mix64(key ^ mix64(counter)) >> 11) * 0x1.0p-53;
+  return unitFromBits(mixBits(key ^ mixBits(counter)));
 }
 
 // Launch direction of ray `index` of `count`: stratified rather than independent. Ray i
@@ -149,7 +142,7 @@ struct Tracer {
     }
     roulette_level = ray_energy * std::pow(10.0, options.roulette_db / 10.0);
     launch_rotation = randomRotation(options.seed);
-    seed_key = mix64(0x7ace5eedull ^ static_cast<std::uint64_t>(options.seed));
+    seed_key = mixBits(0x7ace5eedull ^ static_cast<std::uint64_t>(options.seed));
   }
 
   // Arrival of `energy` after `distance_m` scaled by `factor`, with air: exp(-m d) as the
@@ -205,7 +198,7 @@ struct Tracer {
                 RayTracingStats& stats) const {
     RayBranch start;
     start.position = source;
-    start.key = mix64(seed_key ^ mix64(index));
+    start.key = mixBits(seed_key ^ mixBits(index));
     start.direction = stratifiedDirection(index, options.ray_count, launch_rotation, keyedUniform(start.key, 0, kLaunch));
     const double gain = model.directivity.pressureGain(start.direction);
     start.energy.fill(ray_energy * gain * gain);
@@ -285,7 +278,7 @@ struct Tracer {
         specular.direction = mirrored;
         // The diffuse part keeps the key, so it follows the path a model in which every band
         // scattered here would take; the specular part gets its own numbers.
-        specular.key = mix64(ray.key ^ (0x5eed5eedull + static_cast<std::uint64_t>(ray.order)));
+        specular.key = mixBits(ray.key ^ (0x5eed5eedull + static_cast<std::uint64_t>(ray.order)));
         for (int b = 0; b < kOctaveBandCount; ++b) {
           if (diffuse >> b & 1u) specular.energy[b] = 0.0;
           else ray.energy[b] = 0.0;

@@ -61,7 +61,7 @@ OctaveBandValues clampedSum(const OctaveBandValues& alpha, const OctaveBandValue
 }
 
 // One target: the surfaces whose absorption changes, their absorption before the fit and
-// after the best step so far.
+// (for the chosen target) after it.
 struct TargetFit {
   std::string name;
   std::vector<std::string> surfaces;
@@ -72,7 +72,7 @@ TargetFit startFit(const FitContext& context, const std::string& name, std::vect
   TargetFit fit;
   fit.name = name;
   fit.surfaces = std::move(surfaces);
-  for (const std::string& s : fit.surfaces) fit.before[s] = fit.alpha[s] = currentAbsorption(context, s);
+  for (const std::string& s : fit.surfaces) fit.before[s] = currentAbsorption(context, s);
   return fit;
 }
 
@@ -115,8 +115,7 @@ OctaveBandValues absorptionArea(const FitContext& context) {
 // (BRAS CR2's naive model, session 17). It moves each band towards the middle of the
 // range, so that clamping cannot swallow it: up where the target's (area-weighted)
 // absorption is below 0.5, down above.
-OctaveBandValues probeOffset(const FitContext& context, const TargetFit& fit) {
-  const OctaveBandValues room_area = absorptionArea(context);
+OctaveBandValues probeOffset(const FitContext& context, const TargetFit& fit, const OctaveBandValues& room_area) {
   OctaveBandValues mean{}, probe{};
   double total_area = 0.0;
   for (const std::string& s : fit.surfaces) {
@@ -136,7 +135,7 @@ CauseParameters parametersOf(const FitContext& context, const TargetFit& fit) {
   if (fit.surfaces.size() == 1) {
     const OctaveBandValues& alpha = fit.alpha.at(fit.surfaces.front());
     parameters.bands["absorption"] = std::vector<double>(alpha.begin(), alpha.end());
-    const OctaveBandValues before = currentAbsorption(context, fit.surfaces.front());
+    const OctaveBandValues& before = fit.before.at(fit.surfaces.front());
     parameters.bands["absorption_before"] = std::vector<double>(before.begin(), before.end());
     // What the surface is, by what it absorbs: the report names the material and flags a
     // fit that absorbs like nothing in the library (material_match.h).
@@ -180,10 +179,11 @@ std::optional<FittedCause> fitSurfaceAbsorption(const FitContext& context, std::
   };
   std::vector<Probe> probes;
   const OffsetEvaluation current{{}, &context.current};
+  const OctaveBandValues room_area = absorptionArea(context);
   for (TargetFit& fit : candidates) {
     Probe p{&fit, {}, {}, {}};
     ModelExtension extension;
-    extension.absorption = withOffset(fit, probeOffset(context, fit));
+    extension.absorption = withOffset(fit, probeOffset(context, fit, room_area));
     p.at.offset = appliedOffset(context, fit, extension.absorption);
     p.evaluation = evaluateWith(context, extension);
     if (!p.evaluation.valid) continue;

@@ -4,16 +4,9 @@
 // texture looks the same from both cameras, from any thread, on every run.
 #include <cstdint>
 
-namespace room_reverb::core::capture_detail {
+#include "room_reverb/common/hash_mix.h"
 
-// A 64-bit avalanche mix (the splitmix64 finaliser): neighbouring inputs give unrelated
-// outputs, which lattice noise needs. Inline: the textures call it millions of times.
-inline std::uint64_t mixBits(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
+namespace room_reverb::core::capture_detail {
 
 inline std::uint64_t hashCombine(std::uint64_t seed, std::uint64_t value) {
   return mixBits(seed ^ (value * 0xd6e8feb86659fd93ULL + 0x632be59bd9b4e019ULL));
@@ -24,7 +17,7 @@ inline std::uint64_t hashCombine(std::uint64_t seed, std::uint64_t value) {
 inline double latticeUnit(std::uint64_t salt, std::int64_t i, std::int64_t j) {
   const std::uint64_t h = mixBits(salt ^ (static_cast<std::uint64_t>(i) * 0x9fb21c651e98df25ULL) ^
                                   (static_cast<std::uint64_t>(j) * 0xc2b2ae3d27d4eb4fULL));
-  return static_cast<double>(h >> 11) * (1.0 / 9007199254740992.0);  // top 53 bits
+  return unitFromBits(h);
 }
 
 // Value noise in [0, 1]: random values on the integer lattice, blended with a quintic
