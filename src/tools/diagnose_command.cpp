@@ -47,6 +47,9 @@ DIR/extended_room.yaml (the corrected room).
   --no-reflection-term
                      leave the strong measured reflections no model path explains out of
                      the score (B-format pairs); e.g. when the rig's orientation is doubtful
+  --no-direction-term
+                     leave the directions of the early energy out of the score (B-format
+                     pairs; the simulations are then omni): for the same doubt, or speed
 )";
 
 std::vector<std::string> splitList(const std::string& text) {
@@ -62,7 +65,7 @@ int runDiagnose(const std::vector<std::string>& raw) {
   const Arguments args(raw,
                        {"measured", "room", "mesh", "out", "causes", "max-causes", "rays", "order", "duration", "seed",
                         "threads", "materials", "noise-seeds"},
-                       {"y-up", "no-air", "no-reflection-term"});
+                       {"y-up", "no-air", "no-reflection-term", "no-direction-term"});
   if (!args.positional().empty()) throw UsageError("unexpected argument '" + args.positional().front() + "'");
   if (!args.has("measured")) throw UsageError("--measured FILE is required");
   if (!args.has("out")) throw UsageError("--out DIR is required");
@@ -91,6 +94,7 @@ int runDiagnose(const std::vector<std::string>& raw) {
     throw InputError("--noise-seeds must be 1-" + std::to_string(DiagnosisOptions::kMaxNoiseSeeds));
   }
   options.evaluation.score_reflections = !args.has("no-reflection-term");
+  options.evaluation.score_directions = !args.has("no-direction-term");
   SimulationSettings& sim = options.evaluation.simulation;
   const int rays = args.intValue("rays", 10000);
   if (rays <= 0) throw InputError("--rays must be at least 1");

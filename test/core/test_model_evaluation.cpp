@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <iostream>
+#include <map>
 #include <random>
 #include <set>
 
@@ -149,6 +151,43 @@ TEST(ModelEvaluation, TheReflectionTermCanBeLeftOut) {
   };
   EXPECT_EQ(reflection_terms(true), 4);
   EXPECT_EQ(reflection_terms(false), 0);
+}
+
+// The directions of the early energy (early_direction.h): four B-format pairs, four bands,
+// six steering directions each; none without the term (diagnose --no-direction-term).
+// Then what the term is for: the planted absorbing wall (seed 12: wall_y_min, +0.25) and
+// the opposite wall given the same absorption area change the decay about alike, but only
+// the planted one sends the early energy from the measured directions (at 6000 rays,
+// session 18: 0.58 dB against 0.83 dB mean error, the given model 0.68).
+TEST(ModelEvaluation, TheDirectionTermsTellThePlantedAbsorbingWallFromTheOppositeOne) {
+  const PlantedCase c = plantedCase("surface_absorption", 12);
+  const RoomUnderTest room = RoomUnderTest::fromRoomModel(c.room, c.library);
+  EvaluationSettings settings = testDiagnosisOptions().evaluation;
+  const auto direction_error = [&](const ModelExtension& extension, bool score, int* count) {
+    settings.score_directions = score;
+    const Evaluation e = ModelEvaluator(room, c.evidence, settings).evaluate(extension);
+    EXPECT_TRUE(e.valid) << e.reason;
+    *count = static_cast<int>(
+        std::count_if(e.terms.begin(), e.terms.end(), [](const ErrorTerm& t) { return t.group == "directions"; }));
+    const std::map<std::string, double> groups = groupMeanAbsoluteErrors(e.terms, -1);
+    return groups.count("directions") ? groups.at("directions") : -1.0;
+  };
+  const auto& [target, planted] = *c.planted.absorption.begin();
+  ASSERT_EQ(target, "wall_y_min");
+  ModelExtension opposite;
+  OctaveBandValues alpha = room.absorptionOf("wall_y_max");
+  for (std::size_t b = 0; b < alpha.size(); ++b) {
+    alpha[b] += (planted[b] - room.absorptionOf(target)[b]) * room.areaOf(target) / room.areaOf("wall_y_max");
+  }
+  opposite.absorption["wall_y_max"] = alpha;
+  int count = 0;
+  const double truth = direction_error(c.planted, true, &count);
+  EXPECT_EQ(count, 4 * 4 * 6);
+  const double wrong = direction_error(opposite, true, &count);
+  std::cout << "[ directions ] planted wall " << truth << " dB, opposite wall " << wrong << " dB\n";
+  EXPECT_LT(truth, wrong - 0.1);
+  direction_error({}, false, &count);
+  EXPECT_EQ(count, 0);
 }
 
 TEST(ModelEvaluation, EveryCatalogueCauseCountsItsParameters) {

@@ -1,13 +1,14 @@
 #pragma once
 // What a measurement tells about a room, in the form the comparison and the diagnosis use:
 // per measured RIR its ISO 3382 parameters (omni channel), its early energy profile, its
-// RSAO (B-format files: reflection times, directions and levels) and the limits of the
+// RSAO and the directions of its early energy (B-format files) and the limits of the
 // measurement itself; or the averaged table of a measurement without files.
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "room_reverb/audio/audio_buffer.h"
+#include "room_reverb/evaluation/early_direction.h"
 #include "room_reverb/evaluation/early_energy.h"
 #include "room_reverb/evaluation/measurements.h"
 #include "room_reverb/evaluation/reflection_matching.h"
@@ -28,6 +29,8 @@ struct PairEvidence {
   std::vector<float> omni;   // 48 kHz omni (W) channel
   MetricsReport metrics;     // octave bands
   EarlyEnergyProfile early;
+  // B-format files: where the early reflections come from (early_direction.h).
+  std::optional<EarlyDirectionProfile> directions;
   std::optional<Rsao> rsao;  // B-format files with a clear direct sound only
   // B-format files with a clear direct sound: the reflections the diagnosis's reflection
   // term sets against the model's specular paths (reflection_evidence.h).

@@ -27,10 +27,16 @@ struct EvaluationSettings {
   // out). Without it a missing panel that one held-out pair hears at -7 dB moves the
   // averaged decay and early-energy terms too little to be named (docs/diagnosis.md).
   bool score_reflections = true;
+  // Score the `directions` group (early_direction.h) for B-format measurements: the
+  // simulations are then first order. Without it the decay, clarity, DRR and early-energy
+  // terms (all omni) see only how much absorption a surface adds, not which surface: four
+  // pairs put a planted absorbing wall on the right surface in 2 of 7 rooms (session 17).
+  bool score_directions = true;
 };
 
-// One number of the comparison: parameter `group` (T20, T30, EDT, C80, D50, DRR or
-// early) in one band (and, for `early`, one window) of one pair (-1: the averaged table);
+// One number of the comparison: parameter `group` (T20, T30, EDT, C80, D50, DRR, early or
+// directions) in one band (and, for `early`, one window; for `directions`, one of the six
+// steering directions of early_direction.h) of one pair (-1: the averaged table);
 // or, with score_reflections and two or more B-format measurements, `reflections` (band 0):
 // the pair's strong measured reflections that no path of the model explains
 // (reflection_evidence.h).
@@ -45,6 +51,7 @@ struct ErrorTerm {
 
 struct PairPrediction {
   PairEvidence analysis;              // the simulated response, extended, analysed as a measured one
+                                      // (its omni channel; `directions` from all four, see evaluate())
   std::vector<SpecularPath> paths;    // the model's specular arrivals at this pair
   std::vector<float> simulated_omni;  // as simulated, before the response extensions
   std::uint32_t seed = 0;             // of the ray tracing (and of a coupled decay's noise)
@@ -113,6 +120,7 @@ class ModelEvaluator {
   // lower the reflection term only by explaining reflections with paths, not by putting a
   // surface next to their points.
   std::shared_ptr<const AcousticScene> given_scene_;
+  bool score_directions_ = false;  // settings' score_directions and a measured profile to score
   mutable int evaluations_ = 0;
 };
 

@@ -14,6 +14,8 @@ struct FitContext {
   const ModelEvaluator& evaluator;
   const ModelExtension& accepted;    // extensions already named
   const Evaluation& current;         // the evaluation of `accepted`
+  double noise_jnd = 0.0;            // the held-out error's noise over seeds (Diagnosis::noise_jnd):
+                                     // fits whose errors differ by less are tied
 };
 
 struct FittedCause {

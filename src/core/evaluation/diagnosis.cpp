@@ -118,7 +118,7 @@ Diagnosis diagnose(const RoomUnderTest& room, const MeasuredEvidence& evidence, 
     for (const auto& [name, fitter] : fitters) {
       if (std::find(worth_trying.begin(), worth_trying.end(), name) == worth_trying.end()) continue;
       std::string why;
-      const FitContext context{evaluator, diagnosis.extension, current};
+      const FitContext context{evaluator, diagnosis.extension, current, diagnosis.noise_jnd};
       std::optional<FittedCause> fit = fitter(context, why);
       HypothesisTrial trial{name, "", false, why, 0.0, {}};
       if (fit && fit->evaluation.valid) {

@@ -55,12 +55,14 @@ std::string decayCurves(const Diagnosis& d, const MeasuredEvidence& evidence, co
   return path;
 }
 
-// Mean signed error per group and band over all pairs.
+// Mean signed error per group and band over all pairs (for `directions`, mean absolute).
 std::map<std::string, std::map<double, double>> signedErrors(const Evaluation& e) {
   std::map<std::string, std::map<double, std::pair<double, int>>> sums;
   for (const ErrorTerm& term : e.terms) {
     auto& [s, n] = sums[term.group][term.band_hz];
-    s += term.error_jnd;
+    // The six directions' levels are relative to the window's omni energy: their signed
+    // errors cancel in a mean, so the panel shows how far they are off.
+    s += term.group == "directions" ? std::abs(term.error_jnd) : term.error_jnd;
     ++n;
   }
   std::map<std::string, std::map<double, double>> out;
@@ -75,7 +77,10 @@ std::string errorPerBand(const Diagnosis& d, const std::string& path) {
   std::vector<BarPanel> panels;
   for (const auto& [group, bands] : before) {
     BarPanel panel;
-    panel.title = group + (group == "early" ? " (mean over windows)" : group == "reflections" ? " (unmatched strong, per pair)" : "");
+    panel.title = group + (group == "early"         ? " (mean over windows)"
+                           : group == "reflections" ? " (unmatched strong, per pair)"
+                           : group == "directions"  ? " (mean |error| over the six)"
+                                                    : "");
     panel.y_label = "error (JND)";
     panel.x_label = "octave band (Hz)";
     panel.reference_lines = {-1.0, 1.0};

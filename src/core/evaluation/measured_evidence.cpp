@@ -82,6 +82,12 @@ PairEvidence analysePair(const MeasurementPair& pair, const AudioBuffer& respons
       evidence.rsao.reset();
     }
     evidence.reflections = reflectionEvidence(internal);
+    // A response that ends within the early reflections has no profile; the rest holds.
+    try {
+      evidence.directions = earlyDirectionProfile(internal, evidence.metrics.onset_sample);
+    } catch (const InputError&) {
+      evidence.directions.reset();
+    }
   }
   return evidence;
 }

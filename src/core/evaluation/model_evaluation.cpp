@@ -62,6 +62,25 @@ void addEarly(const EarlyEnergyProfile& simulated, const EarlyEnergyProfile& mea
   }
 }
 
+void addDirections(const EarlyDirectionProfile& simulated, const EarlyDirectionProfile& measured, int pair,
+                   bool split_by_pair, std::vector<ErrorTerm>& terms) {
+  for (std::size_t b = 0; b < measured.bands_hz.size(); ++b) {
+    const auto it = std::find(simulated.bands_hz.begin(), simulated.bands_hz.end(), measured.bands_hz[b]);
+    if (it == simulated.bands_hz.end()) continue;
+    const auto& sim = simulated.level_db[static_cast<std::size_t>(it - simulated.bands_hz.begin())];
+    for (std::size_t d = 0; d < kEarlyDirections; ++d) {
+      ErrorTerm term;
+      term.pair = pair;
+      term.group = "directions";
+      term.band_hz = measured.bands_hz[b];
+      term.window = static_cast<int>(d);
+      term.error_jnd = sim[d] - measured.level_db[b][d];  // 1 dB, as for the early levels
+      term.held_out = split_by_pair ? isHeldOutPair(static_cast<std::size_t>(pair)) : isHeldOutBand(term.band_hz);
+      terms.push_back(term);
+    }
+  }
+}
+
 // One term per pair, split by pair like the rest.
 void addReflections(double error_jnd, int pair, std::vector<ErrorTerm>& terms) {
   ErrorTerm term;
@@ -131,6 +150,10 @@ std::vector<ErrorTerm> errorTerms(const MeasuredEvidence& evidence, const std::v
       addRows(compareWithMeasured({predictions[i].analysis.metrics}, measured), static_cast<int>(i), split_by_pair,
               settings, terms);
       addEarly(predictions[i].analysis.early, evidence.rirs[i].early, static_cast<int>(i), split_by_pair, terms);
+      if (settings.score_directions && evidence.rirs[i].directions && predictions[i].analysis.directions) {
+        addDirections(*predictions[i].analysis.directions, *evidence.rirs[i].directions, static_cast<int>(i),
+                      split_by_pair, terms);
+      }
       // From one pair there is no term: a panel is placed from that pair's reflections,
       // and the same reflections cannot also judge it.
       if (predictions[i].reflection_error_jnd && split_by_pair) {
@@ -152,7 +175,10 @@ ModelEvaluator::ModelEvaluator(const RoomUnderTest& room, const MeasuredEvidence
   const bool directional = std::any_of(evidence_.rirs.begin(), evidence_.rirs.end(),
                                        [](const PairEvidence& p) { return p.reflections.has_value(); });
   if (settings_.score_reflections && directional) given_scene_ = std::make_shared<const AcousticScene>(room_.scene({}));
-  settings_.simulation.ambisonic_order = 0;
+  score_directions_ = settings_.score_directions &&
+                      std::any_of(evidence_.rirs.begin(), evidence_.rirs.end(),
+                                  [](const PairEvidence& p) { return p.directions.has_value(); });
+  settings_.simulation.ambisonic_order = score_directions_ ? 1 : 0;
 }
 
 Evaluation ModelEvaluator::evaluate(const ModelExtension& extension, std::uint32_t seed_offset) const {
@@ -183,8 +209,19 @@ Evaluation ModelEvaluator::evaluate(const ModelExtension& extension, std::uint32
             reflectionMismatchJnd(*evidence_.rirs[i].reflections, prediction.paths, pair, *given_scene_,
                                   result.speed_of_sound_m_s);
       }
-      prediction.analysis = analysePair(pair, extendedResponse(prediction.simulated_omni, prediction, pair, extension,
-                                                                   modal_room ? &*modal_room : nullptr));
+      AudioBuffer extended = extendedResponse(prediction.simulated_omni, prediction, pair, extension,
+                                              modal_room ? &*modal_room : nullptr);
+      prediction.analysis = analysePair(pair, extended);
+      if (score_directions_ && i < evidence_.rirs.size() && evidence_.rirs[i].directions) {
+        // W as extended, X, Y, Z as simulated: the response extensions act on the omni
+        // channel (a coupled decay is diffuse; the modes lie below the profile's bands).
+        AudioBuffer& ambix = extended;
+        for (std::size_t c = 1; c < 4; ++c) {
+          ambix.channels.push_back(std::move(result.impulse_response.channels[c]));
+          ambix.channels.back().resize(ambix.frameCount(), 0.0f);
+        }
+        prediction.analysis.directions = earlyDirectionProfile(ambix, prediction.analysis.metrics.onset_sample);
+      }
     });
   } catch (const InputError& e) {
     evaluation.reason = e.what();
