@@ -8,6 +8,8 @@
 #include <cstddef>
 #include <vector>
 
+#include "room_reverb/audio/frequency_bands.h"
+
 namespace room_reverb::core {
 
 struct EarlyEnergyOptions {
@@ -24,6 +26,10 @@ struct EarlyEnergyProfile {
   std::vector<std::vector<double>> level_db;  // [band][window]; window 0 is the direct sound (0 dB)
   bool empty() const { return level_db.empty(); }
 };
+
+// The octave bands (standardBands order) whose nominal frequencies are in `nominal_hz` and
+// whose upper edges lie below Nyquist: the bands an early profile can analyse.
+std::vector<FrequencyBand> analysableOctaves(const std::vector<double>& nominal_hz, double sample_rate_hz);
 
 // `omni`: a 48 kHz (or `sample_rate_hz`) omni response; `onset_sample`: its direct-sound
 // onset (ISO 3382-1, as MetricsReport::onset_sample). Bands at or above Nyquist are left out.

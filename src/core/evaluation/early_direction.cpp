@@ -7,6 +7,7 @@
 
 #include "room_reverb/audio/band_filter_bank.h"
 #include "room_reverb/common/error.h"
+#include "room_reverb/evaluation/early_energy.h"
 #include "room_reverb/rsao/direction_of_arrival.h"
 
 namespace room_reverb::core {
@@ -33,13 +34,7 @@ EarlyDirectionProfile earlyDirectionProfile(const AudioBuffer& ambix, std::size_
   const std::size_t seg_begin = from > margin ? from - margin : 0;
   const std::size_t seg_end = std::min(ambix.frameCount(), to + margin);
 
-  std::vector<FrequencyBand> bands;
-  for (const FrequencyBand& band : standardBands(BandResolution::kOctave)) {
-    if (std::find(options.bands_hz.begin(), options.bands_hz.end(), band.nominal_hz) != options.bands_hz.end() &&
-        band.upper_hz < 0.5 * fs) {
-      bands.push_back(band);
-    }
-  }
+  const std::vector<FrequencyBand> bands = analysableOctaves(options.bands_hz, fs);
   const BandFilterBank bank(bands, fs);
   std::vector<std::vector<std::vector<float>>> split;  // [channel][band][sample]
   for (std::size_t c = 0; c < 4; ++c) {

@@ -8,6 +8,17 @@
 
 namespace room_reverb::core {
 
+std::vector<FrequencyBand> analysableOctaves(const std::vector<double>& nominal_hz, double sample_rate_hz) {
+  std::vector<FrequencyBand> bands;
+  for (const FrequencyBand& band : standardBands(BandResolution::kOctave)) {
+    if (std::find(nominal_hz.begin(), nominal_hz.end(), band.nominal_hz) != nominal_hz.end() &&
+        band.upper_hz < 0.5 * sample_rate_hz) {
+      bands.push_back(band);
+    }
+  }
+  return bands;
+}
+
 EarlyEnergyProfile earlyEnergyProfile(const std::vector<float>& omni, double sample_rate_hz, std::size_t onset_sample,
                                       const EarlyEnergyOptions& options) {
   if (options.window_s <= 0.0 || options.window_count < 2) throw InputError("early energy: need a positive window and at least two windows");
@@ -26,13 +37,7 @@ EarlyEnergyProfile earlyEnergyProfile(const std::vector<float>& omni, double sam
   const std::vector<float> segment(omni.begin() + static_cast<std::ptrdiff_t>(seg_begin),
                                    omni.begin() + static_cast<std::ptrdiff_t>(seg_end));
 
-  std::vector<FrequencyBand> bands;
-  for (const FrequencyBand& band : standardBands(BandResolution::kOctave)) {
-    if (std::find(options.bands_hz.begin(), options.bands_hz.end(), band.nominal_hz) != options.bands_hz.end() &&
-        band.upper_hz < 0.5 * sample_rate_hz) {
-      bands.push_back(band);
-    }
-  }
+  const std::vector<FrequencyBand> bands = analysableOctaves(options.bands_hz, sample_rate_hz);
   const BandFilterBank bank(bands, sample_rate_hz);
   const std::vector<std::vector<float>> split = bank.split(segment);
   for (std::size_t b = 0; b < bands.size(); ++b) {
