@@ -54,6 +54,9 @@ struct PairPrediction {
                                       // (its omni channel; `directions` from all four, see evaluate())
   std::vector<SpecularPath> paths;    // the model's specular arrivals at this pair
   std::vector<float> simulated_omni;  // as simulated, before the response extensions
+  // First-order simulations (EvaluationSettings::score_directions): X, Y, Z (ACN 1-3 as
+  // simulated) up to 20 ms past the directions' window, which a re-analysis needs again.
+  std::vector<std::vector<float>> simulated_velocity;
   std::uint32_t seed = 0;             // of the ray tracing (and of a coupled decay's noise)
   // B-format measurements: the reflection term of the paths (reflection_evidence.h). The
   // response extensions leave the paths as they are, so it stands for them too.
@@ -132,5 +135,10 @@ void score(Evaluation& evaluation, const MeasuredEvidence& evidence, const Evalu
 // direct-sound delay and seed: what its analysis is made from.
 AudioBuffer extendedResponse(const std::vector<float>& omni_response, const PairPrediction& prediction,
                              const MeasurementPair& pair, const ModelExtension& extension, const ModalRoom* modal_room);
+
+// The directions profile (early_direction.h) of a prediction: W as `extended` (the
+// response extensions act on the omni channel: a coupled decay is diffuse, the modes lie
+// below the profile's bands), X, Y, Z as simulated; empty without simulated_velocity.
+std::optional<EarlyDirectionProfile> predictedDirections(const AudioBuffer& extended, const PairPrediction& prediction);
 
 }  // namespace room_reverb::core

@@ -90,9 +90,11 @@ Evaluation reanalyseWith(const FitContext& context, const ModelExtension& extens
     runPairsInRounds(bases.size(), evaluator.settings().simulation.rays.threads, [&](std::size_t i, int) {
       const PairPrediction& base = bases[i];
       const MeasurementPair& pair = base.analysis.pair;
-      evaluation.predictions[i].analysis =
-          analysePair(pair, on_top ? extendedResponse(base.analysis.omni, base, pair, extension, nullptr)
-                                   : extendedResponse(base.simulated_omni, base, pair, combined, modal_room));
+      const AudioBuffer extended = on_top ? extendedResponse(base.analysis.omni, base, pair, extension, nullptr)
+                                          : extendedResponse(base.simulated_omni, base, pair, combined, modal_room);
+      PairPrediction& prediction = evaluation.predictions[i];
+      prediction.analysis = analysePair(pair, extended);
+      prediction.analysis.directions = predictedDirections(extended, prediction);
     });
   } catch (const InputError& e) {
     evaluation.reason = e.what();

@@ -116,6 +116,17 @@ AudioBuffer extendedResponse(const std::vector<float>& omni_response, const Pair
   return omni;
 }
 
+std::optional<EarlyDirectionProfile> predictedDirections(const AudioBuffer& extended, const PairPrediction& prediction) {
+  if (prediction.simulated_velocity.size() != 3) return std::nullopt;
+  AudioBuffer ambix = extended;
+  ambix.channels.resize(1);
+  for (const std::vector<float>& channel : prediction.simulated_velocity) {
+    ambix.channels.push_back(channel);
+    ambix.channels.back().resize(ambix.frameCount(), 0.0f);  // kept only past the window
+  }
+  return earlyDirectionProfile(ambix, prediction.analysis.metrics.onset_sample);
+}
+
 std::map<std::string, double> groupMeanAbsoluteErrors(const std::vector<ErrorTerm>& terms, int selection) {
   std::map<std::string, std::pair<double, int>> sums;
   for (const ErrorTerm& t : terms) {
@@ -209,18 +220,18 @@ Evaluation ModelEvaluator::evaluate(const ModelExtension& extension, std::uint32
             reflectionMismatchJnd(*evidence_.rirs[i].reflections, prediction.paths, pair, *given_scene_,
                                   result.speed_of_sound_m_s);
       }
-      AudioBuffer extended = extendedResponse(prediction.simulated_omni, prediction, pair, extension,
-                                              modal_room ? &*modal_room : nullptr);
+      const AudioBuffer extended = extendedResponse(prediction.simulated_omni, prediction, pair, extension,
+                                                    modal_room ? &*modal_room : nullptr);
       prediction.analysis = analysePair(pair, extended);
       if (score_directions_ && i < evidence_.rirs.size() && evidence_.rirs[i].directions) {
-        // W as extended, X, Y, Z as simulated: the response extensions act on the omni
-        // channel (a coupled decay is diffuse; the modes lie below the profile's bands).
-        AudioBuffer& ambix = extended;
+        const std::size_t keep = prediction.analysis.metrics.onset_sample +
+                                 static_cast<std::size_t>((EarlyDirectionOptions{}.end_s + 0.02) * extended.sample_rate_hz);
         for (std::size_t c = 1; c < 4; ++c) {
-          ambix.channels.push_back(std::move(result.impulse_response.channels[c]));
-          ambix.channels.back().resize(ambix.frameCount(), 0.0f);
+          std::vector<float>& channel = result.impulse_response.channels[c];
+          channel.resize(std::min(channel.size(), keep));
+          prediction.simulated_velocity.push_back(std::move(channel));
         }
-        prediction.analysis.directions = earlyDirectionProfile(ambix, prediction.analysis.metrics.onset_sample);
+        prediction.analysis.directions = predictedDirections(extended, prediction);
       }
     });
   } catch (const InputError& e) {
