@@ -105,8 +105,8 @@ double addedAbsorptionAreaM2(const NamedCause& n, const RoomUnderTest& room) {
 // The decay times, clarity, DRR and early energy (all omni) fix how much absorption the
 // room lacks, not which surface lacks it: with them alone the fit put it on the planted
 // surface in 2 of 7 rooms (session 17). The directions of the early energy of the B-format
-// pairs say where (early_direction.h); with them the fit found the planted surface in 10
-// of 10 rooms (seeds 1-9 and 12, session 18). The test requires the planted surface, its
+// pairs say where (early_direction.h); with them the fit found the planted surface in 9
+// of 9 rooms (seeds 1-8 and 12, session 18). The test requires the planted surface, its
 // absorption within 0.05 (mean 250 Hz-4 kHz), and the absorption area added within two
 // decay-time JNDs (10 %) of the room's total absorption area, as Sabine's T ~ V / A
 // converts them.

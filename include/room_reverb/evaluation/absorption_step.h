@@ -28,9 +28,6 @@ struct AbsorptionStep {
   // of the band moved measurably between the evaluations (bands without fit terms: 63 Hz,
   // 16 kHz, the held-out bands of a band split).
   std::vector<std::optional<double>> change;
-  // How much the weighted sum of squared fit terms would fall were the terms linear in
-  // the offset (ranks targets before any step is simulated).
-  double predicted_reduction = 0.0;
 };
 
 // Smallest root-mean-square move (JND) of a band's fit terms between two evaluations for

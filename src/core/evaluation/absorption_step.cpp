@@ -68,7 +68,6 @@ AbsorptionStep gaussNewtonAbsorptionStep(const OffsetEvaluation& at, const std::
     }
     if (weights <= 0.0 || std::sqrt(den / weights) * std::abs(d) < kMinMeasuredMoveJnd) continue;
     step.change[b] = std::clamp(-num / den, -kMaxAbsorptionStep, kMaxAbsorptionStep);
-    step.predicted_reduction += num * num / den;
   }
   return step;
 }

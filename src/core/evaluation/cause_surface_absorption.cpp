@@ -177,7 +177,6 @@ std::optional<FittedCause> fitSurfaceAbsorption(const FitContext& context, std::
   // out of the four in 2 of 7 planted rooms (session 18).
   struct TargetSearch {
     TargetFit* fit = nullptr;
-    int steps = 0;
     std::vector<OffsetEvaluation> known;   // the current model, the probe and the steps
     OffsetEvaluation at;                   // the last step (the current model before any)
     AbsorptionStep step;                   // the next step
@@ -210,7 +209,6 @@ std::optional<FittedCause> fitSurfaceAbsorption(const FitContext& context, std::
     ModelExtension extension;
     extension.absorption = withOffset(*t.fit, asked);
     evaluations.push_back(evaluateWith(context, extension));
-    ++t.steps;
     if (!evaluations.back().valid) {
       t.step = {};
       return;
@@ -251,16 +249,17 @@ std::optional<FittedCause> fitSurfaceAbsorption(const FitContext& context, std::
     return it == groups.end() ? std::optional<double>{} : std::optional<double>{it->second};
   };
   const TargetSearch* chosen = nullptr;
+  std::optional<double> chosen_directions;
   for (const TargetSearch& t : searches) {
     const Evaluation& e = *t.best_evaluation;
     if (e.fit_error_jnd > least + context.noise_jnd) continue;
-    if (!chosen) {
+    const std::optional<double> mine = directions_error(e);
+    const bool better = !chosen || (mine && chosen_directions ? *mine < *chosen_directions
+                                                              : e.fit_error_jnd < chosen->best_evaluation->fit_error_jnd);
+    if (better) {
       chosen = &t;
-      continue;
+      chosen_directions = mine;
     }
-    const std::optional<double> mine = directions_error(e), theirs = directions_error(*chosen->best_evaluation);
-    const bool better = mine && theirs ? *mine < *theirs : e.fit_error_jnd < chosen->best_evaluation->fit_error_jnd;
-    if (better) chosen = &t;
   }
   std::optional<FittedCause> best = FittedCause{};
   best->cause = "surface_absorption";

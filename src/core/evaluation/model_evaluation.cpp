@@ -118,11 +118,14 @@ AudioBuffer extendedResponse(const std::vector<float>& omni_response, const Pair
 
 std::optional<EarlyDirectionProfile> predictedDirections(const AudioBuffer& extended, const PairPrediction& prediction) {
   if (prediction.simulated_velocity.size() != 3) return std::nullopt;
-  AudioBuffer ambix = extended;
-  ambix.channels.resize(1);
+  // Only as far as X, Y and Z were kept, which is past the window.
+  const std::vector<float>& w = extended.channels.front();
+  const std::size_t length = std::min(w.size(), prediction.simulated_velocity.front().size());
+  AudioBuffer ambix;
+  ambix.sample_rate_hz = extended.sample_rate_hz;
+  ambix.channels.emplace_back(w.begin(), w.begin() + static_cast<std::ptrdiff_t>(length));
   for (const std::vector<float>& channel : prediction.simulated_velocity) {
-    ambix.channels.push_back(channel);
-    ambix.channels.back().resize(ambix.frameCount(), 0.0f);  // kept only past the window
+    ambix.channels.emplace_back(channel.begin(), channel.begin() + static_cast<std::ptrdiff_t>(length));
   }
   return earlyDirectionProfile(ambix, prediction.analysis.metrics.onset_sample);
 }
