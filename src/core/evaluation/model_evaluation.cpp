@@ -42,39 +42,24 @@ void addRows(const std::vector<BandComparison>& rows, int pair, bool split_by_pa
   }
 }
 
-void addEarly(const EarlyEnergyProfile& simulated, const EarlyEnergyProfile& measured, int pair, bool split_by_pair,
-              std::vector<ErrorTerm>& terms) {
+// One term per entry of a level profile (the early windows, or the steered directions)
+// in each band both profiles have; 1 dB counts as 1 JND, the JND of a level. `first`
+// skips entries that are references (the early profile's window 0 is the direct sound).
+template <typename Profile>
+void addLevels(const Profile& simulated, const Profile& measured, const char* group, std::size_t first, int pair,
+               bool split_by_pair, std::vector<ErrorTerm>& terms) {
   for (std::size_t b = 0; b < measured.bands_hz.size(); ++b) {
     const auto it = std::find(simulated.bands_hz.begin(), simulated.bands_hz.end(), measured.bands_hz[b]);
     if (it == simulated.bands_hz.end()) continue;
     const auto& sim = simulated.level_db[static_cast<std::size_t>(it - simulated.bands_hz.begin())];
     const auto& meas = measured.level_db[b];
-    for (std::size_t w = 1; w < std::min(sim.size(), meas.size()); ++w) {
+    for (std::size_t i = first; i < std::min(sim.size(), meas.size()); ++i) {
       ErrorTerm term;
       term.pair = pair;
-      term.group = "early";
+      term.group = group;
       term.band_hz = measured.bands_hz[b];
-      term.window = static_cast<int>(w);
-      term.error_jnd = sim[w] - meas[w];  // 1 dB: the JND of a level
-      term.held_out = split_by_pair ? isHeldOutPair(static_cast<std::size_t>(pair)) : isHeldOutBand(term.band_hz);
-      terms.push_back(term);
-    }
-  }
-}
-
-void addDirections(const EarlyDirectionProfile& simulated, const EarlyDirectionProfile& measured, int pair,
-                   bool split_by_pair, std::vector<ErrorTerm>& terms) {
-  for (std::size_t b = 0; b < measured.bands_hz.size(); ++b) {
-    const auto it = std::find(simulated.bands_hz.begin(), simulated.bands_hz.end(), measured.bands_hz[b]);
-    if (it == simulated.bands_hz.end()) continue;
-    const auto& sim = simulated.level_db[static_cast<std::size_t>(it - simulated.bands_hz.begin())];
-    for (std::size_t d = 0; d < kEarlyDirections; ++d) {
-      ErrorTerm term;
-      term.pair = pair;
-      term.group = "directions";
-      term.band_hz = measured.bands_hz[b];
-      term.window = static_cast<int>(d);
-      term.error_jnd = sim[d] - measured.level_db[b][d];  // 1 dB, as for the early levels
+      term.window = static_cast<int>(i);
+      term.error_jnd = sim[i] - meas[i];
       term.held_out = split_by_pair ? isHeldOutPair(static_cast<std::size_t>(pair)) : isHeldOutBand(term.band_hz);
       terms.push_back(term);
     }
@@ -163,10 +148,11 @@ std::vector<ErrorTerm> errorTerms(const MeasuredEvidence& evidence, const std::v
       const MeasuredParameters measured = parametersFromReport(evidence.rirs[i].metrics);
       addRows(compareWithMeasured({predictions[i].analysis.metrics}, measured), static_cast<int>(i), split_by_pair,
               settings, terms);
-      addEarly(predictions[i].analysis.early, evidence.rirs[i].early, static_cast<int>(i), split_by_pair, terms);
+      addLevels(predictions[i].analysis.early, evidence.rirs[i].early, "early", 1, static_cast<int>(i), split_by_pair,
+                terms);
       if (settings.score_directions && evidence.rirs[i].directions && predictions[i].analysis.directions) {
-        addDirections(*predictions[i].analysis.directions, *evidence.rirs[i].directions, static_cast<int>(i),
-                      split_by_pair, terms);
+        addLevels(*predictions[i].analysis.directions, *evidence.rirs[i].directions, "directions", 0,
+                  static_cast<int>(i), split_by_pair, terms);
       }
       // From one pair there is no term: a panel is placed from that pair's reflections,
       // and the same reflections cannot also judge it.
