@@ -19,6 +19,7 @@
 #include "room_reverb/evaluation/simulated_pairs.h"
 #include "planted_room.h"
 #include "synthetic_rir.h"
+#include "test_rooms.h"
 
 namespace room_reverb::test {
 namespace {
@@ -76,6 +77,32 @@ TEST(ModelEvaluation, ATableIsSplitByOctaveBandNotByParameter) {
   score(evaluation, evidence, EvaluationSettings{});
   EXPECT_GT(evaluation.fit_error_jnd, 0.0);
   EXPECT_GT(evaluation.heldout_error_jnd, 0.0);
+}
+
+// A wrong scale shows as reflections arriving late or early by one factor. A table of
+// averaged parameters has no arrival times, and in its decay times the scale trades
+// against absorption, so from a table the scale is not fitted, and says why.
+TEST(ModelEvaluation, GeometryScaleIsNotFittedFromATable) {
+  const RoomUnderTest room =
+      RoomUnderTest::fromRoomModel(parseRoomModel(kStudioRoomYaml), MaterialLibrary::loadDefault());
+  MeasuredEvidence evidence;
+  MeasurementPair pair;
+  pair.source_m = {1.2, 1.0, 1.4};
+  pair.receiver_m = {3.6, 2.8, 1.3};
+  evidence.positions = {pair};
+  evidence.table = parametersFromReport(syntheticReport());
+  DiagnosisOptions options;
+  options.causes = {"geometry_scale"};
+  options.noise_seeds = 1;
+  options.evaluation.simulation.rays.ray_count = 500;
+  options.evaluation.simulation.duration_s = 1.0;
+  const Diagnosis d = diagnose(room, evidence, options);
+  ASSERT_EQ(d.trials.size(), 1u);
+  EXPECT_EQ(d.trials[0].cause, "geometry_scale");
+  EXPECT_FALSE(d.trials[0].fitted);
+  EXPECT_NE(d.trials[0].note.find("reflection arrival times"), std::string::npos) << d.trials[0].note;
+  EXPECT_TRUE(d.causes.empty());
+  EXPECT_GT(d.baseline_error_jnd, 0.0);  // the table was scored
 }
 
 TEST(ModelEvaluation, TwoPairsAreSplitByPairInEveryBand) {

@@ -44,7 +44,16 @@ std::optional<FittedCause> fitScattering(const FitContext& context, std::string&
   return scalarCause(context, "scattering", "scattering", make, 0.0, 1.0, 5, 6);
 }
 
-std::optional<FittedCause> fitGeometryScale(const FitContext& context, std::string& /*why*/) {
+std::optional<FittedCause> fitGeometryScale(const FitContext& context, std::string& why) {
+  // The catalogue's signature of a wrong scale is every reflection arriving late (or early)
+  // by one factor. A table of averaged parameters has no arrival times: there the scale
+  // shows only through the decay and clarity, where it trades against absorption (Sabine:
+  // T ~ V / A grows with the scale). On BRAS CR2's exact mesh, after the air, a scale of
+  // 0.935 was named for the low-band excess of its ray tracing (session 19).
+  if (!context.evaluator.evidence().usesRirs()) {
+    why = "needs measured RIRs (reflection arrival times)";
+    return std::nullopt;
+  }
   // Scaled about the room's origin (a floor corner for room models), as a visual route's
   // wrong baseline or a wrong unit would scale it; the measured positions stay put.
   const auto make = [](double k) {
