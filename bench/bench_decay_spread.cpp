@@ -1,5 +1,5 @@
 // How much the simulated decay time of the demo's sample room scatters from one ray-tracing
-// seed to the next, and whether more rays lower it (docs/diagnosis.md, session 14). The
+// seed to the next, and whether more rays lower it (docs/validation/diagnosis.md). The
 // diagnosis must stand clear of this scatter: it sets the noise of every held-out error.
 // The model is what the cameras see (data/sample_room/visible.yaml: hard walls that
 // scatter 5 %, an absorbing floor and ceiling), at the demo's source and listener, omni.
@@ -10,7 +10,7 @@
 // Each ray count runs with the automatic detection sphere (radius_cm 0, sized for a fixed
 // count of crossings, so it shrinks as the rays rise) and with fixed 0.5 m and 1.26 m
 // spheres (1.26 m: the listener's clearance), which tell the sphere's share of the spread
-// from the rays' (docs/diagnosis.md, session 15).
+// from the rays' (docs/validation/diagnosis.md).
 // Run: .ws/devel/lib/room_reverb/bench_decay_spread (about 4 minutes on 2 cores).
 #include <benchmark/benchmark.h>
 
@@ -20,7 +20,7 @@
 
 #include "room_reverb/acoustics/room_simulation.h"
 #include "room_reverb/common/sample_statistics.h"
-#include "room_reverb/evaluation/diagnosis_setup.h"
+#include "room_reverb/diagnosis/diagnosis_setup.h"
 #include "room_reverb/metrics/energy_decay.h"
 #include "room_reverb/metrics/room_acoustic_parameters.h"
 

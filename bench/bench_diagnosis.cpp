@@ -1,4 +1,4 @@
-// Speed of the diagnosis (issue 8 target: one room with five measured RIRs diagnosed in
+// Speed of the diagnosis (target: one room with five measured RIRs diagnosed in
 // under 2 minutes on 2 cores), at the diagnose tool's defaults (10 000 rays, image-source
 // order 3, the whole catalogue, at most three causes). The room is the bundled sample
 // room: the "measurement" is five B-format responses simulated from its acoustic twin
@@ -8,7 +8,7 @@
 // in scripts/demo, cannot: docs/diagnosis.md). The second case gives the ray tracer four
 // times the rays and its detection sphere four times the crossings (the sphere the first
 // case gets, where the listener's clearance allows), to see whether the rays then lower the
-// noise: they did not (about 4 times the runtime; docs/diagnosis.md, session 15).
+// noise: they do not (about 4 times the runtime; docs/validation/diagnosis.md).
 // Run: scripts/bench, or .ws/devel/lib/room_reverb/bench_diagnosis.
 #include <benchmark/benchmark.h>
 
@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "room_reverb/acoustics/room_simulation.h"
-#include "room_reverb/evaluation/diagnosis.h"
-#include "room_reverb/evaluation/diagnosis_setup.h"
+#include "room_reverb/diagnosis/diagnosis.h"
+#include "room_reverb/diagnosis/diagnosis_setup.h"
 
 namespace {
 

@@ -1,5 +1,5 @@
 // The visual route's speed and accuracy at 2048 x 1024, the size its targets are set for
-// (issue 6: a pair to a point cloud in under 2 s, to a room model in under 2 s more, on 2
+// (targets: a pair to a point cloud in under 2 s, to a room model in under 2 s more, on 2
 // cores). Each bundled capture scene is rendered once (not timed); the benchmark times
 // spherical stereo plus the point cloud, and reports the depth accuracy against the
 // generator's truth as counters:
@@ -25,7 +25,7 @@
 #include <vector>
 
 #include "room_reverb/common/error.h"
-#include "room_reverb/vision/capture_scene.h"
+#include "room_reverb/synthetic_capture/capture_scene.h"
 #include "room_reverb/vision/depth_cloud.h"
 #include "room_reverb/vision/oriented_box_iou.h"
 #include "room_reverb/vision/spherical_stereo.h"
@@ -122,7 +122,7 @@ void BM_PointCloudToRoomModel(benchmark::State& state) {
     try {
       layout = roomLayoutFromCloud(cloud, c.top.color, 0.2, options);
     } catch (const InputError& e) {
-      state.SkipWithError(e.what());  // the courtyard: its facades are not found as walls (issue 6 note)
+      state.SkipWithError(e.what());  // the courtyard: its facades are not found as walls
       return;
     }
     benchmark::DoNotOptimize(layout.model.objects.data());

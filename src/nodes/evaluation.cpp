@@ -1,4 +1,4 @@
-// evaluation: measured against simulated (issue 8). Offers ~compare
+// evaluation: measured against simulated. Offers ~compare
 // (room_reverb/CompareMeasurement) and ~diagnose (room_reverb/DiagnoseRoom), and
 // publishes the room a diagnosis corrected on ~corrected_room (latched).
 // Parameters: config/evaluation.yaml.

@@ -21,8 +21,8 @@
 #include "room_reverb/evaluation/measurements.h"
 #include "room_reverb/ros/audio_conversions.h"
 #include "room_reverb/ros/image_conversions.h"
-#include "room_reverb/vision/capture_generator.h"
-#include "room_reverb/vision/capture_scene.h"
+#include "room_reverb/synthetic_capture/capture_generator.h"
+#include "room_reverb/synthetic_capture/capture_scene.h"
 
 namespace room_reverb::ros_bridge {
 

@@ -9,8 +9,8 @@
 #include "room_reverb/acoustics/triangle_mesh.h"
 #include "room_reverb/acoustics/room_model.h"
 #include "room_reverb/common/error.h"
-#include "room_reverb/evaluation/diagnosis_output.h"
-#include "room_reverb/evaluation/diagnosis_setup.h"
+#include "room_reverb/diagnosis/diagnosis_output.h"
+#include "room_reverb/diagnosis/diagnosis_setup.h"
 
 namespace room_reverb::tool {
 namespace {

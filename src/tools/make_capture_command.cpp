@@ -10,8 +10,8 @@
 #include "room_reverb/acoustics/material.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/text_file.h"
-#include "room_reverb/vision/capture_generator.h"
-#include "room_reverb/vision/capture_scene.h"
+#include "room_reverb/synthetic_capture/capture_generator.h"
+#include "room_reverb/synthetic_capture/capture_scene.h"
 #include "room_reverb/vision/dual_fisheye.h"
 
 namespace room_reverb::tool {
@@ -26,7 +26,7 @@ const char* kHelp = R"(usage: room_reverb make-capture --scene SCENE.yaml --out 
 Renders what two vertically aligned 360° cameras at the scene's rig pose would capture:
 exact ray casting of the room box and its objects with procedural textures per material.
 The scene is a room model (room.yaml format; rig_in_room is the rig) with an optional
-capture: section (include/room_reverb/vision/capture_scene.h); options here override it.
+capture: section (include/room_reverb/synthetic_capture/capture_scene.h); options here override it.
 Examples: data/captures/*.yaml.
 
   --scene FILE          the capture scene

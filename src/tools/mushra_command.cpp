@@ -1,4 +1,4 @@
-// room_reverb mushra: MUSHRA listening tests of the project's renders (issue 9), after
+// room_reverb mushra: MUSHRA listening tests of the project's renders, after
 // Remaggi et al.'s audio-visual tests (0-5 scale, hidden reference and wrong-room anchor)
 // or ITU-R BS.1534-3 (0-100). One command whose first argument names the step; `make`
 // (mushra_make_command.cpp) renders a test from a plan, `serve` (mushra_serve_command.cpp)

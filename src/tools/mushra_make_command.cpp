@@ -1,4 +1,4 @@
-// room_reverb mushra make: a MUSHRA test from a plan (issue 9, step 1): every stimulus
+// room_reverb mushra make: a MUSHRA test from a plan: every stimulus
 // rendered, cut, faded and loudness-matched, letters shuffled per page, and the files a
 // test page reads written to one folder.
 #include <algorithm>

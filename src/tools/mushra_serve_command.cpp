@@ -1,5 +1,5 @@
-// room_reverb mushra serve: the test page of a MUSHRA test over HTTP on this machine
-// (issue 9, step 2), for browsers that should post their results to the experimenter
+// room_reverb mushra serve: the test page of a MUSHRA test over HTTP on this machine,
+// for browsers that should post their results to the experimenter
 // instead of leaving a download on the listener's computer.
 #include <signal.h>
 

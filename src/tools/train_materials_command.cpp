@@ -10,7 +10,7 @@
 #include "command.h"
 #include "room_reverb/acoustics/material.h"
 #include "room_reverb/common/error.h"
-#include "room_reverb/vision/material_training.h"
+#include "room_reverb/synthetic_capture/material_training.h"
 
 namespace room_reverb::tool {
 namespace {

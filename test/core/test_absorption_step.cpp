@@ -6,7 +6,7 @@
 #include <cmath>
 #include <vector>
 
-#include "room_reverb/evaluation/absorption_step.h"
+#include "room_reverb/diagnosis/absorption_step.h"
 
 namespace room_reverb::core {
 namespace {

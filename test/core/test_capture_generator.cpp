@@ -11,8 +11,8 @@
 #include <set>
 
 #include "room_reverb/common/error.h"
-#include "room_reverb/vision/capture_generator.h"
-#include "room_reverb/vision/capture_scene.h"
+#include "room_reverb/synthetic_capture/capture_generator.h"
+#include "room_reverb/synthetic_capture/capture_scene.h"
 #include "room_reverb/vision/equirect.h"
 #include "room_reverb/vision/texture_family.h"
 #include "test_files.h"

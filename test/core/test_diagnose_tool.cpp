@@ -9,7 +9,7 @@
 #include "room_reverb/acoustics/room_model.h"
 #include "room_reverb/acoustics/room_simulation.h"
 #include "room_reverb/audio/audio_file.h"
-#include "room_reverb/evaluation/diagnosis.h"
+#include "room_reverb/diagnosis/diagnosis.h"
 #include "test_files.h"
 #include "test_rooms.h"
 #include "tool_run.h"

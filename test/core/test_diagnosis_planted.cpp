@@ -8,7 +8,7 @@
 #include <cmath>
 
 #include "planted_room.h"
-#include "room_reverb/evaluation/diagnosis.h"
+#include "room_reverb/diagnosis/diagnosis.h"
 
 namespace room_reverb::test {
 namespace {
@@ -56,7 +56,7 @@ Outcome run(const PlantedCase& c, const std::vector<std::string>& causes = kCata
   return o;
 }
 
-// The planted cause first and alone, and the held-out error at least halved (issue 8),
+// The planted cause first and alone, and the held-out error at least halved,
 // counted above the truth's: of the error the planted effect explains, at least half
 // removed. (Counted from zero, the floor of the truth would set the bar for effects
 // confined to a band or two; the raw drop is printed.)
@@ -103,10 +103,10 @@ double addedAbsorptionAreaM2(const NamedCause& n, const RoomUnderTest& room) {
 }
 
 // The decay times, clarity, DRR and early energy (all omni) fix how much absorption the
-// room lacks, not which surface lacks it: with them alone the fit put it on the planted
-// surface in 2 of 7 rooms (session 17). The directions of the early energy of the B-format
-// pairs say where (early_direction.h); with them the fit found the planted surface in 9
-// of 9 rooms (seeds 1-8 and 12, session 18). The test requires the planted surface, its
+// room lacks, not which surface lacks it: with them alone the fit puts it on the planted
+// surface in 2 of 7 rooms. The directions of the early energy of the B-format pairs say
+// where (early_direction.h); with them the fit finds the planted surface in 9 of 9 rooms
+// (seeds 1-8 and 12; ROOM_REVERB_TEST_SEED=s runs one). The test requires the planted surface, its
 // absorption within 0.05 (mean 250 Hz-4 kHz), and the absorption area added within two
 // decay-time JNDs (10 %) of the room's total absorption area, as Sabine's T ~ V / A
 // converts them.

@@ -9,8 +9,8 @@
 #include <random>
 
 #include "room_reverb/common/error.h"
-#include "room_reverb/vision/capture_generator.h"
-#include "room_reverb/vision/capture_scene.h"
+#include "room_reverb/synthetic_capture/capture_generator.h"
+#include "room_reverb/synthetic_capture/capture_scene.h"
 #include "room_reverb/vision/dual_fisheye.h"
 #include "room_reverb/vision/equirect.h"
 #include "test_files.h"

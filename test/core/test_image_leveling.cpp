@@ -17,7 +17,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "room_reverb/vision/capture_scene.h"
+#include "room_reverb/synthetic_capture/capture_scene.h"
 #include "room_reverb/vision/equirect.h"
 #include "room_reverb/vision/equirect_rotation.h"
 #include "room_reverb/vision/image_leveling.h"

@@ -9,7 +9,7 @@
 #include <sstream>
 #include <string>
 
-#include "room_reverb/vision/capture_scene.h"
+#include "room_reverb/synthetic_capture/capture_scene.h"
 #include "test_files.h"
 #include "tool_run.h"
 

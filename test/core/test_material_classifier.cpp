@@ -12,10 +12,10 @@
 #include <string>
 
 #include "room_reverb/common/error.h"
-#include "room_reverb/vision/capture_scene.h"
+#include "room_reverb/synthetic_capture/capture_scene.h"
 #include "room_reverb/vision/material_families.h"
 #include "room_reverb/vision/material_features.h"
-#include "room_reverb/vision/material_training.h"
+#include "room_reverb/synthetic_capture/material_training.h"
 #include "room_reverb/vision/surface_materials.h"
 #include "test_files.h"
 

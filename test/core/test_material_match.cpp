@@ -1,8 +1,8 @@
-// The library material nearest a fitted absorption (evaluation/material_match.h), on a
+// The library material nearest a fitted absorption (diagnosis/material_match.h), on a
 // small library with known curves and on the project's library.
 #include <gtest/gtest.h>
 
-#include "room_reverb/evaluation/material_match.h"
+#include "room_reverb/diagnosis/material_match.h"
 
 namespace room_reverb::test {
 namespace {

@@ -1,4 +1,4 @@
-// Measured vs simulated comparison (issue 8, part 1): reflection matching against planted
+// Measured vs simulated comparison: reflection matching against planted
 // reflections, pair-by-pair comparison of RIR files with a known difference, the compare
 // tool's files, and bad inputs.
 #include <gtest/gtest.h>
@@ -149,7 +149,7 @@ TEST(MeasurementComparison, RirFilesAreComparedPairByPairWithTheirReflections) {
 TEST(MeasurementComparison, TheSameRoomComparesWithinNoise) {
   // The measurement is the model itself (another seed): the averaged T20 error in the
   // mid bands stays within the seed noise of a 20 000-ray simulation. Measured with the
-  // measurement's seed at 99-110 (session 16, keyed random numbers): at 1 kHz -0.57 to
+  // measurement's seed at 99-110 (keyed random numbers): at 1 kHz -0.57 to
   // +2.26 JND, standard deviation 0.78 (500 Hz: 0.5); seed 99 gives +1.19, +2.26, +0.79 at
   // 500 Hz, 1 kHz, 2 kHz. The difference of two runs spreads by sqrt(2) times one run's,
   // about 1.1 JND, so 3 JND (15 %) is about three standard deviations: a bias of the

@@ -14,8 +14,8 @@
 #include <set>
 
 #include "room_reverb/common/error.h"
-#include "room_reverb/evaluation/diagnosis.h"
-#include "room_reverb/evaluation/model_evaluation.h"
+#include "room_reverb/diagnosis/diagnosis.h"
+#include "room_reverb/diagnosis/model_evaluation.h"
 #include "room_reverb/evaluation/simulated_pairs.h"
 #include "planted_room.h"
 #include "synthetic_rir.h"
@@ -184,8 +184,8 @@ TEST(ModelEvaluation, TheReflectionTermCanBeLeftOut) {
 // six steering directions each; none without the term (diagnose --no-direction-term).
 // Then what the term is for: the planted absorbing wall (seed 12: wall_y_min, +0.25) and
 // the opposite wall given the same absorption area change the decay about alike, but only
-// the planted one sends the early energy from the measured directions (at 6000 rays,
-// session 18: 0.58 dB against 0.83 dB mean error, the given model 0.68).
+// the planted one sends the early energy from the measured directions (at 6000 rays:
+// 0.58 dB against 0.83 dB mean error, the given model 0.68).
 TEST(ModelEvaluation, TheDirectionTermsTellThePlantedAbsorbingWallFromTheOppositeOne) {
   const PlantedCase c = plantedCase("surface_absorption", 12);
   const RoomUnderTest room = RoomUnderTest::fromRoomModel(c.room, c.library);

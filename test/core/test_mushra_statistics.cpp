@@ -1,4 +1,4 @@
-// MUSHRA results, post-screening and statistics (issue 9, part 3). Reference values are
+// MUSHRA results, post-screening and statistics. Reference values are
 // computed here by other routes than the library's (the t-test's p from the regularised
 // incomplete beta function, the exact Wilcoxon p by enumerating every sign assignment)
 // or taken from textbook examples (R's documentation: Student's sleep data, Hollander and

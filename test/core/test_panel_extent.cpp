@@ -7,7 +7,7 @@
 
 #include <cmath>
 
-#include "room_reverb/evaluation/panel_extent.h"
+#include "room_reverb/diagnosis/panel_extent.h"
 #include "shoebox.h"
 
 namespace room_reverb::test {

@@ -215,9 +215,9 @@ TEST(RayTracer, TheAutomaticSphereIsCrossedAsOftenAsItWasSizedFor) {
 // flips. The difference between them at one seed is then much less noisy than between
 // independent seeds, which is what lets the diagnosis measure a fit's gain seed by seed.
 // Measured (12 seeds, 2000 rays, log window energy at 1 kHz): paired / unpaired spread 0.29
-// (20-100 ms) and 0.35 (100-400 ms); with one running generator per chunk of 256 rays, as
-// before session 16, 1.62 and 0.73 (a flip there moved every later ray of the chunk onto
-// new numbers).
+// (20-100 ms) and 0.35 (100-400 ms); with one running generator per chunk of 256 rays
+// instead, 1.62 and 0.73 (a flip there moves every later ray of the chunk onto new
+// numbers).
 TEST(RayTracer, OneSurfaceChangedAtTheSameSeedChangesLittleElse) {
   const Eigen::Vector3d size(6, 4, 3), source(1.5, 1.2, 1.4), listener(4.2, 2.9, 1.6);
   TriangleMesh mesh = room_reverb::test::shoeboxMesh(size);

@@ -8,7 +8,7 @@
 #include <cmath>
 
 #include "room_reverb/acoustics/propagation.h"
-#include "room_reverb/evaluation/reflection_evidence.h"
+#include "room_reverb/diagnosis/reflection_evidence.h"
 #include "shoebox.h"
 
 namespace room_reverb::test {

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "room_reverb/acoustics/room_model.h"
-#include "room_reverb/vision/capture_scene.h"
+#include "room_reverb/synthetic_capture/capture_scene.h"
 #include "test_files.h"
 #include "tool_run.h"
 

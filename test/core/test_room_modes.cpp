@@ -15,7 +15,7 @@
 #include "room_reverb/audio/band_filter_bank.h"
 #include "room_reverb/audio/crossover.h"
 #include "room_reverb/common/error.h"
-#include "room_reverb/evaluation/response_extensions.h"
+#include "room_reverb/diagnosis/response_extensions.h"
 #include "shoebox.h"
 
 namespace room_reverb::test {

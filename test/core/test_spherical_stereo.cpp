@@ -11,7 +11,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "room_reverb/vision/capture_scene.h"
+#include "room_reverb/synthetic_capture/capture_scene.h"
 #include "room_reverb/vision/spherical_stereo.h"
 #include "test_files.h"
 

@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <string>
 
-#include "room_reverb/vision/capture_scene.h"
+#include "room_reverb/synthetic_capture/capture_scene.h"
 #include "room_reverb/vision/depth_cloud.h"
 #include "room_reverb/vision/oriented_box_iou.h"
 #include "room_reverb/vision/room_layout.h"

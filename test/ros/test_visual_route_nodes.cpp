@@ -21,8 +21,8 @@
 
 #include "room_reverb/acoustics/material.h"
 #include "room_reverb/ros/image_conversions.h"
-#include "room_reverb/vision/capture_generator.h"
-#include "room_reverb/vision/capture_scene.h"
+#include "room_reverb/synthetic_capture/capture_generator.h"
+#include "room_reverb/synthetic_capture/capture_scene.h"
 #include "room_reverb/vision/texture_family.h"
 
 namespace {

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "room_reverb/evaluation/diagnosis.h"
+#include "room_reverb/diagnosis/diagnosis.h"
 
 namespace room_reverb::test {
 

@@ -5,7 +5,7 @@
 // energy of the same window. In a box these are the six walls: a wall that absorbs more
 // than the model says sends less of the early energy from its side, while the room's
 // decay times, clarity and DRR (all omni) only see the absorption area it adds, and
-// cannot tell that wall from another of the same area (docs/diagnosis.md, sessions 17-18).
+// cannot tell that wall from another of the same area (docs/validation/diagnosis.md).
 // Levels relative to the window's omni energy leave out what the early energy profile
 // (early_energy.h) already scores, and the measurement's gain.
 #include <array>

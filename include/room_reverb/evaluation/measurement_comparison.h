@@ -1,5 +1,5 @@
 #pragma once
-// Issue 8's comparison: a measurement (RIR files with positions, or a table of averaged
+// The comparison: a measurement (RIR files with positions, or a table of averaged
 // parameters with positions) against the simulation of a room, per pair and averaged,
 // for the `compare` tool and the evaluation node's ~compare service alike.
 #include <functional>

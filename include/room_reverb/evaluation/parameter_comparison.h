@@ -1,7 +1,7 @@
 #pragma once
 // Simulated against measured room-acoustic parameters, band by band, with the error in
 // just-noticeable differences (ISO 3382-1 annex A: 5 % for T20, T30 and EDT, 1 dB for
-// C50 and C80, 0.05 for D50, 10 ms for Ts; 1 dB for the DRR, as issue 8 asks), as the BRAS
+// C50 and C80, 0.05 for D50, 10 ms for Ts; 1 dB for the DRR), as the BRAS
 // round robins report them.
 #include <array>
 #include <optional>

@@ -1,5 +1,5 @@
 #pragma once
-// The evaluation node's services over the core's comparison and diagnosis (issue 8):
+// The evaluation node's services over the core's comparison and diagnosis:
 // ~compare (room_reverb/CompareMeasurement) and ~diagnose (room_reverb/DiagnoseRoom).
 // A diagnosis of a room model also publishes the corrected room, latched, on
 // ~corrected_room (room_reverb/RoomModel).

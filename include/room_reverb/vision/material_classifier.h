@@ -1,7 +1,7 @@
 #pragma once
 // A surface-material classifier on colour and texture features (vision/material_features.h):
 // an OpenCV random forest whose classes are the texture families (vision/texture_family.h).
-// Trained by vision/material_training.h on the capture generator's textures; the project
+// Trained by synthetic_capture/material_training.h on the capture generator's textures; the project
 // ships one in config/material_classifier.yml.gz (see its header comment).
 //
 // A random forest was chosen over an RBF SVM and a small MLP by held-out accuracy on

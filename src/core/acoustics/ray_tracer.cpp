@@ -26,9 +26,9 @@ constexpr double kSurfaceOffset_m = 1e-6;
 // decision itself changes (a roulette or scattering draw between the two models'
 // thresholds), so the difference of their results, the held-out gain of a fitted cause in
 // the diagnosis, carries only the noise of the paths that differ. With one generator per
-// chunk of rays, the first extra draw shifted every later ray of the chunk onto new
-// numbers, and a gain was as noisy as the difference of two independent runs
-// (docs/diagnosis.md, session 16).
+// chunk of rays, the first extra draw would shift every later ray of the chunk onto new
+// numbers, and a gain would be as noisy as the difference of two independent runs
+// (measured in test_ray_tracer's OneSurfaceChangedAtTheSameSeedChangesLittleElse).
 // The launch jitter is drawn at order 0 and the roulette only at reflections (order 1 and
 // up), so the two share a slot without sharing a number.
 enum DrawSlot : std::uint64_t { kLaunch = 0, kRoulette = 0, kScatter = 1, kLambertRadius = 2, kLambertAzimuth = 3, kSlots = 4 };

@@ -5,7 +5,7 @@
 #include "room_reverb/audio/audio_buffer.h"
 #include "room_reverb/common/plots.h"
 #include "room_reverb/common/text_file.h"
-#include "room_reverb/evaluation/diagnosis_plots.h"
+#include "room_reverb/evaluation/decay_curves.h"
 #include "room_reverb/evaluation/measurement_comparison.h"
 
 namespace room_reverb::core {
@@ -23,8 +23,7 @@ void writeDecayCurves(const MeasurementComparison& comparison, const std::string
     length = std::max(length, static_cast<double>(p.measured_omni.size()) / kInternalSampleRateHz);
   }
   length = std::min(0.9 * length, 3.0);
-  std::vector<double> t;
-  for (double x = 0.0; x <= length + 1e-9; x += kStepS) t.push_back(x);
+  const std::vector<double> t = decayCurveTimes(kStepS, length);
   std::vector<LinePanel> panels;
   for (double band : kCurveBands) {
     LinePanel panel;

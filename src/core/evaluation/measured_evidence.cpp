@@ -8,7 +8,7 @@
 #include "room_reverb/audio/clipping.h"
 #include "room_reverb/audio/resample.h"
 #include "room_reverb/common/error.h"
-#include "room_reverb/evaluation/reflection_evidence.h"
+#include "room_reverb/evaluation/measured_reflections.h"
 #include "room_reverb/metrics/impulse_response_metrics.h"
 #include "room_reverb/rsao/rsao_estimator.h"
 

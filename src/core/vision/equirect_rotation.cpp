@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "equirect_padding.h"
-#include "parallel_rows.h"
+#include "room_reverb/common/parallel_rows.h"
 #include "rotation_check.h"
 #include "room_reverb/common/error.h"
 
@@ -49,7 +49,7 @@ cv::Mat rotateEquirect(const cv::Mat& image, const Eigen::Matrix3d& R, int inter
     sin_azimuth[static_cast<std::size_t>(col)] = std::sin(phi);
   }
   cv::Mat map_x(g.height, g.width, CV_32FC1), map_y(g.height, g.width, CV_32FC1);
-  capture_detail::forEachRow(g.height, 0, [&](int row) {
+  forEachRow(g.height, 0, [&](int row) {
     const double theta = equirectElevation(g, row);
     const double cos_theta = std::cos(theta), sin_theta = std::sin(theta);
     float* mx = map_x.ptr<float>(row);

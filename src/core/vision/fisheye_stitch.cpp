@@ -4,7 +4,7 @@
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
-#include "parallel_rows.h"
+#include "room_reverb/common/parallel_rows.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/vision/dual_fisheye.h"
 #include "room_reverb/vision/equirect.h"
@@ -27,7 +27,7 @@ LensMaps lensMaps(const EquirectGeometry& g, const FisheyeLens& lens, FisheyeSid
                 cv::Mat(g.height, g.width, CV_32FC1)};
   const Eigen::Matrix3d camera_to_lens = fisheyeLensToCamera(lens, side).transpose();
   const double half_fov = 0.5 * lens.fov_deg * kDeg;
-  capture_detail::forEachRow(g.height, 0, [&](int row) {
+  forEachRow(g.height, 0, [&](int row) {
     float* mx = maps.x.ptr<float>(row);
     float* my = maps.y.ptr<float>(row);
     float* w = maps.weight.ptr<float>(row);

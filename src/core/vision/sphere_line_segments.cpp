@@ -6,7 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "equirect_padding.h"
-#include "parallel_rows.h"
+#include "room_reverb/common/parallel_rows.h"
 
 namespace room_reverb::core::vision_detail {
 namespace {
@@ -41,7 +41,7 @@ std::vector<SphereSegment> detectSphereSegments(const cv::Mat& grey_equirect, in
   };
 
   std::array<std::vector<SphereSegment>, 6> found;
-  capture_detail::forEachRow(6, 0, [&](int view) {
+  forEachRow(6, 0, [&](int view) {
     const Eigen::Matrix3d& R = views[static_cast<std::size_t>(view)];
     cv::Mat map_x(view_size_px, view_size_px, CV_32FC1), map_y(view_size_px, view_size_px, CV_32FC1);
     for (int row = 0; row < view_size_px; ++row) {

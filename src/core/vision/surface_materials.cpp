@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "room_reverb/common/error.h"
-#include "surface_patches.h"
+#include "room_reverb/vision/surface_patches.h"
 
 namespace room_reverb::core {
 namespace {

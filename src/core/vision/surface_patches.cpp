@@ -1,12 +1,12 @@
-#include "surface_patches.h"
+#include "room_reverb/vision/surface_patches.h"
 
 #include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
-#include "capture_raycast.h"
-#include "parallel_rows.h"
+#include "room_reverb/vision/room_raycast.h"
+#include "room_reverb/common/parallel_rows.h"
 #include "room_reverb/vision/equirect.h"
 #include "room_reverb/vision/material_features.h"
 
@@ -54,7 +54,7 @@ class PatchCutter {
   PatchCutter(const cv::Mat& color, const RoomModel& model, const Eigen::Isometry3d& room_from_camera,
               const PatchSampling& sampling)
       : sampling_(sampling),
-        geometry_(capture_detail::makeCaptureGeometry(model, {})),
+        geometry_(makeCaptureGeometry(model, {})),
         camera_(room_from_camera.translation()),
         room_to_camera_(room_from_camera.linear().transpose()),
         equirect_{color.cols, color.rows} {
@@ -89,7 +89,7 @@ class PatchCutter {
         const double cos_incidence = -direction.dot(rect.normal);
         if (cos_incidence < sampling_.min_cos_incidence) continue;
         // Seen only if the first thing along the ray is this surface at this point.
-        const capture_detail::SurfaceHit hit = capture_detail::castRay(geometry_, camera_, direction);
+        const SurfaceHit hit = castRay(geometry_, camera_, direction);
         if (hit.sky || hit.object_id != rect.target || std::abs(hit.distance_m - range) > 0.01 + 0.005 * range) continue;
         const Eigen::Vector2d uv = equirectCoordinates(equirect_, room_to_camera_ * direction);
         map_x.at<float>(row, col) = static_cast<float>(uv.x());
@@ -129,7 +129,7 @@ class PatchCutter {
 
  private:
   PatchSampling sampling_;
-  capture_detail::CaptureGeometry geometry_;
+  CaptureGeometry geometry_;
   Eigen::Vector3d camera_;
   Eigen::Matrix3d room_to_camera_;
   EquirectGeometry equirect_;
@@ -174,7 +174,7 @@ std::vector<SurfacePatch> sampleSurfacePatches(const cv::Mat& color, const RoomM
   }
   const PatchCutter cutter(color, model, room_from_camera, sampling);
   std::vector<std::optional<SurfacePatch>> cut(jobs.size());
-  capture_detail::forEachRow(static_cast<int>(jobs.size()), sampling.threads, [&](int j) {
+  forEachRow(static_cast<int>(jobs.size()), sampling.threads, [&](int j) {
     const PatchJob& job = jobs[static_cast<std::size_t>(j)];
     cut[static_cast<std::size_t>(j)] = cutter.cut(rects[job.rect], job.s_m, job.t_m);
   });
@@ -187,7 +187,7 @@ std::vector<SurfacePatch> sampleSurfacePatches(const cv::Mat& color, const RoomM
 
 cv::Mat patchFeatures(const std::vector<const SurfacePatch*>& patches, int threads) {
   cv::Mat features(static_cast<int>(patches.size()), kMaterialFeatureLength, CV_32F);
-  capture_detail::forEachRow(features.rows, threads, [&](int i) {
+  forEachRow(features.rows, threads, [&](int i) {
     const SurfacePatch& patch = *patches[static_cast<std::size_t>(i)];
     materialFeatures(patch.bgr, patch.mask).copyTo(features.row(i));
   });

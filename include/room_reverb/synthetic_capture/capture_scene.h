@@ -1,0 +1,40 @@
+#pragma once
+// Capture scene files (data/captures/*.yaml): a room model in the room.yaml format of
+// DESIGN.md, whose rig_in_room is the camera rig's pose, plus an optional `capture:`
+// section saying how to render it:
+//
+//   capture:
+//     baseline_m: 0.2                 # vertical distance between the camera centres [m]
+//     width: 2048                     # equirect width [px], even, >= 64
+//     supersampling: 2                # n x n colour samples per pixel
+//     seed: 1                         # textures and noise
+//     shading: true                   # Lambert light near the ceiling plus ambient
+//     noise_sigma: 0.0                # sensor noise [grey levels]
+//     fisheye: false                  # also render dual-fisheye images
+//     low_texture_materials: [sheetrock]   # materials drawn nearly flat
+//     low_texture_contrast: 0.03      # their texture contrast (1 = normal)
+//
+// Every key is optional, with the CaptureOptions defaults. A rendered capture's scene file
+// adds a `labels:` section (the material and object names of the id images, and the camera
+// centres); reading ignores it.
+#include <string>
+
+#include "room_reverb/acoustics/room_model.h"
+#include "room_reverb/synthetic_capture/capture_generator.h"
+
+namespace room_reverb::core {
+
+struct CaptureScene {
+  RoomModel room;
+  CaptureOptions options;
+};
+
+// InputError naming the file and key for anything malformed (room model errors as
+// loadRoomModel reports them).
+CaptureScene loadCaptureScene(const std::string& path);
+CaptureScene parseCaptureScene(const std::string& yaml_text, const std::string& source = "capture scene");
+// The room model's YAML, the capture section, and with `rendered` the labels section.
+std::string captureSceneToYaml(const CaptureScene& scene, const StereoCapture* rendered = nullptr);
+void saveCaptureScene(const std::string& path, const CaptureScene& scene, const StereoCapture* rendered = nullptr);
+
+}  // namespace room_reverb::core
