@@ -122,6 +122,7 @@ void CaptureIngestServer::process(const cv::Mat& top, const cv::Mat& bottom, con
     top_pub_.publish(imageToMessage(capture.top, encoding, header));
     bottom_pub_.publish(imageToMessage(capture.bottom, encoding, header));
     ++published_;
+    for (const std::string& warning : capture.warnings) ROS_WARN("capture_ingest: %s", warning.c_str());
     ROS_INFO("capture_ingest: %dx%d pair, turned %.2f deg about the baseline, rig tilt %.2f deg", capture.top.cols,
              capture.top.rows, capture.leveling.yaw_rad * 180.0 / M_PI, capture.leveling.tilt_rad * 180.0 / M_PI);
   } catch (const core::InputError& e) {

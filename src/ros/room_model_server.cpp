@@ -58,6 +58,7 @@ RoomModelServer::RoomModelServer(::ros::NodeHandle nh, ::ros::NodeHandle private
   private_nh_.param<std::string>("output_file", output_file_, "");
   private_nh_.param<std::string>("cloud_file", cloud_file_, "");
   private_nh_.param("build_on_cloud", build_on_cloud_, false);
+  private_nh_.param("level_from_cloud", options_.level_from_cloud, false);
   options_.stereo = stereoOptionsFromConfig(stereoConfigFromParams(private_nh_));
   readLayoutParams(private_nh_, options_.layout);
   std::string classifier_file, families_file;
@@ -195,6 +196,10 @@ void RoomModelServer::publish(const core::RoomLayout& layout, const ::ros::Time&
                 layout.rig_yaw_rad * 180.0 / M_PI);
   response.message = summary;
   ROS_INFO("room_model: %s", summary);
+  for (const std::string& warning : layout.warnings) {
+    response.message += "; " + warning;
+    ROS_WARN("room_model: %s", warning.c_str());
+  }
 }
 
 }  // namespace room_reverb::ros_bridge

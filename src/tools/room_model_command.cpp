@@ -7,6 +7,7 @@
 
 #include "arguments.h"
 #include "command.h"
+#include "depth_input.h"
 #include "image_files.h"
 #include "room_reverb/acoustics/room_model.h"
 #include "room_reverb/common/error.h"
@@ -18,7 +19,7 @@ namespace {
 
 using namespace room_reverb::core;
 
-const char* kHelp = R"(usage: room_reverb room-model --top TOP.png --bottom BOTTOM.png --out ROOM.yaml
+const char* kHelp = R"(usage: room_reverb room-model --top TOP.png (--bottom BOTTOM.png | --depth FILE) --out ROOM.yaml
                               [--baseline M] [--fisheye] [--calibration FILE] [--width W]
                               [--leveling image|none] [--cloud CLOUD.pcd] [--range RANGE.tiff]
 
@@ -29,6 +30,10 @@ its colour and texture. The images are equirectangular (2:1, the upper camera's 
 or dual-fisheye with --fisheye. `room_reverb make-capture` renders test pairs.
 
   --top FILE, --bottom FILE   the upper and lower camera's images (same size)
+  --depth FILE                depth from elsewhere instead of the bottom image and the
+                              stereo: a range image (.tif/.tiff, 32-bit float metres from the
+                              top camera on the top image's grid, NaN where invalid, as
+                              --range writes) or a point cloud (.pcd, metres, rig frame)
   --out FILE                  the room model (room.yaml of DESIGN.md)
   --baseline M                vertical distance between the camera centres [m]; default 0.2
   --fisheye                   the images are dual-fisheye (2S x S); stitched first
@@ -45,7 +50,10 @@ or dual-fisheye with --fisheye. `room_reverb make-capture` renders test pairs.
 Prints the room's size, the objects with their materials and the time of each step.
 Exit status: 0 on success, 2 with one line on stderr for bad input (unreadable or
 mismatched images, images that are not 2:1, black or saturated, a baseline that is not
-positive, a capture that shows no room).
+positive, depth of the wrong type or size, a capture that shows no room). What a user
+should check (a wall placed without a plane of its own, an open side, levelling by the
+cloud where the images show too few straight edges) is printed as "warning:" lines on
+stderr.
 )";
 
 cv::Mat readCameraImage(const std::string& path) {
@@ -74,12 +82,16 @@ void printRoom(const RoomLayout& layout, const VisualRouteTimes& t, std::size_t 
 }
 
 int runRoomModel(const std::vector<std::string>& raw) {
-  const Arguments args(raw, {"top", "bottom", "out", "baseline", "calibration", "width", "leveling", "cloud", "range"},
+  const Arguments args(raw,
+                       {"top", "bottom", "depth", "out", "baseline", "calibration", "width", "leveling", "cloud", "range"},
                        {"fisheye"});
   if (!args.positional().empty()) throw UsageError("unexpected argument '" + args.positional().front() + "'");
-  for (const char* required : {"top", "bottom", "out"}) {
+  for (const char* required : {"top", "out"}) {
     if (!args.has(required)) throw UsageError(std::string("--") + required + " is required");
   }
+  const bool depth_given = args.has("depth");
+  if (depth_given == args.has("bottom")) throw UsageError("give either --bottom (stereo) or --depth, not both or neither");
+  if (depth_given && args.has("range")) throw UsageError("--range writes the stereo's range; with --depth there is none");
   const double baseline = args.doubleValue("baseline", 0.2);
   if (!(baseline > 0.0) || !std::isfinite(baseline)) {
     throw InputError("--baseline must be a positive distance in metres (got " + args.value("baseline", "") + ")");
@@ -96,18 +108,32 @@ int runRoomModel(const std::vector<std::string>& raw) {
   } else if (args.has("calibration")) {
     throw UsageError("--calibration is only used with --fisheye");
   }
+  const cv::Mat top = readCameraImage(args.value("top", ""));
+  // With --depth there is no bottom image: the top one stands in for it (the levelling
+  // pools both images' straight edges; the same image twice gives the same frame).
   const IngestedCapture pair =
-      ingestCapture(readCameraImage(args.value("top", "")), readCameraImage(args.value("bottom", "")), ingest);
+      ingestCapture(top, depth_given ? top : readCameraImage(args.value("bottom", "")), ingest);
+  VisualRouteOptions options;
+  loadDefaultMaterialModels(options);
+  options.level_from_cloud = pair.level_from_cloud;
+  VisualRoute route;
+  if (depth_given) {
+    route.cloud = cloudFromDepthFile(args.value("depth", ""), pair.top, baseline, pair.leveling.image_rotation);
+    route.layout = roomLayoutFromCloud(route.cloud, pair.top, baseline, options, pair.leveling.tilt, &route.times,
+                                       &route.materials);
+  } else {
+    route = runVisualRoute(pair.top, pair.bottom, baseline, options, pair.leveling.tilt);
+  }
+  saveRoomModel(args.value("out", ""), route.layout.model);
+  if (args.has("cloud")) savePointCloudPcd(args.value("cloud", ""), route.cloud);
+  if (args.has("range")) writeImage(args.value("range", ""), route.depth.range_m);
+  // What happened on the way, once the room stands: a refusal stays one line.
   if (pair.manhattan) {
     std::cout << "levelled: turned " << pair.leveling.yaw_rad * 180.0 / M_PI << " deg about the baseline, rig tilt "
               << pair.leveling.tilt_rad * 180.0 / M_PI << " deg (" << pair.manhattan->segments << " line segments)\n";
   }
-  VisualRouteOptions options;
-  loadDefaultMaterialModels(options);
-  const VisualRoute route = runVisualRoute(pair.top, pair.bottom, baseline, options, pair.leveling.tilt);
-  saveRoomModel(args.value("out", ""), route.layout.model);
-  if (args.has("cloud")) savePointCloudPcd(args.value("cloud", ""), route.cloud);
-  if (args.has("range")) writeImage(args.value("range", ""), route.depth.range_m);
+  for (const std::string& warning : pair.warnings) std::cerr << "warning: " << warning << "\n";
+  for (const std::string& warning : route.layout.warnings) std::cerr << "warning: " << warning << "\n";
   printRoom(route.layout, route.times, route.cloud.points.size());
   std::cout << "wrote " << args.value("out", "") << "\n";
   return 0;

@@ -417,7 +417,8 @@ TEST(RoomLayout, RejectsCloudsThatShowNoRoom) {
     floor.points.push_back(p);
   }
   expectInputError([&] { fitRoomLayout(floor); }, {"no wall"});
-  // A floor and two walls on the same side: no wall on the other side.
+  // A floor and two walls at a corner: open on the two other sides (one open side is a
+  // courtyard's; two are no room).
   PointCloud corner = floor;
   for (int i = 0; i < 60000; ++i) {
     CloudPoint p;
@@ -426,7 +427,7 @@ TEST(RoomLayout, RejectsCloudsThatShowNoRoom) {
     p.p = Eigen::Vector3f(4.0f * uniform(rng), 3.0f + 0.01f * gauss(rng), -1.5f + 1.3f * (1.0f + uniform(rng)));
     corner.points.push_back(p);
   }
-  expectInputError([&] { fitRoomLayout(corner); }, {"no wall", "side of the rig"});
+  expectInputError([&] { fitRoomLayout(corner); }, {"no wall", "-x and -y sides of the rig"});
   // A cloud that is not in the rig frame (the room entirely above the origin): no floor.
   PointCloud shifted = scanRoomModel(meetingRoom(0.0)).cloud;
   for (auto& p : shifted.points) p.p.z() += 5.0f;

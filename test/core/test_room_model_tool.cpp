@@ -96,6 +96,42 @@ TEST(RoomModelTool, DualFisheyePairIsStitchedFirst) {
   expectMeetingRoom(out, "fisheye", 0.02);
 }
 
+TEST(RoomModelTool, DepthFromARangeImageOrAPointCloud) {
+  const std::string dir = capture();
+  // The generator's exact range of the top camera, as another matcher or a depth camera
+  // would give it.
+  const std::string from_range = tempPath("room_model_tool_depth_range.yaml").string();
+  auto run = runTool("room-model --top " + dir + "/top.png --depth " + dir + "/top_range.tiff --out " + from_range);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  expectMeetingRoom(from_range, "range image");
+  // The stereo's own cloud written as PCD and read back.
+  const std::string cloud = tempPath("room_model_tool_depth.pcd").string();
+  run = runTool("room-model --top " + dir + "/top.png --bottom " + dir + "/bottom.png --out " +
+                tempPath("room_model_tool_depth_stereo.yaml").string() + " --cloud " + cloud);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string from_cloud = tempPath("room_model_tool_depth_cloud.yaml").string();
+  run = runTool("room-model --top " + dir + "/top.png --depth " + cloud + " --out " + from_cloud);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  expectMeetingRoom(from_cloud, "point cloud");
+
+  const std::string top = dir + "/top.png", out = " --out " + tempPath("room_model_tool_depth_bad.yaml").string();
+  expectOneLineError(runTool("room-model --top " + top + " --depth " + top + out), "--depth takes");
+  expectOneLineError(runTool("room-model --top " + top + " --bottom " + top + " --depth " + cloud + out), "not both");
+  expectOneLineError(runTool("room-model --top " + top + " --depth " + cloud + " --range x.tiff" + out), "--range");
+  const std::string small = tempPath("rm_small_range.tiff").string();
+  cv::imwrite(small, cv::Mat(256, 512, CV_32FC1, cv::Scalar(2.0f)));
+  expectOneLineError(runTool("room-model --top " + top + " --depth " + small + out), "grid");
+  const std::string eight_bit = tempPath("rm_8bit_range.tiff").string();
+  cv::imwrite(eight_bit, cv::Mat(512, 1024, CV_8UC1, cv::Scalar(2)));
+  expectOneLineError(runTool("room-model --top " + top + " --depth " + eight_bit + out), "32-bit float");
+  const std::string empty = tempPath("rm_nan_range.tiff").string();
+  cv::imwrite(empty, cv::Mat(512, 1024, CV_32FC1, cv::Scalar(std::nanf(""))));
+  expectOneLineError(runTool("room-model --top " + top + " --depth " + empty + out), "no valid");
+  const std::string bad_pcd = tempPath("rm_bad.pcd").string();
+  std::ofstream(bad_pcd) << "VERSION 0.7\nFIELDS a b\n";
+  expectOneLineError(runTool("room-model --top " + top + " --depth " + bad_pcd + out), "rm_bad.pcd");
+}
+
 TEST(RoomModelTool, BadInputIsOneLineAndExitTwo) {
   const std::string dir = capture();
   const std::string top = dir + "/top.png", bottom = dir + "/bottom.png";

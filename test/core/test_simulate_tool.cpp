@@ -88,6 +88,37 @@ materials:
   expectExit2("simulate --mesh " + good + " --source 1 1 --listener 3 2 1.5" + out, "--source");
 }
 
+// Units flush against the walls, the floor, the ceiling and each other, as the visual
+// route fits a kitchen: the air between them is simulated, a listener in a unit is refused
+// with the unit's number and label.
+const char* kFlushKitchen = R"(frame: room
+room_box: {size_m: [6.0, 4.0, 2.7], has_ceiling: true}
+surfaces:
+  floor: {material: tiles_ceramic}
+  ceiling: {material: plaster_smooth}
+  wall_x_min: {material: plaster_smooth}
+  wall_x_max: {material: plaster_smooth}
+  wall_y_min: {material: plaster_smooth}
+  wall_y_max: {material: plaster_smooth}
+objects:
+  - {label: counter_run, material: wood_panel, center_m: [3.0, 0.3, 0.45], size_m: [6.0, 0.6, 0.9]}
+  - {label: wall_cabinets, material: wood_panel, center_m: [3.0, 0.175, 2.35], size_m: [6.0, 0.35, 0.7]}
+  - {label: fridge, material: metal, center_m: [0.35, 3.65, 0.95], size_m: [0.7, 0.7, 1.9]}
+  - {label: tall_cupboard, material: wood_panel, center_m: [1.0, 3.7, 1.35], size_m: [0.6, 0.6, 2.7]}
+  - {label: cabinet, material: wood_panel, center_m: [3.0, 2.2, 0.9], size_m: [6.0, 1.2, 1.8]}
+)";
+
+TEST(SimulateTool, ARoomModelWithFlushUnitsSimulatesAndNamesAUnitHoldingTheListener) {
+  const std::string room = writeFile("flush_kitchen.yaml", kFlushKitchen);
+  const std::string out = room_reverb::test::tempPath("sim_kitchen.wav").string();
+  const std::string rays = " --rays 200 --duration 0.3 --out " + out;
+  const ToolRun run = runTool("simulate --room " + room + " --source 2.25 3.25 1.25 --listener 4.25 0.75 1.75" + rays);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(room_reverb::core::readAudioFile(out).frameCount(), 14400u);
+  expectExit2("simulate --room " + room + " --source 2.25 3.25 1.25 --listener 3 2.2 1.2" + rays,
+              "listener (3, 2.2, 1.2) m is inside object 4 (cabinet)");
+}
+
 TEST(CompareTool, BadInputExitsTwoWithAReason) {
   expectExit2("compare --measurements /nonexistent/measurements.yaml", "/nonexistent/measurements.yaml");
   const std::string no_room = writeFile("no_room.yaml", "pairs:\n  - {source_m: [1, 1, 1], receiver_m: [2, 2, 1]}\n"

@@ -129,7 +129,7 @@ TEST_F(SimulationService, BadInputAnswersWithAReason) {
   in_table.source.x = 3.0;
   in_table.source.y = 2.0;
   in_table.source.z = 0.3;
-  expectFailure(in_table, "inside an object");
+  expectFailure(in_table, "is inside object 0 (table)");
 
   auto bad_absorption = request();
   room_reverb::AcousticMaterial m;

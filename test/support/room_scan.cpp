@@ -61,6 +61,16 @@ double castRoomRay(const core::RoomModel& model, const Eigen::Vector3d& origin, 
   return t;
 }
 
+RoomScanOptions stereoLikeScanOptions(std::uint32_t seed) {
+  RoomScanOptions options;
+  options.rays = 300000;
+  options.range_noise_fraction = 0.01;
+  options.stray_fraction = 0.03;
+  options.polar_cap_deg = 10.0;
+  options.seed = seed;
+  return options;
+}
+
 RoomScan scanRoomModel(const core::RoomModel& model, const RoomScanOptions& options) {
   RoomScan scan;
   scan.cloud.frame = "rig";

@@ -41,6 +41,10 @@ struct RoomScan {
   std::vector<bool> stray;        // per point: placed beyond the walls on purpose, or seen through a window
 };
 
+// Options like a spherical stereo capture's: 300 000 rays, 1 % range noise (the layout
+// fit's default), 3 % strays, no range within 10 degrees of the poles.
+RoomScanOptions stereoLikeScanOptions(std::uint32_t seed);
+
 // The rig pose is model.rig_position_m / rig_rotation. A room without a ceiling loses the
 // rays that leave through the top. Objects are solid cuboids rotated by their yaw.
 RoomScan scanRoomModel(const core::RoomModel& model, const RoomScanOptions& options = {});

@@ -10,6 +10,7 @@
 
 #include "room_reverb/acoustics/embree_scene.h"
 #include "room_reverb/acoustics/material.h"
+#include "room_reverb/acoustics/room_shape.h"
 
 namespace room_reverb::core {
 
@@ -34,6 +35,11 @@ class AcousticScene {
   // of [0, 1]. `closed`: the room should hold every ray (rays that leave are leaks).
   AcousticScene(TriangleMesh mesh, const MaterialLibrary& library,
                 const MaterialOverrides& overrides = {}, bool closed = true);
+  // A scene whose mesh is the triangles of `shape` (roomModelToScene): whether a point is
+  // in the room, and the volume of a closed room, come from the solids, exactly, not from
+  // the triangles. Closed when the shape has a ceiling.
+  AcousticScene(TriangleMesh mesh, const MaterialLibrary& library, const MaterialOverrides& overrides,
+                RoomShape shape);
 
   const EmbreeScene& geometry() const { return *geometry_; }
   const TriangleMesh& mesh() const { return geometry_->mesh(); }
@@ -45,19 +51,24 @@ class AcousticScene {
   const std::vector<ScenePlane>& planes() const { return planes_; }
   std::size_t planeOf(std::size_t triangle) const { return triangle_plane_[triangle]; }
   bool closed() const { return closed_; }
+  // The solids the scene was built from; null for a scene from a mesh file.
+  const RoomShape* roomShape() const { return shape_ ? &*shape_ : nullptr; }
 
-  // Enclosed volume by the divergence theorem (absolute value; meaningful for closed
-  // meshes) and total surface area.
+  // Enclosed volume (the room shape's free volume when it is closed; otherwise by the
+  // divergence theorem, absolute value, meaningful for closed meshes) and total surface
+  // area.
   double volumeM3() const { return volume_m3_; }
   double surfaceM2() const { return surface_m2_; }
   // Area-weighted mean absorption per band.
   OctaveBandValues meanAbsorption() const;
 
-  // Whether `point` is inside the room and outside every closed object (crossing parity
-  // along several rays; a majority decides).
+  // Whether `point` is inside the room and outside every object: from the room shape when
+  // there is one, else by crossing parity along several rays (a majority decides).
   bool isInside(const Eigen::Vector3d& point) const;
-  // InputError unless `point` is inside the room (crossing parity along several rays),
-  // outside every object and at least `clearance_m` from every surface.
+  // InputError unless `point` is inside the room, outside every object and at least
+  // `clearance_m` from every surface. With a room shape the message names the object that
+  // holds the point ("listener (2, 1, 1) m is inside object 3 (cabinet)", numbered from 0
+  // as in the model's list).
   void requireInside(const Eigen::Vector3d& point, const std::string& what, double clearance_m = 0.01) const;
   // Distance (m) from `point` to the nearest point of any triangle.
   double distanceToNearestSurface(const Eigen::Vector3d& point) const;
@@ -68,6 +79,7 @@ class AcousticScene {
   std::vector<ScenePlane> planes_;
   std::vector<std::size_t> triangle_plane_;
   bool closed_;
+  std::optional<RoomShape> shape_;
   double volume_m3_ = 0.0;
   double surface_m2_ = 0.0;
 };

@@ -10,6 +10,7 @@
 
 #include "room_reverb/acoustics/acoustic_scene.h"
 #include "room_reverb/acoustics/air_absorption.h"
+#include "room_reverb/acoustics/cuboid.h"
 #include "room_reverb/acoustics/material.h"
 #include "room_reverb/acoustics/triangle_mesh.h"
 
@@ -17,15 +18,6 @@ namespace room_reverb::core {
 
 struct SurfaceAssignment {
   std::string material;
-  double confidence = 1.0;
-};
-
-struct CuboidObject {
-  std::string label;
-  std::string material;
-  Eigen::Vector3d center_m = Eigen::Vector3d::Zero();
-  Eigen::Vector3d size_m = Eigen::Vector3d::Zero();  // extent along its own x, y, z
-  double yaw_rad = 0.0;                              // rotation about z
   double confidence = 1.0;
 };
 
@@ -64,8 +56,9 @@ void appendCuboid(TriangleMesh& mesh, const CuboidObject& object);
 MaterialLibrary materialsFor(const RoomModel& model, const MaterialLibrary& library);
 
 // The scene the simulator traces: the model's mesh with its materials (library plus inline
-// ones), closed unless the room has no ceiling. The model's air conditions are not part of
-// the scene; the caller passes model.air to the simulation.
+// ones), closed unless the room has no ceiling, and the model's box and objects as its room
+// shape (inside tests and volume exact, objects named in errors). The model's air
+// conditions are not part of the scene; the caller passes model.air to the simulation.
 AcousticScene roomModelToScene(const RoomModel& model, const MaterialLibrary& library,
                                const MaterialOverrides& overrides = {});
 

@@ -8,6 +8,7 @@
 #include <opencv2/core.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "room_reverb/vision/dual_fisheye.h"
 #include "room_reverb/vision/image_leveling.h"
@@ -42,12 +43,18 @@ struct IngestedCapture {
   cv::Mat bottom;
   ImageLeveling leveling;  // identity for LevelingSource::kNone
   std::optional<ManhattanImageEstimate> manhattan;  // when the images were used
+  // The images asked to level the capture show too little Manhattan structure: they are
+  // used as captured (about the baseline; an IMU's tilt where one is used) and the cloud
+  // levels the room (VisualRouteOptions::level_from_cloud).
+  bool level_from_cloud = false;
+  std::vector<std::string> warnings;  // one line each, for the user
 };
 
 // InputError for images of different sizes or types, empty images, an image of the wrong
 // shape for the format (equirect and dual fisheye are both 2:1), an IMU leveling without
-// `imu_camera_to_world`, and as the stitching and the Manhattan estimate report (no
-// Manhattan structure: a black, saturated or featureless image).
+// `imu_camera_to_world`, and as the stitching and the Manhattan estimate report (a black,
+// saturated or featureless image). Images with edges but too little Manhattan structure
+// are not an error: see IngestedCapture::level_from_cloud.
 IngestedCapture ingestCapture(const cv::Mat& top, const cv::Mat& bottom, const CaptureIngestOptions& options,
                               const std::optional<Eigen::Quaterniond>& imu_camera_to_world = std::nullopt);
 

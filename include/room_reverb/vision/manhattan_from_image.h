@@ -30,6 +30,8 @@
 #include <optional>
 #include <vector>
 
+#include "room_reverb/common/error.h"
+
 namespace room_reverb::core {
 
 struct ManhattanImageOptions {
@@ -58,6 +60,15 @@ struct ManhattanImageOptions {
   double min_inlier_fraction = 0.3;
   double min_second_axis_fraction = 0.08;
   int min_axis_segments = 10;
+};
+
+// The images have straight edges, but too few of them run along three orthogonal
+// directions to name the room's axes (plain walls, clutter, curtains, tile lines that
+// dominate): a room the cloud can still level (vision/cloud_leveling.h). Fewer than
+// min_segments segments at all (a black, blurred or noise image) is a plain InputError.
+class ManhattanStructureError : public InputError {
+ public:
+  using InputError::InputError;
 };
 
 struct ManhattanImageEstimate {

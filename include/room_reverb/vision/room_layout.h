@@ -17,6 +17,10 @@
 //     between floor and ceiling), refined by line fits to the walls' points. Target: well
 //     under 1 degree.
 //  4. Walls (room_box_fit.h): on each side of the rig along each wall direction, the
+//     vertical plane where the ceiling (or floor) ends (surface_edge.h), chosen among the
+//     wall's layers (a recessed door, a radiator, a kitchen run) as the one with the most
+//     area; the edge itself where furniture or clutter hides the wall; an open side where
+//     the ground runs on with nothing standing at its end. Without such an edge, the
 //     innermost dense plane that stops more of the rig's rays than get past it (not the
 //     extreme point: stereo strays and facades seen through windows lie beyond the walls;
 //     not a sideboard's front: the wall behind it stops more rays). Positions are
@@ -44,6 +48,7 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "room_reverb/acoustics/room_model.h"
@@ -72,6 +77,15 @@ struct RoomLayoutOptions {
   // surroundings (see PlaneHistogram::peaks in src/core/vision/plane_histogram.h).
   double min_plane_area_m2 = 0.5;
   double min_plane_contrast = 3.0;
+  // Wall layers (see src/core/vision/room_box_fit.h): the contrast a layer needs where
+  // the ceiling's or floor's edge confirms it, how far apart the layers of one wall lie
+  // [m], how far beyond that edge a layer may be [m], and how far beyond it (a dense
+  // plane) or inside it (the outermost plane) a wall may lie where furniture ends the
+  // ceiling or hides the wall [m].
+  double min_layer_contrast = 1.4;
+  double wall_layer_gap_m = 0.25;
+  double wall_edge_tolerance_m = 0.2;
+  double hidden_wall_m = 0.5;
   // A plane is a candidate for a wall or the floor if it has at least this fraction of the
   // strongest plane's support on its side of the rig (a wall partly hidden by a wardrobe
   // is still the wall).
@@ -112,6 +126,19 @@ struct RoomLayoutOptions {
   bool assign_points = true;
 };
 
+// The material of an open side (the library's opening: absorbs every band).
+inline constexpr const char* kOpenSideMaterial = "open_window";
+
+// What a face of the fitted box rests on, and how sure the fit is of it.
+struct FaceEvidence {
+  // "plane at the ceiling's or floor's edge", "plane", "ceiling or floor edge (wall
+  // hidden)" or
+  // "open side" (walls); "plane" for the floor and ceiling.
+  std::string basis;
+  double confidence = 0.0;  // 0..1
+  bool open = false;        // an open side: its material is the library's open_window
+};
+
 struct RoomLayout {
   // size_m, has_ceiling (size_m.z() is then the walls' top), objects (label, centre, size,
   // yaw, confidence; material empty), the rig pose in the room frame, and all six surfaces
@@ -127,6 +154,11 @@ struct RoomLayout {
   double rig_yaw_rad = 0.0;
   // How much of each face was seen (kRoomSurfaceNames order), in voxels (area / voxel^2).
   std::array<double, 6> surface_support{};
+  // Per face (kRoomSurfaceNames order): what its position rests on.
+  std::array<FaceEvidence, 6> face_evidence{};
+  // One line per thing a user should check: a wall placed without a plane of its own, an
+  // open side, an object changed to keep the model simulable.
+  std::vector<std::string> warnings;
   // Per input point: the face it lies on (index into kRoomSurfaceNames) or -1; the object
   // it belongs to (index into model.objects) or -1. Empty unless options.assign_points.
   std::vector<std::int32_t> point_surface;

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
+#include "room_reverb/vision/cloud_leveling.h"
 #include "room_reverb/vision/depth_cloud.h"
 #include "room_reverb/vision/point_cloud.h"
 #include "room_reverb/vision/room_layout.h"
@@ -22,6 +23,10 @@ struct VisualRouteOptions {
   DepthCloudOptions cloud;
   RoomLayoutOptions layout;
   SurfaceMaterialOptions materials;
+  // Level the cloud by its own floor and ceiling (vision/cloud_leveling.h) before the fit,
+  // where the images could not (IngestedCapture::level_from_cloud); applied after `tilt`.
+  bool level_from_cloud = false;
+  CloudLevelingOptions cloud_leveling;
   // The material classifier and the family -> material table. Null: the shipped ones
   // (config/material_classifier.yml.gz, config/material_families.yaml) are loaded on each
   // call; callers that build more than one room load them once (loadDefaultMaterialModels).

@@ -4,6 +4,7 @@
 #include <limits>
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 #include "room_reverb/common/error.h"
 
@@ -88,6 +89,15 @@ AcousticScene::AcousticScene(TriangleMesh mesh, const MaterialLibrary& library,
   geometry_ = std::make_unique<EmbreeScene>(std::move(mesh));
 }
 
+AcousticScene::AcousticScene(TriangleMesh mesh, const MaterialLibrary& library, const MaterialOverrides& overrides,
+                             RoomShape shape)
+    : AcousticScene(std::move(mesh), library, overrides, shape.has_ceiling) {
+  // Faces of objects that overlap, stick out or lie against a wall make the divergence sum
+  // count some volume twice or outside the room; the solids do not.
+  if (closed_) volume_m3_ = shape.freeVolumeM3();
+  shape_ = std::move(shape);
+}
+
 OctaveBandValues AcousticScene::meanAbsorption() const {
   OctaveBandValues mean{};
   for (std::size_t t = 0; t < mesh().triangleCount(); ++t) {
@@ -136,6 +146,7 @@ double AcousticScene::distanceToNearestSurface(const Eigen::Vector3d& point) con
 }
 
 bool AcousticScene::isInside(const Eigen::Vector3d& point) const {
+  if (shape_) return shape_->inBox(point) && !shape_->objectContaining(point);
   // Crossing parity along directions that avoid the axes (and so the room's edges): odd
   // means inside the room and outside every closed object. Horizontal rays only in a room
   // without a ceiling.
@@ -165,7 +176,18 @@ void AcousticScene::requireInside(const Eigen::Vector3d& point, const std::strin
   std::ostringstream where;
   where << what << " (" << point.x() << ", " << point.y() << ", " << point.z() << ") m";
   if (!point.allFinite()) throw InputError(where.str() + " is not a finite position");
-  if (!isInside(point)) {
+  if (shape_) {
+    if (!shape_->inBox(point)) {
+      const Eigen::Vector3d& size = shape_->size_m;
+      where << " is outside the room (its box spans [0, " << size.x() << "] x [0, " << size.y() << "] x [0, "
+            << size.z() << "] m)";
+      throw InputError(where.str());
+    }
+    if (const auto object = shape_->objectContaining(point)) {
+      where << " is inside object " << *object << " (" << shape_->objects[*object].label << ")";
+      throw InputError(where.str());
+    }
+  } else if (!isInside(point)) {
     throw InputError(where.str() + " is outside the room or inside an object or wall");
   }
   // Clearance: no surface closer than clearance_m along a spread of directions.

@@ -6,6 +6,7 @@
 #include <charconv>
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/text_file.h"
@@ -420,7 +421,11 @@ MaterialLibrary materialsFor(const RoomModel& model, const MaterialLibrary& libr
 
 AcousticScene roomModelToScene(const RoomModel& model, const MaterialLibrary& library,
                                const MaterialOverrides& overrides) {
-  return AcousticScene(roomModelToMesh(model), materialsFor(model, library), overrides, model.has_ceiling);
+  RoomShape shape;
+  shape.size_m = model.size_m;
+  shape.has_ceiling = model.has_ceiling;
+  shape.objects = model.objects;
+  return AcousticScene(roomModelToMesh(model), materialsFor(model, library), overrides, std::move(shape));
 }
 
 }  // namespace room_reverb::core

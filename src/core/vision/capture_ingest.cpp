@@ -69,7 +69,15 @@ IngestedCapture ingestCapture(const cv::Mat& top, const cv::Mat& bottom, const C
     case LevelingSource::kImuAndImage: {
       ManhattanImageOptions manhattan = options.manhattan;
       if (uses_imu) manhattan.known_up = cameraUpFromImu(*imu_camera_to_world);
-      out.manhattan = estimateManhattanFrame(std::vector<cv::Mat>{out.top, out.bottom}, manhattan);
+      try {
+        out.manhattan = estimateManhattanFrame(std::vector<cv::Mat>{out.top, out.bottom}, manhattan);
+      } catch (const ManhattanStructureError& e) {
+        out.level_from_cloud = true;
+        out.warnings.push_back(std::string("leveling: ") + e.what() + "; the images are used as captured" +
+                               (uses_imu ? " (tilted by the IMU)" : "") + " and the point cloud levels the room");
+        if (uses_imu) out.leveling = levelingFromImu(*imu_camera_to_world);
+        return out;
+      }
       out.leveling = splitLeveling(out.manhattan->camera_to_manhattan);
       break;
     }

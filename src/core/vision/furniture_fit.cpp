@@ -173,6 +173,15 @@ Clusters mergedClusters(const Pieces& pieces, const ClusterFitter& fitter) {
   return groups;
 }
 
+// An object whose bottom is in the upper 40 % of the room and whose top reaches within
+// 0.6 m of the ceiling, standing against no wall.
+bool hangsFromCeiling(const CuboidObject& object, const RoomFrame& frame, bool against_wall) {
+  if (against_wall || !frame.has_ceiling) return false;
+  const double bottom = object.center_m.z() - 0.5 * object.size_m.z();
+  const double top = object.center_m.z() + 0.5 * object.size_m.z();
+  return bottom >= 0.6 * frame.size.z() && top >= frame.size.z() - 0.6;
+}
+
 }  // namespace
 
 Furniture fitFurniture(const PointCloud& cloud, const VoxelGrid& grid, const RoomFrame& frame,
@@ -201,7 +210,11 @@ Furniture fitFurniture(const PointCloud& cloud, const VoxelGrid& grid, const Roo
     CuboidObject object = pieces.boxes[k];
     if (object.size_m.maxCoeff() < params.min_extent_m || (object.size_m.array() <= 0.0).any()) continue;
     const bool on_floor = object.center_m.z() - 0.5 * object.size_m.z() <= 1e-9;
-    object.label = furnitureLabel(object, on_floor, againstWall(object, frame.size));
+    const bool against_wall = againstWall(object, frame.size);
+    // Lights and ducts hang from the ceiling, clear of the walls: not furniture, and too
+    // small and high to shape the room's sound.
+    if (hangsFromCeiling(object, frame, against_wall)) continue;
+    object.label = furnitureLabel(object, on_floor, against_wall);
     object.material = "";  // placeholder: the material step names it
     object.confidence = objectConfidence(pieces.clusters[k].size(), object.label);
     cluster_object[k] = static_cast<std::int32_t>(furniture.objects.size());

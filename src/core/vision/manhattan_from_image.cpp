@@ -126,7 +126,7 @@ ManhattanImageEstimate estimateManhattanFrame(const std::vector<cv::Mat>& images
        << percent(out.axis_fraction[second]) << " (" << out.axis_inliers[second] << " segments), "
        << percent(out.axis_fraction[order[2]]) << " (the second needs " << percent(options.min_second_axis_fraction)
        << " and " << options.min_axis_segments << " segments)";
-    throw InputError(os.str());
+    throw ManhattanStructureError(os.str());
   }
   return out;
 }

@@ -55,39 +55,135 @@ HorizontalPlanes findHorizontalPlanes(const std::vector<double>& z, const BoxFit
   return planes;
 }
 
-WallPair findWallPair(const std::vector<double>& voxel_coordinate, const std::vector<double>& ray_coordinate,
-                      const BoxFitParams& params, const char* axis) {
-  const PlaneHistogram histogram(voxel_coordinate, params.bin_m);
-  const auto peaks = histogram.peaks(params.spread, params.min_plane_support, params.min_plane_contrast);
-  const PlaneHistogram rays(ray_coordinate, params.bin_m);
+namespace {
+
+// The strict rule, for a side without a horizontal surface's edge: see findWallPair.
+std::optional<WallChoice> wallByRays(const std::vector<PlanePeak>& peaks, const PlaneHistogram& rays,
+                                     const BoxFitParams& params, bool below) {
   const double far = 1e6;  // beyond any coordinate (max_range_m bounds them)
-  const auto pick = [&](bool below) -> const PlanePeak* {
-    const double best = strongest(peaks, below);
-    std::vector<const PlanePeak*> candidates;
-    for (const PlanePeak& p : peaks) {
-      if ((p.position_m < 0.0) == below && p.support >= params.outer_plane_fraction * best) candidates.push_back(&p);
+  const double best = strongest(peaks, below);
+  std::vector<const PlanePeak*> candidates;
+  for (const PlanePeak& p : peaks) {
+    if ((p.position_m < 0.0) == below && p.support >= params.outer_plane_fraction * best &&
+        p.contrast >= params.min_plane_contrast) {
+      candidates.push_back(&p);
     }
-    if (candidates.empty()) return nullptr;
-    // Inner to outer.
-    std::sort(candidates.begin(), candidates.end(), [](const PlanePeak* a, const PlanePeak* b) {
-      return std::abs(a->position_m) < std::abs(b->position_m);
-    });
-    for (const PlanePeak* p : candidates) {
-      const double half = params.spread.halfWidth(p->position_m);
-      const double on = rays.count(p->position_m - half, p->position_m + half);
-      const double beyond = below ? rays.count(-far, p->position_m - half) : rays.count(p->position_m + half, far);
-      if (on >= beyond) return p;
-    }
-    return candidates.back();
-  };
-  const PlanePeak* lo = pick(true);
-  const PlanePeak* hi = pick(false);
-  if (!lo || !hi) {
-    throw InputError(std::string("room layout: no wall found on the ") + (lo ? "+" : "-") + axis +
-                     " side of the rig (no dense vertical plane there); the cloud must show a "
-                     "four-walled room around the rig");
   }
-  return {lo->position_m, hi->position_m};
+  if (candidates.empty()) return std::nullopt;
+  // Inner to outer.
+  std::sort(candidates.begin(), candidates.end(), [](const PlanePeak* a, const PlanePeak* b) {
+    return std::abs(a->position_m) < std::abs(b->position_m);
+  });
+  const PlanePeak* chosen = candidates.back();
+  for (const PlanePeak* p : candidates) {
+    const double half = params.spread.halfWidth(p->position_m);
+    const double on = rays.count(p->position_m - half, p->position_m + half);
+    const double beyond = below ? rays.count(-far, p->position_m - half) : rays.count(p->position_m + half, far);
+    if (on >= beyond) {
+      chosen = p;
+      break;
+    }
+  }
+  return WallChoice{chosen->position_m, WallBasis::kPlane, 0.6, chosen->contrast};
+}
+
+// No plane where the surface ends, `edge` from the rig. Under a ceiling that is a wall
+// hidden by furniture or clutter; where only the ground ends with no plane standing there
+// (the walls across reach that far, but they make no plane along this axis), an open side.
+WallChoice wallAtSurfaceEnd(bool below, double edge, bool edge_from_ceiling) {
+  const double sign = below ? -1.0 : 1.0;
+  if (!edge_from_ceiling) return {sign * edge, WallBasis::kOpen, 0.3, 0.0};
+  return {sign * edge, WallBasis::kEdge, 0.4, 0.0};
+}
+
+// How much of the room's length along the wall (`from` to `to`) a plane's voxels cover:
+// the fraction of 0.2 m stretches holding any of them. Covered, not spanned: the walls
+// across reach into any plane's window at the two ends, and the end of a wall across
+// looks like a faint plane of its own.
+double lateralCoverage(const WallBand& band, double position, double half_width, double from, double to) {
+  constexpr double kStretchM = 0.2;
+  const auto stretches = static_cast<std::size_t>(std::max(1.0, std::ceil((to - from) / kStretchM)));
+  std::vector<bool> covered(stretches, false);
+  for (std::size_t i = 0; i < band.coordinate.size(); ++i) {
+    const double l = band.lateral[i];
+    if (std::abs(band.coordinate[i] - position) > half_width || l < from || l >= to) continue;
+    covered[std::min(stretches - 1, static_cast<std::size_t>((l - from) / kStretchM))] = true;
+  }
+  return static_cast<double>(std::count(covered.begin(), covered.end(), true)) / static_cast<double>(stretches);
+}
+
+// The rule with the ceiling's or floor's edge `edge` (a distance): see findWallPair.
+WallChoice wallAtEdge(const std::vector<PlanePeak>& peaks, const WallBand& band, const BoxFitParams& params, bool below,
+                      double edge, bool edge_from_ceiling) {
+  const double tolerance = std::max(params.edge_tolerance_m, params.spread.halfWidth(edge));
+  std::vector<double> sorted = band.lateral;
+  std::sort(sorted.begin(), sorted.end());
+  const double from = sorted.empty() ? 0.0 : sorted[sorted.size() / 100];
+  const double to = sorted.empty() ? 0.0 : sorted[sorted.size() * 99 / 100];
+  std::vector<const PlanePeak*> candidates;
+  for (const PlanePeak& p : peaks) {
+    if ((p.position_m < 0.0) != below) continue;
+    // A faint layer counts only where it runs along a good part of the room.
+    if (p.contrast < params.min_plane_contrast &&
+        lateralCoverage(band, p.position_m, params.spread.halfWidth(p.position_m), from, to) <
+            params.min_layer_coverage) {
+      continue;
+    }
+    // A layer near the edge; or a dense plane a little beyond it, where wall units or a
+    // wardrobe reaching the ceiling end the ceiling in front of the wall.
+    const double beyond = std::abs(p.position_m) - edge;
+    if (beyond <= tolerance || (beyond <= params.hidden_wall_m && p.contrast >= params.min_plane_contrast)) {
+      candidates.push_back(&p);
+    }
+  }
+  const PlanePeak* outermost = nullptr;
+  for (const PlanePeak* p : candidates) {
+    if (!outermost || std::abs(p->position_m) > std::abs(outermost->position_m)) outermost = p;
+  }
+  if (outermost && std::abs(outermost->position_m) >= edge - std::max(params.hidden_wall_m, tolerance)) {
+    // The layers of one wall: of those within layer_gap_m of the outermost, the one with
+    // the most area (the main wall plane, not the back of a door recess in it nor a
+    // radiator in front of it).
+    const PlanePeak* chosen = outermost;
+    for (const PlanePeak* p : candidates) {
+      if (std::abs(p->position_m) >= std::abs(outermost->position_m) - params.layer_gap_m && p->support > chosen->support) {
+        chosen = p;
+      }
+    }
+    const double confidence = chosen->contrast >= params.min_plane_contrast ? 0.9 : 0.75;
+    return {chosen->position_m, WallBasis::kPlaneAtEdge, confidence, chosen->contrast};
+  }
+  return wallAtSurfaceEnd(below, edge, edge_from_ceiling);
+}
+
+}  // namespace
+
+WallPair findWallPair(const WallBand& band, const std::vector<double>& ray_coordinate,
+                      const std::array<std::optional<SurfaceEdge>, 2>& edges, bool edge_from_ceiling,
+                      const BoxFitParams& params, const char* axis) {
+  const PlaneHistogram histogram(band.coordinate, params.bin_m);
+  const auto peaks =
+      histogram.peaks(params.spread, params.min_plane_support, std::min(params.min_layer_contrast, params.min_plane_contrast));
+  const PlaneHistogram rays(ray_coordinate, params.bin_m);
+  WallPair pair;
+  for (int side = 0; side < 2; ++side) {
+    const bool below = side == 0;
+    std::optional<WallChoice> choice;
+    const std::optional<SurfaceEdge>& edge = edges[static_cast<std::size_t>(side)];
+    if (edge && edge->step) {
+      choice = wallAtEdge(peaks, band, params, below, edge->distance_m, edge_from_ceiling);
+    } else {
+      choice = wallByRays(peaks, rays, params, below);
+      if (!choice && edge) choice = wallAtSurfaceEnd(below, edge->distance_m, edge_from_ceiling);
+    }
+    if (!choice) {
+      throw InputError(std::string("room layout: no wall found on the ") + (below ? "-" : "+") + axis +
+                       " side of the rig (no dense vertical plane there, and no floor or ceiling reaching out "
+                       "to one); the cloud must show the room around the rig");
+    }
+    (below ? pair.lo : pair.hi) = *choice;
+  }
+  return pair;
 }
 
 double AlignedBox::facePosition(int face) const {
@@ -110,18 +206,61 @@ AlignedBox fitAlignedBox(const std::vector<Eigen::Vector3d>& voxels, const std::
   const double band_hi = planes.has_ceiling
                              ? planes.ceiling_z - std::max(params.band_margin_m, spread.halfWidth(planes.ceiling_z))
                              : std::numeric_limits<double>::infinity();
-  std::vector<double> xs, ys, ray_xs, ray_ys;
+  WallBand along_x, along_y;
+  std::vector<double> ray_xs, ray_ys;
+  for (WallBand* band : {&along_x, &along_y}) band->z_lo = band_lo, band->z_hi = band_hi;
   for (const auto& p : voxels) {
-    if (p.z() > band_lo && p.z() < band_hi) xs.push_back(p.x()), ys.push_back(p.y());
+    if (p.z() <= band_lo || p.z() >= band_hi) continue;
+    along_x.coordinate.push_back(p.x()), along_x.lateral.push_back(p.y()), along_x.height.push_back(p.z());
+    along_y.coordinate.push_back(p.y()), along_y.lateral.push_back(p.x()), along_y.height.push_back(p.z());
   }
   for (const auto& r : raw) {
     if (r.p.z() > band_lo && r.p.z() < band_hi) ray_xs.push_back(r.p.x()), ray_ys.push_back(r.p.y());
   }
-  const WallPair wx = findWallPair(xs, ray_xs, params, "x");
-  const WallPair wy = findWallPair(ys, ray_ys, params, "y");
+  // How far the ceiling (the floor in a room without one) reaches on each side, along each
+  // axis. Not the floor where there is a ceiling: the floor runs on through doorways, and
+  // furniture hides its edge more often than the ceiling's.
+  std::array<std::array<std::optional<SurfaceEdge>, 2>, 2> edges{};
+  for (int axis = 0; axis < 2; ++axis) {
+    for (int side = 0; side < 2; ++side) {
+      const double sign = side == 0 ? -1.0 : 1.0;
+      std::optional<SurfaceEdge> reach;
+      for (int surface = 0; surface < 2; ++surface) {
+        if ((surface == 1) != planes.has_ceiling) continue;
+        const double z = surface == 0 ? planes.floor_z : planes.ceiling_z;
+        const double half = spread.halfWidth(z);
+        std::vector<double> distances;
+        for (const auto& p : voxels) {
+          if (std::abs(p.z() - z) <= half && sign * p[axis] > 0.0) distances.push_back(sign * p[axis]);
+        }
+        reach = surfaceEdge(distances);
+      }
+      edges[static_cast<std::size_t>(axis)][static_cast<std::size_t>(side)] = reach;
+    }
+  }
+  const WallPair wx = findWallPair(along_x, ray_xs, edges[0], planes.has_ceiling, params, "x");
+  const WallPair wy = findWallPair(along_y, ray_ys, edges[1], planes.has_ceiling, params, "y");
+
+  // A room open on one side (a courtyard, an open-plan room) is a room; a floor with
+  // walls on two sides or none is not.
+  std::string open_sides;
+  int open = 0;
+  const std::pair<const WallChoice*, const char*> sides[] = {{&wx.lo, "-x"}, {&wx.hi, "+x"}, {&wy.lo, "-y"}, {&wy.hi, "+y"}};
+  for (const auto& [choice, name] : sides) {
+    if (choice->basis != WallBasis::kOpen) continue;
+    open_sides += (open++ == 0 ? "" : " and ") + std::string(name);
+  }
+  if (open >= 2) {
+    throw InputError("room layout: no wall found on the " + open_sides +
+                     " sides of the rig (nothing stands where the floor ends); a room needs walls on at least "
+                     "three sides");
+  }
 
   AlignedBox box;
-  box.x_lo = wx.lo, box.x_hi = wx.hi, box.y_lo = wy.lo, box.y_hi = wy.hi;
+  box.x_lo = wx.lo.position_m, box.x_hi = wx.hi.position_m, box.y_lo = wy.lo.position_m, box.y_hi = wy.hi.position_m;
+  box.choice[2] = wx.lo, box.choice[3] = wx.hi, box.choice[4] = wy.lo, box.choice[5] = wy.hi;
+  box.choice[0] = {planes.floor_z, WallBasis::kPlane, 0.9, 0.0};
+  box.choice[1] = {planes.ceiling_z, WallBasis::kPlane, planes.has_ceiling ? 0.9 : 0.0, 0.0};
   box.floor_z = planes.floor_z;
   box.has_ceiling = planes.has_ceiling;
   box.top_z = planes.has_ceiling ? planes.ceiling_z : -std::numeric_limits<double>::infinity();
@@ -145,6 +284,9 @@ AlignedBox fitAlignedBox(const std::vector<Eigen::Vector3d>& voxels, const std::
       }
       for (int side = 0; side < 2; ++side) {
         const int face = 2 + 2 * axis + side;
+        // A wall placed at an edge has no plane of its own to refine on.
+        const WallBasis basis = box.choice[static_cast<std::size_t>(face)].basis;
+        if (basis == WallBasis::kEdge || basis == WallBasis::kOpen) continue;
         double& position = axis == 0 ? (side == 0 ? box.x_lo : box.x_hi) : (side == 0 ? box.y_lo : box.y_hi);
         position = refinePlanePosition(values, weights, position, spread.halfWidth(position), &box.support[face]);
       }
@@ -164,6 +306,7 @@ AlignedBox fitAlignedBox(const std::vector<Eigen::Vector3d>& voxels, const std::
   if (box.has_ceiling) {
     box.top_z = refinePlanePosition(values, weights, box.top_z, spread.halfWidth(box.top_z), &box.support[1]);
   }
+  for (int face = 0; face < 6; ++face) box.choice[static_cast<std::size_t>(face)].position_m = box.facePosition(face);
   return box;
 }
 

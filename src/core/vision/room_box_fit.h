@@ -4,9 +4,11 @@
 // points' coordinates along each face's normal and refined as weighted medians.
 #include <Eigen/Core>
 #include <array>
+#include <optional>
 #include <vector>
 
 #include "plane_histogram.h"
+#include "surface_edge.h"
 
 namespace room_reverb::core::layout {
 
@@ -15,6 +17,15 @@ struct BoxFitParams {
   double bin_m = 0.01;                     // histogram resolution
   double min_plane_support = 200.0;        // voxels (area / voxel^2) a plane needs at least
   double min_plane_contrast = 3.0;         // see PlaneHistogram::peaks
+  // A wall is rarely one plane: a recessed door or window, a radiator, skirting and the
+  // furniture against it make layers a few centimetres to decimetres apart, each of which
+  // shows less contrast than a plain wall (a real kitchen's door wall: 1.5 and 2.1). Layers
+  // of this contrast are wall candidates where the ceiling's or floor's edge confirms them.
+  double min_layer_contrast = 1.4;
+  double edge_tolerance_m = 0.2;   // a wall plane lies within this of the ceiling's edge
+  double hidden_wall_m = 0.5;      // planes further inside the edge are in front of the wall
+  double layer_gap_m = 0.25;       // layers within this of the outermost are one wall
+  double min_layer_coverage = 0.3;  // a faint layer covers this fraction of the room's length
   double outer_plane_fraction = 0.3;       // see findHorizontalPlanes / findWallPair
   double ceiling_min_support_fraction = 0.15;
   double band_margin_m = 0.2;              // wall histograms skip this much next to floor and ceiling
@@ -37,18 +48,60 @@ struct HorizontalPlanes {
 // floor.
 HorizontalPlanes findHorizontalPlanes(const std::vector<double>& z, const BoxFitParams& params);
 
-// Two walls along one axis. On each side of the rig, the candidates are the planes with
-// at least outer_plane_fraction of that side's strongest plane's support (area, from the
+// What a wall's position rests on (see findWallPair).
+enum class WallBasis {
+  kPlaneAtEdge,  // a dense vertical plane where the ceiling or floor ends
+  kPlane,        // a dense vertical plane, no horizontal surface's edge to confirm it
+  kEdge,         // the ceiling's or floor's edge; the wall itself is hidden or cluttered
+  kOpen,         // nothing stands where the floor ends: an open side
+};
+
+struct WallChoice {
+  double position_m = 0.0;  // signed, along the axis
+  WallBasis basis = WallBasis::kPlane;
+  double confidence = 0.0;  // 0..1
+  double contrast = 0.0;    // of the chosen plane (0 without one)
+};
+
+// Two walls along one axis. `edges[0]` and `edges[1]` are where the ceiling or floor
+// ends on the low and high side (surface_edge.h), if known; `edge_from_ceiling` says
+// whether that edge is the ceiling's (a ceiling always ends at a wall; the ground of a
+// courtyard may run on past an open side).
+//
+// With a step at the edge, the candidates are the planes of at least min_layer_contrast
+// (and covering at least min_layer_coverage of the room's length along the wall, if below
+// min_plane_contrast) up to edge_tolerance_m beyond it, and those of at least min_plane_contrast up to
+// hidden_wall_m beyond it (wall units or a wardrobe reaching the ceiling end it in front
+// of the wall; a facade seen through a window lies further out). If the outermost
+// candidate lies within hidden_wall_m of the edge, the wall is the candidate with the most
+// support among the layers within layer_gap_m of the outermost one (the main wall plane,
+// not the back of a door recess in it nor a radiator in front of it); otherwise the
+// planes are furniture in front of a hidden wall and the wall is the edge.
+//
+// Without a step (the surface thins out with range, as a far wall's ceiling does, or no
+// surface on that side), the candidates are the planes of at least min_plane_contrast with at
+// least outer_plane_fraction of that side's strongest plane's support (area, from the
 // voxel centroids `voxel_coordinate`); the wall is the innermost candidate that stops
 // more of the rig's rays than get past it (ray counts from the raw points'
 // `ray_coordinate`). A sideboard's front stops fewer rays than the wall behind it; a wall
 // with a window stops more than the window lets through, however large the facade seen
-// through it looks in area. If no candidate qualifies, the outermost one. Throws
-// InputError naming the axis if a side has no plane.
+// through it looks in area. If no candidate qualifies, the outermost one. With no such
+// plane either, the surface's farthest point: an open side if nothing stands there and the
+// surface is the ground, else a wall hidden there.
+//
+// Throws InputError naming the side if a side has neither a plane nor a surface.
 struct WallPair {
-  double lo = 0.0, hi = 0.0;
+  WallChoice lo, hi;
 };
-WallPair findWallPair(const std::vector<double>& voxel_coordinate, const std::vector<double>& ray_coordinate,
+// The voxels between the floor's and the ceiling's windows, seen along one wall axis.
+struct WallBand {
+  std::vector<double> coordinate;  // along the axis
+  std::vector<double> lateral;     // along the walls of that axis
+  std::vector<double> height;      // z
+  double z_lo = 0.0, z_hi = 0.0;   // the band's limits (z_hi infinite without a ceiling)
+};
+WallPair findWallPair(const WallBand& band, const std::vector<double>& ray_coordinate,
+                      const std::array<std::optional<SurfaceEdge>, 2>& edges, bool edge_from_ceiling,
                       const BoxFitParams& params, const char* axis);
 
 struct AlignedBox {
@@ -56,6 +109,7 @@ struct AlignedBox {
   double floor_z = 0.0, top_z = 0.0;  // top_z: the ceiling, or the walls' top without one
   bool has_ceiling = true;
   std::array<double, 6> support{};  // voxels (area / voxel^2) on each face, kRoomSurfaceNames order
+  std::array<WallChoice, 6> choice{};  // what each face rests on (floor and ceiling: kPlane)
 
   // How close to a face a point may be and still be taken as lying on it: the face's
   // window (see PlaneSpread) at its distance from the rig.

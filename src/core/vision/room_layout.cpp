@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 
@@ -9,7 +10,9 @@
 #include "furniture_fit.h"
 #include "manhattan_frame.h"
 #include "room_box_fit.h"
+#include "room_reverb/acoustics/cuboid.h"
 #include "room_reverb/common/error.h"
+#include "room_reverb/vision/room_model_cleanup.h"
 #include "voxel_grid.h"
 
 namespace room_reverb::core {
@@ -37,6 +40,10 @@ void checkOptions(const RoomLayoutOptions& o) {
   positive(o.min_plane_area_m2, "min_plane_area_m2");
   positive(o.min_plane_contrast, "min_plane_contrast");
   positive(o.outer_plane_fraction, "outer_plane_fraction");
+  positive(o.min_layer_contrast, "min_layer_contrast");
+  non_negative(o.wall_layer_gap_m, "wall_layer_gap_m");
+  non_negative(o.wall_edge_tolerance_m, "wall_edge_tolerance_m");
+  non_negative(o.hidden_wall_m, "hidden_wall_m");
   non_negative(o.ceiling_min_support_fraction, "ceiling_min_support_fraction");
   non_negative(o.min_object_extent_m, "min_object_extent_m");
   non_negative(o.object_gap_m, "object_gap_m");
@@ -62,6 +69,10 @@ layout::BoxFitParams boxFitParams(const RoomLayoutOptions& o) {
   p.min_plane_contrast = o.min_plane_contrast;
   p.outer_plane_fraction = o.outer_plane_fraction;
   p.ceiling_min_support_fraction = o.ceiling_min_support_fraction;
+  p.min_layer_contrast = o.min_layer_contrast;
+  p.layer_gap_m = o.wall_layer_gap_m;
+  p.edge_tolerance_m = o.wall_edge_tolerance_m;
+  p.hidden_wall_m = o.hidden_wall_m;
   return p;
 }
 
@@ -115,6 +126,55 @@ std::vector<layout::WeightedPoint> alignedRaw(const PointCloud& cloud, const lay
     raw.push_back({aligned, 1.0f / static_cast<float>(voxels[v].count)});
   }
   return raw;
+}
+
+// Each face's evidence, and a warning for each wall that rests on less than a plane where
+// the ceiling or floor ends.
+void recordFaceEvidence(const AlignedBox& box, RoomLayout& result) {
+  for (int f = 0; f < 6; ++f) {
+    const layout::WallChoice& choice = box.choice[static_cast<std::size_t>(f)];
+    FaceEvidence& evidence = result.face_evidence[static_cast<std::size_t>(f)];
+    evidence.confidence = choice.confidence;
+    const std::string name = kRoomSurfaceNames[static_cast<std::size_t>(f)];
+    const double distance = std::abs(box.facePosition(f));
+    char where[64];
+    std::snprintf(where, sizeof where, "%.2f m from the rig", distance);
+    switch (choice.basis) {
+      case layout::WallBasis::kPlaneAtEdge:
+        evidence.basis = "plane at the ceiling's or floor's edge";
+        break;
+      case layout::WallBasis::kPlane:
+        evidence.basis = "plane";
+        if (f >= 2) {
+          result.warnings.push_back(name + ": a plane " + where +
+                                    ", with no ceiling or floor edge to confirm it is the wall");
+        }
+        break;
+      case layout::WallBasis::kEdge:
+        evidence.basis = "ceiling or floor edge (wall hidden)";
+        result.warnings.push_back(name + ": no wall plane where the ceiling or floor ends; placed at that edge, " +
+                                  where + " (furniture or clutter hides the wall)");
+        break;
+      case layout::WallBasis::kOpen:
+        evidence.basis = "open side";
+        evidence.open = true;
+        result.warnings.push_back(name + ": nothing stands where the floor ends, " + where +
+                                  "; an open side (material " + kOpenSideMaterial + ")");
+        break;
+    }
+  }
+}
+
+// The object a point of a furniture cluster lies on after the clean-up cut, split or
+// dropped its cuboid: the nearest within `reach_m`, or -1.
+std::int32_t nearestObject(const std::vector<CuboidObject>& objects, const Eigen::Vector3d& p, double reach_m) {
+  std::int32_t best = -1;
+  double nearest = reach_m;
+  for (std::size_t k = 0; k < objects.size(); ++k) {
+    const double d = distanceToCuboid(objects[k], p);
+    if (d <= nearest) nearest = d, best = static_cast<std::int32_t>(k);
+  }
+  return best;
 }
 
 layout::FurnitureParams furnitureParams(const RoomLayoutOptions& o, const layout::RoomFrame& frame) {
@@ -217,9 +277,20 @@ RoomLayout fitRoomLayout(const PointCloud& cloud, const RoomLayoutOptions& optio
   result.room_from_rig =
       Eigen::Translation3d(frame.rig_position) * Eigen::AngleAxisd(rig_yaw, Eigen::Vector3d::UnitZ());
   result.surface_support = box.support;
+  recordFaceEvidence(box, result);
+  for (int f = 2; f < 6; ++f) {
+    if (result.face_evidence[static_cast<std::size_t>(f)].open) {
+      model.surfaces[kRoomSurfaceNames[static_cast<std::size_t>(f)]] = SurfaceAssignment{kOpenSideMaterial, 0.3};
+    }
+  }
 
   const layout::Furniture furniture = layout::fitFurniture(cloud, grid, frame, furnitureParams(options, frame));
   model.objects = furniture.objects;
+  // Objects cut back to the box, hidden ones dropped, free air around the rig: a model the
+  // simulator takes as it is (room_model_cleanup.h).
+  const std::vector<std::string> cleanup_notes = cleanUpRoomModel(model);
+  for (const std::string& note : cleanup_notes) result.warnings.push_back("objects: " + note);
+  const bool objects_changed = !cleanup_notes.empty();
 
   if (options.assign_points) {
     const double max_range2 = options.max_range_m * options.max_range_m;
@@ -230,7 +301,8 @@ RoomLayout fitRoomLayout(const PointCloud& cloud, const RoomLayoutOptions& optio
       if (rig_point.squaredNorm() > max_range2) continue;
       const Eigen::Vector3d p = frame.toRoom(rig_point);
       const std::uint32_t v = grid.pointVoxel()[i];
-      const std::int32_t object = v == layout::VoxelGrid::kNoVoxel ? -1 : furniture.voxel_object[v];
+      std::int32_t object = v == layout::VoxelGrid::kNoVoxel ? -1 : furniture.voxel_object[v];
+      if (object >= 0 && objects_changed) object = nearestObject(model.objects, p, options.voxel_size_m);
       if (object >= 0 && frame.clearOfFaces(p)) {
         result.point_object[i] = object;
       } else {

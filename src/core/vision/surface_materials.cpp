@@ -109,6 +109,16 @@ std::vector<SurfaceMaterialDecision> assignSurfaceMaterials(RoomLayout& layout, 
   for (int f = 0; f < 6; ++f) {
     if (f == 1 && !model.has_ceiling) continue;
     SurfaceAssignment& surface = model.surfaces[kRoomSurfaceNames[static_cast<std::size_t>(f)]];
+    if (layout.face_evidence[static_cast<std::size_t>(f)].open) {
+      // An open side has no surface to classify: what the camera sees there is beyond it.
+      SurfaceMaterialDecision open;
+      open.name = kRoomSurfaceNames[static_cast<std::size_t>(f)];
+      open.material = surface.material;
+      open.confidence = surface.confidence;
+      open.family = TextureFamily::kOpening;
+      decisions.push_back(open);
+      continue;
+    }
     SurfaceMaterialDecision decision =
         decide(tallies[static_cast<std::size_t>(f)], f, surface.material, surface.confidence, families, options);
     decision.name = kRoomSurfaceNames[static_cast<std::size_t>(f)];

@@ -1,6 +1,8 @@
 #include "room_reverb/vision/visual_route.h"
 
 #include <chrono>
+#include <cstdio>
+#include <string>
 
 #include "rotation_check.h"
 
@@ -27,18 +29,32 @@ RoomLayout roomLayoutFromCloud(const PointCloud& cloud, const cv::Mat& top_color
                                std::vector<SurfaceMaterialDecision>* materials) {
   vision_detail::requireRotation(tilt, "visual route: rig tilt");
   auto start = std::chrono::steady_clock::now();
+  Eigen::Matrix3d level_tilt = tilt;
+  std::string leveled;
+  if (options.level_from_cloud) {
+    PointCloud tilted = cloud;
+    const Eigen::Matrix3f tilt_f = tilt.cast<float>();
+    for (CloudPoint& point : tilted.points) point.p = tilt_f * point.p;
+    const CloudLeveling by_cloud = levelFromCloud(tilted, options.cloud_leveling);
+    level_tilt = by_cloud.tilt * tilt;
+    char line[160];
+    std::snprintf(line, sizeof line, "leveling: from the cloud's floor and ceiling, rig tilt %.2f deg",
+                  by_cloud.tilt_rad * 180.0 / 3.14159265358979323846);
+    leveled = line;
+  }
   RoomLayout layout;
-  if (isIdentity(tilt)) {
+  if (isIdentity(level_tilt)) {
     layout = fitRoomLayout(cloud, options.layout);
   } else {
     PointCloud level = cloud;
-    const Eigen::Matrix3f tilt_f = tilt.cast<float>();
+    const Eigen::Matrix3f tilt_f = level_tilt.cast<float>();
     for (CloudPoint& point : level.points) point.p = tilt_f * point.p;
     layout = fitRoomLayout(level, options.layout);
     // The fit's rig frame is the levelled one; the caller's is before the tilt.
-    layout.room_from_rig = layout.room_from_rig * Eigen::Isometry3d(tilt);
+    layout.room_from_rig = layout.room_from_rig * Eigen::Isometry3d(level_tilt);
     layout.model.rig_rotation = Eigen::Quaterniond(layout.room_from_rig.rotation()).normalized();
   }
+  if (!leveled.empty()) layout.warnings.insert(layout.warnings.begin(), leveled);
   if (times != nullptr) times->layout_s = secondsSince(start);
 
   start = std::chrono::steady_clock::now();

@@ -1,0 +1,126 @@
+// The room layout fit (vision/room_layout.h) with its default options on rooms as real
+// captures show them (synthetic_capture/cluttered_rooms.h): recessed doors and windows, kitchen
+// runs, shelving full of clutter, wardrobes, sofas, tables with chairs, ceiling lights,
+// seen by a stereo-like scan (1 % range noise, strays, polar caps). The truth is the box of
+// the main wall planes. Development rooms are the ones the fit's parameters are tuned on;
+// the held-out rooms (other seeds, larger and narrower rooms, higher ceilings, deeper
+// recesses, more clutter) are only measured. The report over many rooms of a set:
+// ROOM_REVERB_ROOMS=40 [ROOM_REVERB_FIRST_ROOM=1] [ROOM_REVERB_ROOM_SET=development]
+//   .ws/devel/lib/room_reverb/test_room_layout_cluttered --gtest_filter='*Report*'
+// (held-out rooms unless the set is named; docs/visual-route.md).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "room_reverb/common/error.h"
+#include "room_reverb/synthetic_capture/cluttered_rooms.h"
+#include "room_reverb/vision/room_layout.h"
+#include "room_scan.h"
+
+using namespace room_reverb::core;
+using room_reverb::test::stereoLikeScanOptions;
+using room_reverb::test::scanRoomModel;
+
+namespace {
+
+struct Fit {
+  bool refused = false;
+  std::string refusal;
+  Eigen::Vector3d error = Eigen::Vector3d::Zero();  // fitted - true size [m]
+  double rig_error_m = 0.0;
+  std::vector<std::string> warnings;
+};
+
+// The fit of one room's stereo-like scan, against the main walls' box. The room frame's
+// origin is a corner, which a fit may put at any of the four: compare the sizes, and the
+// rig's position with the fitted sizes' axes matched.
+Fit fitRoom(const ClutteredRoom& room) {
+  Fit fit;
+  const auto scan = scanRoomModel(room.scanned, stereoLikeScanOptions(7));
+  RoomLayout layout;
+  try {
+    layout = fitRoomLayout(scan.cloud);
+  } catch (const InputError& e) {
+    fit.refused = true;
+    fit.refusal = e.what();
+    std::printf("[ measured ] %-20s refused: %s\n", room.name.c_str(), e.what());
+    return fit;
+  }
+  fit.error = layout.model.size_m - room.truth.size_m;
+  fit.rig_error_m = (layout.model.rig_position_m - room.truth.rig_position_m).norm();
+  fit.warnings = layout.warnings;
+  std::printf("[ measured ] %-20s size %5.2f x %5.2f x %4.2f m, error [%%] %+5.2f %+5.2f %+5.2f, rig error %4.1f cm%s\n",
+              room.name.c_str(), room.truth.size_m.x(), room.truth.size_m.y(), room.truth.size_m.z(),
+              100 * fit.error.x() / room.truth.size_m.x(), 100 * fit.error.y() / room.truth.size_m.y(),
+              100 * fit.error.z() / room.truth.size_m.z(), 100 * fit.rig_error_m,
+              layout.warnings.empty() ? "" : (", " + std::to_string(layout.warnings.size()) + " warning(s)").c_str());
+  for (const std::string& w : layout.warnings) std::printf("             warning: %s\n", w.c_str());
+  return fit;
+}
+
+bool withinOnePercent(const Fit& fit, const ClutteredRoom& room, int axis) {
+  return std::abs(fit.error[axis]) <= std::max(0.03, 0.01 * room.truth.size_m[axis]);
+}
+
+// Every dimension within 1 % (at least 3 cm) and the rig within 5 cm of its position
+// relative to the main walls.
+void expectBoxWithinOnePercent(const ClutteredRoom& room) {
+  const Fit fit = fitRoom(room);
+  ASSERT_FALSE(fit.refused) << room.name << " refused: " << fit.refusal;
+  for (int a = 0; a < 3; ++a) EXPECT_TRUE(withinOnePercent(fit, room, a)) << room.name << " axis " << a;
+  EXPECT_LE(fit.rig_error_m, 0.05) << room.name;
+}
+
+class DevelopmentRoom : public ::testing::TestWithParam<int> {};
+
+TEST_P(DevelopmentRoom, BoxWithinOnePercent) { expectBoxWithinOnePercent(clutteredRoom(ClutterSet::kDevelopment, GetParam())); }
+
+INSTANTIATE_TEST_SUITE_P(Cluttered, DevelopmentRoom, ::testing::Range(1, 9));
+
+class HeldOutRoom : public ::testing::TestWithParam<int> {};
+
+TEST_P(HeldOutRoom, BoxWithinOnePercent) { expectBoxWithinOnePercent(clutteredRoom(ClutterSet::kHeldOut, GetParam())); }
+
+INSTANTIATE_TEST_SUITE_P(Cluttered, HeldOutRoom, ::testing::Range(1, 4));
+
+TEST(RoomSetReport, Summary) {
+  const char* env = std::getenv("ROOM_REVERB_ROOMS");
+  const int rooms = env ? std::atoi(env) : 0;
+  if (rooms < 1) GTEST_SKIP() << "set ROOM_REVERB_ROOMS=N for the report over N rooms";
+  const char* set_name = std::getenv("ROOM_REVERB_ROOM_SET");
+  const bool development = set_name != nullptr && std::string(set_name) == "development";
+  const char* first_env = std::getenv("ROOM_REVERB_FIRST_ROOM");
+  const int first = first_env ? std::max(1, std::atoi(first_env)) : 1;
+  int refused = 0, within = 0, warned = 0;
+  std::vector<double> errors_pct, rig_cm;
+  for (int i = first; i < first + rooms; ++i) {
+    const ClutteredRoom room = clutteredRoom(development ? ClutterSet::kDevelopment : ClutterSet::kHeldOut, i);
+    const Fit fit = fitRoom(room);
+    if (fit.refused) {
+      ++refused;
+      continue;
+    }
+    bool all = true;
+    for (int a = 0; a < 3; ++a) {
+      errors_pct.push_back(100.0 * std::abs(fit.error[a]) / room.truth.size_m[a]);
+      all = all && withinOnePercent(fit, room, a);
+    }
+    within += all ? 1 : 0;
+    warned += fit.warnings.empty() ? 0 : 1;
+    rig_cm.push_back(100.0 * fit.rig_error_m);
+  }
+  std::sort(errors_pct.begin(), errors_pct.end());
+  std::sort(rig_cm.begin(), rig_cm.end());
+  const auto at = [](const std::vector<double>& v, double q) { return v.empty() ? 0.0 : v[static_cast<std::size_t>(q * (v.size() - 1))]; };
+  std::printf("[ report   ] %d %s rooms: %d refused, %d with every dimension within 1 %% (or 3 cm), %d with warnings; "
+              "dimension error median %.2f %%, p90 %.2f %%, max %.2f %%; rig error median %.1f cm, p90 %.1f cm\n",
+              rooms, development ? "development" : "held-out", refused, within, warned, at(errors_pct, 0.5), at(errors_pct, 0.9), at(errors_pct, 1.0),
+              at(rig_cm, 0.5), at(rig_cm, 0.9));
+}
+
+}  // namespace
