@@ -40,7 +40,9 @@ geometry_msgs::TransformStamped roomToRig(const core::RoomLayout& layout, const 
 
 void readLayoutParams(const ::ros::NodeHandle& nh, core::RoomLayoutOptions& o) {
   nh.param("voxel_size_m", o.voxel_size_m, o.voxel_size_m);
-  nh.param("max_range_m", o.max_range_m, o.max_range_m);
+  // Not max_range_m: the stereo's parameter of that name (config/spherical_depth.yaml) is
+  // read from the same namespace for ~build requests that carry images.
+  nh.param("layout_max_range_m", o.max_range_m, o.max_range_m);
   nh.param("range_noise_fraction", o.range_noise_fraction, o.range_noise_fraction);
   nh.param("min_object_extent_m", o.min_object_extent_m, o.min_object_extent_m);
   int min_points = static_cast<int>(o.min_points);

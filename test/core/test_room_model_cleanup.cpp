@@ -12,6 +12,7 @@
 #include "room_reverb/common/error.h"
 #include "room_reverb/vision/room_model_cleanup.h"
 #include "test_files.h"
+#include "test_rooms.h"
 
 using namespace room_reverb::core;
 
@@ -20,22 +21,10 @@ namespace {
 using room_reverb::test::expectInputError;
 
 CuboidObject box(const std::string& label, const Eigen::Vector3d& center, const Eigen::Vector3d& size, double yaw = 0.0) {
-  CuboidObject object;
-  object.label = label;
-  object.material = "wood_panel";
-  object.center_m = center;
-  object.size_m = size;
-  object.yaw_rad = yaw;
-  return object;
+  return room_reverb::test::woodCuboid(label, center, size, yaw);
 }
 
-RoomModel room(const Eigen::Vector3d& size, const Eigen::Vector3d& rig) {
-  RoomModel model;
-  model.size_m = size;
-  for (const char* name : kRoomSurfaceNames) model.surfaces[name] = {"plaster_smooth", 1.0};
-  model.rig_position_m = rig;
-  return model;
-}
+RoomModel room(const Eigen::Vector3d& size, const Eigen::Vector3d& rig) { return room_reverb::test::plasterRoom(size, rig); }
 
 // The eight corners of an object, in the room frame.
 std::vector<Eigen::Vector3d> corners(const CuboidObject& object) {

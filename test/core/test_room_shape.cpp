@@ -10,6 +10,7 @@
 #include "room_reverb/common/convex_polygons.h"
 #include "room_reverb/common/error.h"
 #include "test_files.h"
+#include "test_rooms.h"
 
 using namespace room_reverb::core;
 
@@ -18,21 +19,10 @@ namespace {
 using room_reverb::test::expectInputError;
 
 CuboidObject box(const std::string& label, const Eigen::Vector3d& center, const Eigen::Vector3d& size, double yaw = 0.0) {
-  CuboidObject object;
-  object.label = label;
-  object.material = "wood_panel";
-  object.center_m = center;
-  object.size_m = size;
-  object.yaw_rad = yaw;
-  return object;
+  return room_reverb::test::woodCuboid(label, center, size, yaw);
 }
 
-RoomModel emptyRoom(const Eigen::Vector3d& size) {
-  RoomModel model;
-  model.size_m = size;
-  for (const char* name : kRoomSurfaceNames) model.surfaces[name] = {"plaster_smooth", 1.0};
-  return model;
-}
+RoomModel emptyRoom(const Eigen::Vector3d& size) { return room_reverb::test::plasterRoom(size); }
 
 AcousticScene sceneOf(const RoomModel& model) { return roomModelToScene(model, MaterialLibrary::loadDefault()); }
 

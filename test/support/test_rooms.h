@@ -1,7 +1,32 @@
 #pragma once
 // Room models that several test files share.
+#include <Eigen/Core>
+#include <string>
+
+#include "room_reverb/acoustics/room_model.h"
 
 namespace room_reverb::test {
+
+// An upright cuboid of wood panel.
+inline core::CuboidObject woodCuboid(const std::string& label, const Eigen::Vector3d& center, const Eigen::Vector3d& size,
+                                     double yaw_rad = 0.0) {
+  core::CuboidObject object;
+  object.label = label;
+  object.material = "wood_panel";
+  object.center_m = center;
+  object.size_m = size;
+  object.yaw_rad = yaw_rad;
+  return object;
+}
+
+// A plaster box of the given size with no objects, the rig at `rig`.
+inline core::RoomModel plasterRoom(const Eigen::Vector3d& size, const Eigen::Vector3d& rig = Eigen::Vector3d::Zero()) {
+  core::RoomModel model;
+  model.size_m = size;
+  for (const char* name : core::kRoomSurfaceNames) model.surfaces[name] = {"plaster_smooth", 1.0};
+  model.rig_position_m = rig;
+  return model;
+}
 
 // A 5 x 4 x 3 m studio of library materials (carpet, ceiling tiles, plaster, glass,
 // plasterboard) with air at 20 C / 50 %: low scattering, absorbing floor and ceiling.
