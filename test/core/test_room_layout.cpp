@@ -11,6 +11,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "room_reverb/common/error.h"
@@ -244,6 +245,73 @@ TEST(RoomLayout, SmallRoomWithoutCeiling) {
   scan_options.seed = 8;
   const RoomScan scan = scanRoomModel(truth, scan_options);
   expectRoomMatches(fitRoomLayout(scan.cloud, optionsFor(scan_options)), truth, "4.5x3.5 yaw -40, no ceiling");
+}
+
+// The fitted object overlapping `want` most, and that overlap (index -1 if none does).
+std::pair<int, double> bestMatch(const RoomLayout& layout, const CuboidObject& want) {
+  std::pair<int, double> best{-1, 0.0};
+  for (std::size_t k = 0; k < layout.model.objects.size(); ++k) {
+    const double iou = orientedBoxIoU3d(want, layout.model.objects[k]);
+    if (iou > best.second) best = {static_cast<int>(k), iou};
+  }
+  return best;
+}
+
+TEST(RoomLayout, WallMountedUnitsStayObjectsInFrontOfTheirWall) {
+  // A shelf 0.3 m deep and a wall unit 0.35 m deep hang on two walls of the meeting room,
+  // clear of the floor. Each must stay an object in front of its wall, and the wall must
+  // stay where it is behind it (not at the units' fronts).
+  RoomModel truth = meetingRoom(17.0);
+  truth.objects = {
+      cuboid("shelf", {2.6, 4.13, 1.6}, {1.6, 0.3, 0.8}, 0.0),       // on wall_y_max
+      cuboid("wall_unit", {5.435, 1.2, 1.75}, {0.35, 1.2, 0.7}, 0.0),  // on wall_x_max
+  };
+  RoomScanOptions scan_options;
+  scan_options.seed = 31;
+  scan_options.rays = 300000;
+  const RoomScan scan = scanRoomModel(truth, scan_options);
+  const RoomLayout layout = fitRoomLayout(scan.cloud, optionsFor(scan_options));
+  expectRoomMatches(layout, truth, "MR yaw 17, wall-mounted units");
+  for (const CuboidObject& want : truth.objects) {
+    const auto [index, iou] = bestMatch(layout, want);
+    ASSERT_GE(index, 0) << "no object where the " << want.label << " is";
+    const CuboidObject& got = layout.model.objects[static_cast<std::size_t>(index)];
+    std::printf("[ measured ] %-30s %-9s IoU %.3f  centre %.2f %.2f %.2f  size %.2f x %.2f x %.2f\n",
+                "MR yaw 17, wall-mounted units", want.label.c_str(), iou, got.center_m.x(), got.center_m.y(),
+                got.center_m.z(), got.size_m.x(), got.size_m.y(), got.size_m.z());
+    EXPECT_GE(iou, 0.5) << want.label;
+  }
+}
+
+TEST(RoomLayout, AWallsRangeNoiseTailIsNoObject) {
+  // Where a stereo rig ranges a wall poorly (far, or steeply above the rig) the wall's
+  // points scatter a few decimetres to either side of it, and the scatter inside the room
+  // forms clusters clear of the wall's window. Here the upper part of wall_x_max, 2.3 to
+  // 4.6 m from a rig 1.4 m below, is ranged with 0.3 m of noise: the fit must keep the
+  // wall there and make no object of the scatter.
+  RoomModel truth = room({6.0, 5.0, 3.0}, {2.0, 2.5, 1.4}, 0.0);
+  RoomScanOptions scan_options;
+  scan_options.seed = 32;
+  scan_options.rays = 300000;
+  RoomScan scan = scanRoomModel(truth, scan_options);
+  std::mt19937 random(33);
+  std::normal_distribution<double> noise(0.0, 0.3);
+  std::size_t scattered = 0;
+  for (std::size_t i = 0; i < scan.cloud.points.size(); ++i) {
+    Eigen::Vector3f& p = scan.cloud.points[i].p;
+    const Eigen::Vector3d room_point = p.cast<double>() + truth.rig_position_m;  // rig yaw 0
+    if (scan.face[i] != 3 || room_point.z() < 2.0 || room_point.y() < 0.5 || room_point.y() > 4.5) continue;
+    const float range = p.norm();
+    p *= static_cast<float>((range + noise(random)) / range);
+    ++scattered;
+  }
+  ASSERT_GT(scattered, 1000u);
+  const RoomLayout layout = fitRoomLayout(scan.cloud, optionsFor(scan_options));
+  expectRoomMatches(layout, truth, "6x5 noisy upper wall_x_max");
+  for (const CuboidObject& got : layout.model.objects) {
+    ADD_FAILURE() << "an object of the wall's noise: " << got.label << " " << got.size_m.transpose() << " at "
+                  << got.center_m.transpose();
+  }
 }
 
 // ---------------------------------------------------------------------------------------

@@ -182,6 +182,61 @@ bool hangsFromCeiling(const CuboidObject& object, const RoomFrame& frame, bool a
   return bottom >= 0.6 * frame.size.z() && top >= frame.size.z() - 0.6;
 }
 
+// Whether a cluster is the tail of a wall's range noise rather than something standing in
+// front of the wall. Where the stereo ranges a wall poorly (far, or seen steeply, where a
+// vertical baseline gives little disparity) its points scatter far beyond the wall's
+// window, and the scatter inside the room forms clusters clear of the faces. Such a tail
+// touches the wall, is densest next to it and thins out into the room, and the wall
+// itself is seen behind it. Something against a wall hides the wall behind it, and its
+// points gather at its front. So a cluster that touches wall f is a tail if, over the
+// middle of its outline on the wall, its points are densest in the layer next to the
+// wall's window and the window itself holds at least half that density.
+bool wallNoiseTail(const std::vector<std::uint32_t>& cluster, const std::vector<Eigen::Vector3d>& room_centroid,
+                   const std::vector<Voxel>& voxels, const RoomFrame& frame, double voxel_m) {
+  constexpr double kOutline = 0.1;       // outline: the 10-90 % range of the cluster's voxels
+  constexpr double kTouchVoxels = 2.0;   // a cluster within this many voxels of the window touches it
+  constexpr double kWallShare = 0.5;     // the window's density over the cluster's densest layer
+  for (int face = 2; face < 6; ++face) {
+    const double margin = frame.margin[static_cast<std::size_t>(face)];
+    const int axis = face < 4 ? 0 : 1, lateral = 1 - axis;
+    std::vector<double> distance, along, height;
+    for (std::uint32_t v : cluster) {
+      const Eigen::Vector3d& p = room_centroid[v];
+      distance.push_back(frame.faceDistances(p)[static_cast<std::size_t>(face)]);
+      along.push_back(p[lateral]), height.push_back(p.z());
+    }
+    const auto quantile = [](std::vector<double> values, double q) {
+      const auto k = static_cast<std::ptrdiff_t>(q * static_cast<double>(values.size() - 1));
+      std::nth_element(values.begin(), values.begin() + k, values.end());
+      return values[static_cast<std::size_t>(k)];
+    };
+    if (quantile(distance, 0.02) > margin + kTouchVoxels * voxel_m) continue;
+    const double a_lo = quantile(along, kOutline), a_hi = quantile(along, 1.0 - kOutline);
+    const double z_lo = quantile(height, kOutline), z_hi = quantile(height, 1.0 - kOutline);
+    const auto inOutline = [&](const Eigen::Vector3d& p) {
+      return p[lateral] >= a_lo && p[lateral] <= a_hi && p.z() >= z_lo && p.z() <= z_hi;
+    };
+    // The cluster's points in layers of the window's thickness, from the window inwards.
+    const double layer = std::max(2.0 * margin, 2.0 * voxel_m);
+    std::vector<double> layers;
+    for (std::size_t i = 0; i < cluster.size(); ++i) {
+      const Eigen::Vector3d& p = room_centroid[cluster[i]];
+      if (!inOutline(p) || distance[i] <= margin) continue;
+      const auto k = static_cast<std::size_t>((distance[i] - margin) / layer);
+      if (layers.size() <= k) layers.resize(k + 1, 0.0);
+      layers[k] += voxels[cluster[i]].count;
+    }
+    if (layers.empty() || std::max_element(layers.begin(), layers.end()) != layers.begin()) continue;
+    double window = 0.0;
+    for (std::size_t v = 0; v < voxels.size(); ++v) {
+      const Eigen::Vector3d& p = room_centroid[v];
+      if (std::abs(frame.faceDistances(p)[static_cast<std::size_t>(face)]) <= margin && inOutline(p)) window += voxels[v].count;
+    }
+    if (window / (2.0 * margin) >= kWallShare * layers[0] / layer) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 Furniture fitFurniture(const PointCloud& cloud, const VoxelGrid& grid, const RoomFrame& frame,
@@ -195,9 +250,13 @@ Furniture fitFurniture(const PointCloud& cloud, const VoxelGrid& grid, const Roo
   Clusters clusters =
       splitClustersAtNecks(grid, connectedVoxelClusters(grid, candidate, params.min_voxels, params.link_voxels),
                            params.link_voxels, params.split);
-  // A split can leave a piece (a bridge's stub) below the size of an object.
+  // A split can leave a piece (a bridge's stub) below the size of an object; a wall's
+  // range noise is no object.
   clusters.erase(std::remove_if(clusters.begin(), clusters.end(),
-                                [&](const auto& c) { return c.size() < params.min_voxels; }),
+                                [&](const auto& c) {
+                                  return c.size() < params.min_voxels ||
+                                         wallNoiseTail(c, fitter.roomCentroids(), voxels, frame, grid.size());
+                                }),
                  clusters.end());
   Pieces pieces = fitter.fit(std::move(clusters));
   // Parts of one object seen in pieces are fitted again as one.
