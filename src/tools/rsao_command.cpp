@@ -22,6 +22,7 @@ using namespace room_reverb::core;
 const char* kHelp = R"(usage: room_reverb rsao RIR.wav --format fuma|ambix [--yaml OUT.yaml] [--visr-json OUT.json]
                         [--resynthesis OUT.wav] [--max-reflections N] [--window-ms D]
                         [--lpc-order P] [--mixing-time S] [--grid] [--paper-ramp]
+                        [--matched-onsets]
 
 Parameterises a measured first-order B-format room impulse response into a reverberant
 spatial audio object (RSAO, Remaggi et al.): the direct sound and early reflections (time
@@ -37,7 +38,12 @@ of arrival, level, direction, LPC filter) and the late reverb per octave band 63
   --window-ms D       analysis window D around each arrival, ms (default 2)
   --lpc-order P       order of each reflection's LPC filter (default 9)
   --mixing-time S     fixed mixing time, s from the first sample (default: echo density)
+  --matched-onsets    early reflections by matching pursuit against copies of the direct
+                      sound over all four channels, each arrival taken out before the next
+                      is sought (default: the paper's group-delay onsets of W, directions
+                      from the steered cardioid over the window; docs/rsao.md)
   --grid              directions by the paper's grid search instead of the closed form
+                      (without --matched-onsets)
   --paper-ramp        keep the paper's linear onset ramp in every band instead of fitting
                       each band's early course to the measured early energy (docs/rsao.md)
 
@@ -72,7 +78,7 @@ void printSummary(const Rsao& rsao, std::ostream& out) {
 int runRsao(const std::vector<std::string>& raw) {
   const Arguments args(raw, {"format", "yaml", "visr-json", "resynthesis", "max-reflections", "window-ms", "lpc-order",
                              "mixing-time"},
-                       {"grid", "paper-ramp"});
+                       {"grid", "paper-ramp", "matched-onsets"});
   if (args.positional().size() != 1) throw UsageError("give exactly one B-format RIR file");
   if (!args.has("format")) throw UsageError("--format fuma|ambix is required: the file's convention is never guessed");
   const AmbisonicFormat format = parseAmbisonicFormat(args.value("format", ""));
@@ -85,6 +91,7 @@ int runRsao(const std::vector<std::string>& raw) {
   options.early.lpc_order = args.intValue("lpc-order", options.early.lpc_order);
   if (args.has("mixing-time")) options.mixing_time_s = args.doubleValue("mixing-time", 0.0);
   if (args.has("grid")) options.early.direction_method = DirectionMethod::kGridSearch;
+  if (args.has("matched-onsets")) options.early.onset_method = OnsetMethod::kMatchedPursuit;
   options.fit_onset_ramps = !args.has("paper-ramp");
 
   const AudioBuffer rir = readAudioFile(args.positional().front());

@@ -9,6 +9,7 @@
 #include "room_reverb/audio/audio_buffer.h"
 #include "room_reverb/rsao/group_delay_onsets.h"
 #include "room_reverb/rsao/lpc.h"
+#include "room_reverb/rsao/matched_arrivals.h"
 #include "room_reverb/rsao/rsao.h"
 
 namespace room_reverb::core {
@@ -23,7 +24,21 @@ enum class DirectionMethod {
   kGridSearch,  // the paper's search over a sphere grid of step grid_step_rad
 };
 
+enum class OnsetMethod {
+  // The paper's, the default (on a measured RIR matching pursuit reports fewer
+  // reflections, docs/rsao.md): group-delay zero crossings of W (group_delay_onsets.h), directions from
+  // the steered cardioid over the analysis window.
+  kGroupDelay,
+  // Matching pursuit against the direct sound and low-passed copies of it, over all four
+  // channels, each arrival subtracted before the next is sought (matched_arrivals.h);
+  // directions from each arrival's own projection; the max_reflections kept are the
+  // strongest by each arrival's own amplitude in the pursuit.
+  kMatchedPursuit,
+};
+
 struct EarlyReflectionOptions {
+  OnsetMethod onset_method = OnsetMethod::kGroupDelay;
+  MatchedArrivalOptions matched;
   // End of the early part, from the first sample of the RIR (the caller's mixing time).
   // When not given: the direct sound plus default_early_duration_s.
   std::optional<double> mixing_time_s;
@@ -42,6 +57,8 @@ struct EarlyReflectionOptions {
   // the synthetic rooms of the tests 1 to 2.5 ms all meet the accuracy targets; from 3 ms
   // on, neighbours inside the window start to bend directions past 5 degrees.)
   double analysis_window_s = 0.002;
+  // With kGroupDelay onsets; matching pursuit takes each direction from the arrival's own
+  // projection on its atom.
   DirectionMethod direction_method = DirectionMethod::kClosedForm;
   double grid_step_rad = 3.14159265358979323846 / 180.0;  // 1 degree
   int lpc_order = kDefaultLpcOrder;

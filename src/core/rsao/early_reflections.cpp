@@ -126,10 +126,44 @@ std::vector<EarlyReflection> selectReflections(std::vector<EarlyReflection> late
   return later;
 }
 
+// The arrivals by matching pursuit (matched_arrivals.h): times and directions from the
+// pursuit, level and spectrum over the analysis window as the paper takes them.
+std::vector<EarlyReflection> matchedReflections(const AudioBuffer& ambix, double direct_time_s, double limit_s,
+                                                const EarlyReflectionOptions& options) {
+  const std::vector<MatchedArrival> arrivals = matchedPursuitArrivals(ambix, direct_time_s, limit_s, options.matched);
+  const auto analyse = [&](const MatchedArrival& m) {
+    EarlyReflection r = analyseArrival(ambix, m.time_s, options);
+    const DirectionOfArrival doa = directionFromVector(m.direction);
+    r.azimuth_rad = doa.azimuth_rad;
+    r.elevation_rad = doa.elevation_rad;
+    return r;
+  };
+  std::vector<EarlyReflection> result{analyse(arrivals.front())};
+  // Strongest by the arrival's own amplitude in the pursuit: the window's level also holds
+  // its neighbours, which would rank a weak reflection beside a strong one above a lone
+  // reflection stronger than it.
+  std::vector<std::size_t> order;
+  const double floor = result.front().level * std::pow(10.0, options.level_threshold_db / 20.0);
+  std::vector<EarlyReflection> reflections(arrivals.size());
+  for (std::size_t k = 1; k < arrivals.size(); ++k) {
+    reflections[k] = analyse(arrivals[k]);
+    if (options.selection == ReflectionSelection::kAboveLevelThreshold && reflections[k].level < floor) continue;
+    order.push_back(k);
+  }
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return std::abs(arrivals[a].amplitude) > std::abs(arrivals[b].amplitude);
+  });
+  if (order.size() > options.max_reflections) order.resize(options.max_reflections);
+  std::sort(order.begin(), order.end());  // arrivals are in time order
+  for (std::size_t k : order) result.push_back(std::move(reflections[k]));
+  return result;
+}
+
 }  // namespace
 
 void validateEarlyReflectionOptions(const EarlyReflectionOptions& o) {
   validateGroupDelayOnsetOptions(o.onsets);
+  validateMatchedArrivalOptions(o.matched);
   std::ostringstream os;
   os << kWhat << ": ";
   if (o.mixing_time_s && !(*o.mixing_time_s > 0.0 && std::isfinite(*o.mixing_time_s))) {
@@ -178,6 +212,9 @@ std::vector<EarlyReflection> estimateEarlyReflections(const AudioBuffer& ambix, 
 
   const ArrivalCandidate direct = findDirectArrival(raw, gd, onset, options);
   const double limit_s = options.mixing_time_s ? *options.mixing_time_s : direct.time_s + options.default_early_duration_s;
+  if (options.onset_method == OnsetMethod::kMatchedPursuit) {
+    return matchedReflections(ambix, direct.time_s, limit_s, options);
+  }
   std::vector<ArrivalCandidate> later;
   for (const auto& c : raw) {
     if (c.time_s >= direct.time_s + options.onsets.min_separation_s && c.time_s <= limit_s) later.push_back(c);

@@ -1,0 +1,138 @@
+// The RSAO estimator's early reflections on synthetic B-format rooms whose image sources
+// are known (reflection_rooms.h): recall of the reflections any estimator should resolve,
+// their time and direction errors, and the share of reported reflections that are real
+// (reflection_score.h). The development set is what the detection may be tuned on; the
+// held-out set (other seeds, shapes, absorptions, a reflector panel) is not.
+//
+// Report over both sets, with the misses:
+//   ROOM_REVERB_RSAO_REPORT=1 [ROOM_REVERB_PAPER_ONSETS=1] .ws/devel/lib/room_reverb/test_rsao_reflection_recall --gtest_filter='*Report*'
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "reflection_rooms.h"
+#include "reflection_score.h"
+#include "room_reverb/rsao/rsao_estimator.h"
+
+using namespace room_reverb::core;
+using room_reverb::test::ReflectionRoom;
+using room_reverb::test::ReflectionRoomSet;
+using room_reverb::test::ReflectionScore;
+
+namespace {
+
+constexpr double kFs = 48000.0;
+
+ReflectionScore scoreRoom(const ReflectionRoom& room, const RsaoOptions& options) {
+  const Rsao rsao = estimateRsao(room.ambix, AmbisonicFormat::kAmbiX, options);
+  return room_reverb::test::scoreReflections(room, rsao.reflections);
+}
+
+RsaoOptions matchedPursuit() {
+  RsaoOptions options;
+  options.early.onset_method = OnsetMethod::kMatchedPursuit;
+  return options;
+}
+
+ReflectionScore scoreSet(ReflectionRoomSet set, const RsaoOptions& options) {
+  ReflectionScore total;
+  for (std::size_t i = 0; i < room_reverb::test::reflectionRoomCount(set); ++i) {
+    total.add(scoreRoom(room_reverb::test::reflectionRoom(set, i), options));
+  }
+  return total;
+}
+
+}  // namespace
+
+TEST(ReflectionRooms, TheDirectSoundAndAFirstOrderReflectionAreWhereTheGeometryPutsThem) {
+  const ReflectionRoom room = room_reverb::test::reflectionRoom(ReflectionRoomSet::kDevelopment, 0);
+  ASSERT_GT(room.images.size(), 30u);
+  const auto& direct = room.images.front();
+  EXPECT_EQ(direct.order, 0);
+  // W around the direct sound holds its pulse: energy level^2 within 1 % (the noise
+  // floor is 60 dB down, the diffuse tail has not started).
+  const auto centre = static_cast<std::size_t>(std::lround(direct.time_s * kFs));
+  double energy = 0.0;
+  Eigen::Vector3d intensity = Eigen::Vector3d::Zero();
+  for (std::size_t n = centre - 40; n <= centre + 40; ++n) {
+    const double w = room.ambix.channels[0][n];
+    energy += w * w;
+    intensity += w * Eigen::Vector3d(room.ambix.channels[3][n], room.ambix.channels[1][n], room.ambix.channels[2][n]);
+  }
+  EXPECT_NEAR(std::sqrt(energy) / direct.level, 1.0, 0.01);
+  // The active intensity points to the direct sound's true direction (within 1 degree).
+  EXPECT_GT(intensity.normalized().dot(direct.direction), std::cos(M_PI / 180.0));
+  // Every first-order image is a single bounce: 1 to 6 of them (the source inside the box).
+  int first_order = 0;
+  for (const auto& a : room.images) first_order += a.order == 1 ? 1 : 0;
+  EXPECT_EQ(first_order, 6);
+}
+
+TEST(ReflectionRooms, TheSetsAreDeterministicAndHoldTheirKinds) {
+  const ReflectionRoom a = room_reverb::test::reflectionRoom(ReflectionRoomSet::kHeldOut, 3);
+  const ReflectionRoom b = room_reverb::test::reflectionRoom(ReflectionRoomSet::kHeldOut, 3);
+  EXPECT_EQ(a.ambix.channels, b.ambix.channels);
+  EXPECT_GE(room_reverb::test::reflectionRoomCount(ReflectionRoomSet::kDevelopment), 15u);
+  EXPECT_GE(room_reverb::test::reflectionRoomCount(ReflectionRoomSet::kHeldOut), 15u);
+}
+
+// Development rooms, with the tool's default selection (at most 20 reflections, strongest first):
+// matching pursuit finds 89 of 94 (the five it leaves out are below the 20 strongest),
+// times within 0.007 ms and directions within 1.1 degrees at the 95th percentile, every
+// reported reflection real; the paper's group-delay onsets find 71 with 0.39 ms and 66
+// degrees (a reflection timed between two and pointed at neither).
+TEST(ReflectionRecall, MatchedPursuitOnTheDevelopmentRooms) {
+  const ReflectionScore pursuit = scoreSet(ReflectionRoomSet::kDevelopment, matchedPursuit());
+  EXPECT_EQ(pursuit.resolvable, 94);
+  EXPECT_GE(pursuit.found, 89) << pursuit.summary();
+  EXPECT_LT(pursuit.toaP95Ms(), 0.02) << pursuit.summary();
+  EXPECT_LT(pursuit.directionP95Deg(), 2.0) << pursuit.summary();
+  EXPECT_EQ(pursuit.real, pursuit.reported) << pursuit.summary();
+
+  RsaoOptions paper;
+  paper.early.onset_method = OnsetMethod::kGroupDelay;
+  const ReflectionScore group_delay = scoreSet(ReflectionRoomSet::kDevelopment, paper);
+  EXPECT_LE(group_delay.found, 75) << group_delay.summary();
+  EXPECT_GT(group_delay.directionP95Deg(), 20.0) << group_delay.summary();
+}
+
+// Held-out rooms (nothing was tuned on them), with room for 40 reflections so that the
+// count is the detector's, not the selection's: the targets (95 % found, time p95
+// under 0.05 ms, direction p95 under 3 degrees, at most one in ten reported unreal).
+TEST(ReflectionRecall, MatchedPursuitOnTheHeldOutRooms) {
+  RsaoOptions options = matchedPursuit();
+  options.early.max_reflections = 40;
+  const ReflectionScore score = scoreSet(ReflectionRoomSet::kHeldOut, options);
+  EXPECT_EQ(score.resolvable, 116);
+  EXPECT_GE(score.recall(), 0.95) << score.summary();
+  EXPECT_LT(score.toaP95Ms(), 0.05) << score.summary();
+  EXPECT_LT(score.directionP95Deg(), 3.0) << score.summary();
+  EXPECT_GE(score.precision(), 0.9) << score.summary();
+}
+
+TEST(ReflectionRecallReport, BothSets) {
+  if (!std::getenv("ROOM_REVERB_RSAO_REPORT")) GTEST_SKIP() << "set ROOM_REVERB_RSAO_REPORT=1 for the report";
+  const bool paper = std::getenv("ROOM_REVERB_PAPER_ONSETS") != nullptr;
+  RsaoOptions options = matchedPursuit();
+  if (paper) options.early.onset_method = OnsetMethod::kGroupDelay;
+  if (const char* n = std::getenv("ROOM_REVERB_MAX_REFLECTIONS")) options.early.max_reflections = std::strtoul(n, nullptr, 10);
+  if (const char* v = std::getenv("ROOM_REVERB_DETECTION_SNR_DB")) options.early.matched.min_detection_snr_db = std::atof(v);
+  if (const char* v = std::getenv("ROOM_REVERB_EXPLAINED_SHARE")) options.early.matched.min_explained_share = std::atof(v);
+  for (const auto set : {ReflectionRoomSet::kDevelopment, ReflectionRoomSet::kHeldOut}) {
+    const char* name = set == ReflectionRoomSet::kDevelopment ? "development" : "held-out";
+    ReflectionScore total;
+    for (std::size_t i = 0; i < room_reverb::test::reflectionRoomCount(set); ++i) {
+      const ReflectionRoom room = room_reverb::test::reflectionRoom(set, i);
+      const ReflectionScore score = scoreRoom(room, options);
+      std::printf("[ room     ] %-15s %s\n", room.name.c_str(), score.summary().c_str());
+      total.add(score);
+    }
+    std::printf("[ report   ] %s, %s: %s\n", name, paper ? "paper onsets" : "matched pursuit", total.summary().c_str());
+    for (const auto& m : total.misses) {
+      std::printf("[ miss     ] %-15s %6.2f ms  %6.1f dB  order %d  comparable neighbour %.2f ms, nearest report %+.2f ms\n",
+                  m.room.c_str(), m.delay_ms, m.level_db, m.order, m.neighbour_ms, m.nearest_report_ms);
+    }
+  }
+}
