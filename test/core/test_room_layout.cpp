@@ -516,3 +516,55 @@ TEST(RoomLayout, RejectsBadOptions) {
 }
 
 }  // namespace
+
+// ---------------------------------------------------------------------------------------
+// A room open to the sky
+// ---------------------------------------------------------------------------------------
+
+TEST(RoomLayout, NothingFloatsInARoomWithoutACeiling) {
+  // The paper's courtyard (open to the sky, walls 6 m high here) with a planter and a
+  // bench where the bundled capture has them, and a cluster of scatter 5 m up in the
+  // middle of the yard, such as a far wall's upper edge ranged short against the sky
+  // leaves: clear of the floor and of every wall, with nothing above to hang from. The
+  // fit must make no object of it and keep the planter and the bench.
+  RoomModel truth = room({10.10, 19.00, 6.0}, {3.35, 12.63, 1.70}, 0.0, false);
+  truth.objects = {
+      cuboid("planter", {6.0, 9.0, 0.25}, {2.0, 2.0, 0.5}, 0.0),
+      cuboid("bench", {1.0, 14.0, 0.23}, {0.5, 1.8, 0.46}, 0.0),
+  };
+  RoomScanOptions scan_options;
+  scan_options.seed = 41;
+  scan_options.rays = 300000;
+  RoomScan scan = scanRoomModel(truth, scan_options);
+  const Eigen::Vector3d scatter_centre(5.5, 15.0, 5.2), scatter_size(1.2, 1.2, 0.5);
+  std::mt19937 random(42);
+  std::uniform_real_distribution<double> unit(-0.5, 0.5);
+  for (int i = 0; i < 4000; ++i) {
+    const Eigen::Vector3d at =
+        scatter_centre + Eigen::Vector3d(unit(random), unit(random), unit(random)).cwiseProduct(scatter_size);
+    CloudPoint point;
+    point.p = (at - truth.rig_position_m).cast<float>();  // rig yaw 0
+    scan.cloud.points.push_back(point);
+  }
+  const RoomLayout layout = fitRoomLayout(scan.cloud, optionsFor(scan_options));
+  expectRoomMatches(layout, truth, "CY open, scatter 5 m up");
+  const CuboidObject scatter = cuboid("scatter", scatter_centre, scatter_size, 0.0);
+  for (const CuboidObject& got : layout.model.objects) {
+    const bool there = orientedBoxIoU3d(scatter, got) > 0.0 || (got.center_m - scatter_centre).norm() < 1.0;
+    if (there) {
+      ADD_FAILURE() << "an object of the scatter: " << got.label << " " << got.size_m.transpose() << " at "
+                    << got.center_m.transpose();
+    }
+  }
+  for (const CuboidObject& want : truth.objects) {
+    const auto [index, iou] = bestMatch(layout, want);
+    ASSERT_GE(index, 0) << "no object where the " << want.label << " is";
+    const CuboidObject& got = layout.model.objects[static_cast<std::size_t>(index)];
+    std::printf("[ measured ] %-30s %-9s IoU %.3f  centre %.2f %.2f %.2f  size %.2f x %.2f x %.2f\n",
+                "CY open, scatter 5 m up", want.label.c_str(), iou, got.center_m.x(), got.center_m.y(),
+                got.center_m.z(), got.size_m.x(), got.size_m.y(), got.size_m.z());
+    EXPECT_GE(iou, 0.5) << want.label;
+  }
+  std::printf("[ measured ] %-30s objects %zu (truth %zu)\n", "CY open, scatter 5 m up", layout.model.objects.size(),
+              truth.objects.size());
+}

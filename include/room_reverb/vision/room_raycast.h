@@ -6,6 +6,7 @@
 // truth images need.
 #include <Eigen/Core>
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -44,6 +45,21 @@ CaptureGeometry makeCaptureGeometry(const RoomModel& room, const std::vector<std
 
 // `direction` must be unit length; `origin` inside the box.
 SurfaceHit castRay(const CaptureGeometry& geometry, const Eigen::Vector3d& origin, const Eigen::Vector3d& direction);
+
+// The same, testing only the objects listed in `candidates` (indices into
+// geometry.objects, ascending, so ties resolve as above). It returns what the full cast
+// does whenever the ray misses every object left out, or meets them only beyond the
+// nearest hit: a caller that culls the objects no ray of a bundle can reach (the surface
+// patches do) sees no difference.
+SurfaceHit castRay(const CaptureGeometry& geometry, const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
+                   const std::vector<std::size_t>& candidates);
+
+// The objects (ascending indices into geometry.objects) that a ray from `origin` towards
+// a point P within radius_m of `centre` can meet no farther than beyond_m past P: a
+// conservative cull (bounding spheres) for casting a bundle of rays at a patch of surface.
+// Every object such a ray meets within that stretch is listed; others may be.
+std::vector<std::size_t> objectsInReach(const CaptureGeometry& geometry, const Eigen::Vector3d& origin,
+                                        const Eigen::Vector3d& centre, double radius_m, double beyond_m);
 
 // True when the point lies strictly inside the cuboid (with a margin in metres).
 bool insideCuboid(const CaptureCuboid& cuboid, const Eigen::Vector3d& point, double margin_m = 0.0);

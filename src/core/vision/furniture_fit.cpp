@@ -182,6 +182,26 @@ bool hangsFromCeiling(const CuboidObject& object, const RoomFrame& frame, bool a
   return bottom >= 0.6 * frame.size.z() && top >= frame.size.z() - 0.6;
 }
 
+// An object in a room open to the sky that floats clear of the floor and of every wall:
+// nothing is above it to hang from, and nothing of it reaches down or sideways to stand
+// on, so it is no furniture but the stereo's scatter (the far walls' upper edges against
+// the sky, ranged at little disparity, leave such clusters high in the air). Clear of
+// the floor means its bottom above head height, so a table or counter whose legs went
+// unseen stays; clear of a wall, every footprint corner more than the wall's margin (the
+// layer of the wall's own points) and 10 cm from it, so a unit fixed to a wall stays.
+bool floatsInOpenAir(const CuboidObject& object, const RoomFrame& frame) {
+  constexpr double kFloorClearance = 2.0;  // [m]
+  constexpr double kWallClearance = 0.1;   // [m] beyond the wall's margin
+  if (frame.has_ceiling || object.center_m.z() - 0.5 * object.size_m.z() < kFloorClearance) return false;
+  for (const auto& c : cuboidFootprint(object)) {
+    const std::array<double, 4> to_wall = {c.x(), frame.size.x() - c.x(), c.y(), frame.size.y() - c.y()};
+    for (std::size_t w = 0; w < to_wall.size(); ++w) {
+      if (to_wall[w] <= frame.margin[w + 2] + kWallClearance) return false;
+    }
+  }
+  return true;
+}
+
 // Whether a cluster is the tail of a wall's range noise rather than something standing in
 // front of the wall. Where the stereo ranges a wall poorly (far, or seen steeply, where a
 // vertical baseline gives little disparity) its points scatter far beyond the wall's
@@ -271,8 +291,8 @@ Furniture fitFurniture(const PointCloud& cloud, const VoxelGrid& grid, const Roo
     const bool on_floor = object.center_m.z() - 0.5 * object.size_m.z() <= 1e-9;
     const bool against_wall = againstWall(object, frame.size);
     // Lights and ducts hang from the ceiling, clear of the walls: not furniture, and too
-    // small and high to shape the room's sound.
-    if (hangsFromCeiling(object, frame, against_wall)) continue;
+    // small and high to shape the room's sound. Without a ceiling, nothing hangs.
+    if (hangsFromCeiling(object, frame, against_wall) || floatsInOpenAir(object, frame)) continue;
     object.label = furnitureLabel(object, on_floor, against_wall);
     object.material = "";  // placeholder: the material step names it
     object.confidence = objectConfidence(pieces.clusters[k].size(), object.label);

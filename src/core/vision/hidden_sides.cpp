@@ -55,17 +55,16 @@ double insetAt(const Eigen::Vector3d& center, const HiddenSideParams& params) {
 
 // How far (from the region's near end, along `axis` with `sign`) rays first enter the
 // region [lo, hi]: the free_rays-th smallest, or infinity if fewer rays cross it.
-// Everything is in the box's local frame; the box is [box_lo, box_hi].
+// Everything is in the box's local frame: the rays run from the rig to the ends of their
+// trusted stretches (trustedEnd); the box is [box_lo, box_hi].
 // A ray that passes through the box itself contradicts the box (the point was seen
 // through it: a stereo mismatch) and proves nothing about the space behind it.
-double carvedDepth(const std::vector<Eigen::Vector3d>& observed_local, const Eigen::Vector3d& rig_local,
+double carvedDepth(const std::vector<Eigen::Vector3d>& ray_ends, const Eigen::Vector3d& rig_local,
                    const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const Eigen::Vector3d& box_lo,
                    const Eigen::Vector3d& box_hi, int axis, int sign, const HiddenSideParams& params) {
   std::vector<double> entries;
   const double near_end = sign > 0 ? lo[axis] : hi[axis];
-  Eigen::Vector3d end;
-  for (const auto& q : observed_local) {
-    if (!trustedEnd(rig_local, q, params, end)) continue;
+  for (const Eigen::Vector3d& end : ray_ends) {
     const double t = segmentEntry(rig_local, end, lo, hi);
     if (!std::isfinite(t) || std::isfinite(segmentEntry(rig_local, end, box_lo, box_hi))) continue;
     const Eigen::Vector3d at = rig_local + t * (end - rig_local);
@@ -104,15 +103,28 @@ CuboidObject extendHiddenSides(CuboidObject box, const std::vector<Eigen::Vector
   const Eigen::Matrix3d to_local = Eigen::AngleAxisd(-box.yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   const Eigen::Vector3d origin = box.center_m;
   const auto local = [&](const Eigen::Vector3d& p) -> Eigen::Vector3d { return to_local * (p - origin); };
-  std::vector<Eigen::Vector3d> observed_local;
-  observed_local.reserve(observed.size());
-  for (const auto& q : observed) observed_local.push_back(local(q));
   const Eigen::Vector3d rig = local(params.rig_position);
   // The carved regions stay clear of the box's other faces by their noise, lest rays to
   // the floor just in front of a face measured a little too far out prove its underside
   // empty.
   const double inset = insetAt(origin, params);
   Eigen::Vector3d bmin = -0.5 * box.size_m, bmax = 0.5 * box.size_m;
+  // Every region carved below lies within the box grown by max_to_wall_m sideways and
+  // down to the floor (give or take the 1 cm kept around a thin box's mid plane). A ray
+  // that misses that bound enters none of them, and most of the room's rays miss it, so
+  // the regions test only the others (each region all of them). The bound's 5 cm margin
+  // is far beyond the rounding of the slab tests: the result is that of testing all.
+  const double margin = 0.05;
+  const Eigen::Vector3d reach_lo(bmin.x() - params.max_to_wall_m - margin, bmin.y() - params.max_to_wall_m - margin,
+                                 std::min(-origin.z(), bmin.z()) - margin);
+  const Eigen::Vector3d reach_hi(bmax.x() + params.max_to_wall_m + margin, bmax.y() + params.max_to_wall_m + margin,
+                                 bmax.z() + margin);
+  std::vector<Eigen::Vector3d> ray_ends;
+  Eigen::Vector3d end;
+  for (const auto& q : observed) {
+    if (!trustedEnd(rig, local(q), params, end)) continue;
+    if (std::isfinite(segmentEntry(rig, end, reach_lo, reach_hi))) ray_ends.push_back(end);
+  }
   // Only a box square to the walls can stand flush against one.
   const double quarter = 0.5 * kPi;
   const bool square = std::abs(box.yaw_rad - quarter * std::round(box.yaw_rad / quarter)) < 1e-6;
@@ -132,7 +144,7 @@ CuboidObject extendHiddenSides(CuboidObject box, const std::vector<Eigen::Vector
     const Eigen::Vector3d lo(std::min(bmin.x() + inset, -0.01), std::min(bmin.y() + inset, -0.01), floor_local);
     const Eigen::Vector3d hi(std::max(bmax.x() - inset, 0.01), std::max(bmax.y() - inset, 0.01), bmin.z());
     core(core_lo, core_hi);
-    if (!std::isfinite(carvedDepth(observed_local, rig, lo, hi, core_lo, core_hi, 2, 1, params))) {
+    if (!std::isfinite(carvedDepth(ray_ends, rig, lo, hi, core_lo, core_hi, 2, 1, params))) {
       bmin.z() = floor_local;
     }
   }
@@ -157,7 +169,7 @@ CuboidObject extendHiddenSides(CuboidObject box, const std::vector<Eigen::Vector
       hi[other] = std::max(bmax[other] - inset, middle_other + 0.01);
       lo.z() = std::min(bmin.z() + inset, middle_z - 0.01), hi.z() = std::max(bmax.z() - inset, middle_z + 0.01);
       core(core_lo, core_hi);
-      const double carved = carvedDepth(observed_local, rig, lo, hi, core_lo, core_hi, axis, sign, params);
+      const double carved = carvedDepth(ray_ends, rig, lo, hi, core_lo, core_hi, axis, sign, params);
       const double depth = bmax[axis] - bmin[axis];
       double grow = 0.0;
       if (square && carved >= reach && to_room <= params.max_to_wall_m) {

@@ -35,6 +35,10 @@ SurfaceRect makeRect(int target, const Eigen::Vector3d& center, const Eigen::Vec
   return rect;
 }
 
+// How far from a patch point the cast may find the surface and still count it as that
+// point [m]: a centimetre and half a percent of the range.
+double hitTolerance(double range) { return 0.01 + 0.005 * range; }
+
 struct PatchJob {
   std::size_t rect = 0;
   double s_m = 0.0, t_m = 0.0;  // patch centre on the rectangle
@@ -72,6 +76,8 @@ class PatchCutter {
     const double pixel_angle = 2.0 * kPi / equirect_.width;
     cv::Mat map_x(n, n, CV_32FC1, cv::Scalar(0)), map_y(n, n, CV_32FC1, cv::Scalar(0));
     cv::Mat mask(n, n, CV_8UC1, cv::Scalar(0));
+    const std::vector<std::size_t> candidates =
+        reachableObjects(rect.center_m + s_centre * rect.u + t_centre * rect.v);
     int seen = 0, inside = 0;
     double footprint_sum = 0.0, slant_sum = 0.0;
     for (int row = 0; row < n; ++row) {
@@ -89,8 +95,8 @@ class PatchCutter {
         const double cos_incidence = -direction.dot(rect.normal);
         if (cos_incidence < sampling_.min_cos_incidence) continue;
         // Seen only if the first thing along the ray is this surface at this point.
-        const SurfaceHit hit = castRay(geometry_, camera_, direction);
-        if (hit.sky || hit.object_id != rect.target || std::abs(hit.distance_m - range) > 0.01 + 0.005 * range) continue;
+        const SurfaceHit hit = castRay(geometry_, camera_, direction, candidates);
+        if (hit.sky || hit.object_id != rect.target || std::abs(hit.distance_m - range) > hitTolerance(range)) continue;
         const Eigen::Vector2d uv = equirectCoordinates(equirect_, room_to_camera_ * direction);
         map_x.at<float>(row, col) = static_cast<float>(uv.x());
         map_y.at<float>(row, col) = static_cast<float>(uv.y());
@@ -128,6 +134,14 @@ class PatchCutter {
   }
 
  private:
+  // The objects a ray to a point of the patch centred at `centre` can meet before it is
+  // past the point by the tolerance of the visibility test: the others cannot change what
+  // the test finds (room_raycast.h), and most patches have none.
+  std::vector<std::size_t> reachableObjects(const Eigen::Vector3d& centre) const {
+    const double radius = std::sqrt(0.5) * sampling_.geometry.size_m;  // the patch's half diagonal
+    return objectsInReach(geometry_, camera_, centre, radius, hitTolerance((centre - camera_).norm() + radius));
+  }
+
   PatchSampling sampling_;
   CaptureGeometry geometry_;
   Eigen::Vector3d camera_;
