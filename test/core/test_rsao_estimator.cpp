@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <map>
 #include <string>
 #include <utility>
@@ -179,8 +180,11 @@ TEST(RsaoEstimatorRealData, StableDirectSoundFirstAndResynthesisKeepsTheDecay) {
   for (const MeasuredCase& c : measuredCases()) {
     SCOPED_TRACE(c.file);
     const AudioBuffer rir = measured(c);
-    const Rsao rsao = estimateRsao(rir, c.format);
-    const Rsao again = estimateRsao(rir, c.format);
+    RsaoOptions rsao_options;
+    // The same checks with the matching-pursuit detector (early_reflections.h).
+    if (std::getenv("ROOM_REVERB_MATCHED_ONSETS")) rsao_options.early.onset_method = OnsetMethod::kMatchedPursuit;
+    const Rsao rsao = estimateRsao(rir, c.format, rsao_options);
+    const Rsao again = estimateRsao(rir, c.format, rsao_options);
     ASSERT_EQ(rsao.reflections.size(), again.reflections.size());
     for (std::size_t k = 0; k < rsao.reflections.size(); ++k) {
       EXPECT_EQ(rsao.reflections[k].time_of_arrival_s, again.reflections[k].time_of_arrival_s);
@@ -219,7 +223,10 @@ TEST(RsaoEstimatorRealData, StableDirectSoundFirstAndResynthesisKeepsTheDecay) {
       }
       // A known miss keeps its measured error, within 10 points either way.
       const auto miss = kKnownEdtMisses.find({c.file, static_cast<int>(hz)});
-      ASSERT_NE(miss, kKnownEdtMisses.end()) << "EDT " << *r.edt_s << " vs " << *m.edt_s;
+      if (miss == kKnownEdtMisses.end()) {
+        ADD_FAILURE() << "EDT " << *r.edt_s << " vs " << *m.edt_s << " (" << 100.0 * (ratio - 1.0) << " %)";
+        continue;
+      }
       EXPECT_NEAR(ratio - 1.0, miss->second, 0.10) << "EDT " << *r.edt_s << " vs " << *m.edt_s;
     }
   }

@@ -31,8 +31,9 @@ enum class OnsetMethod {
   kGroupDelay,
   // Matching pursuit against the direct sound and low-passed copies of it, over all four
   // channels, each arrival subtracted before the next is sought (matched_arrivals.h);
-  // directions from each arrival's own projection; the max_reflections kept are the
-  // strongest by each arrival's own amplitude in the pursuit.
+  // directions from each arrival's own projection; each reflection's level is its own
+  // amplitude in W (the direct sound's is its window's, as the paper's); the
+  // max_reflections kept are the strongest by that amplitude.
   kMatchedPursuit,
 };
 

@@ -126,8 +126,16 @@ std::vector<EarlyReflection> selectReflections(std::vector<EarlyReflection> late
   return later;
 }
 
-// The arrivals by matching pursuit (matched_arrivals.h): times and directions from the
-// pursuit, level and spectrum over the analysis window as the paper takes them.
+// The arrivals by matching pursuit (matched_arrivals.h): times, directions and the
+// reflections' levels from the pursuit, spectra over the analysis window as the paper takes
+// them. A reflection's level is its own amplitude in W (the square root of its energy, the
+// paper's A_k for an isolated arrival), not the energy of the window around it: the pursuit
+// parts arrivals 0.2 ms apart, and a 2 ms window around each holds its neighbours too, so
+// window levels count the direct sound again in an arrival kept 0.2 ms after it, and a
+// cluster of close reflections once per member (on the measured RIRs that lengthens the
+// resynthesis's EDT by several per cent, docs/rsao.md). The direct sound keeps its window
+// level: the window also holds the loudspeaker's response after the atom's 0.25 ms, which
+// belongs to the direct sound.
 std::vector<EarlyReflection> matchedReflections(const AudioBuffer& ambix, double direct_time_s, double limit_s,
                                                 const EarlyReflectionOptions& options) {
   const std::vector<MatchedArrival> arrivals = matchedPursuitArrivals(ambix, direct_time_s, limit_s, options.matched);
@@ -147,6 +155,7 @@ std::vector<EarlyReflection> matchedReflections(const AudioBuffer& ambix, double
   std::vector<EarlyReflection> reflections(arrivals.size());
   for (std::size_t k = 1; k < arrivals.size(); ++k) {
     reflections[k] = analyse(arrivals[k]);
+    reflections[k].level = std::abs(arrivals[k].amplitude);
     if (options.selection == ReflectionSelection::kAboveLevelThreshold && reflections[k].level < floor) continue;
     order.push_back(k);
   }
