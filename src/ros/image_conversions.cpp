@@ -34,6 +34,22 @@ cv::Mat cameraImageFromMessage(const sensor_msgs::Image& msg, const std::string&
   }
 }
 
+cv::Mat rangeImageFromMessage(const sensor_msgs::Image& msg, const std::string& what) {
+  if (msg.width == 0 || msg.height == 0) throw core::InputError(what + ": the image is empty");
+  if (msg.encoding != enc::TYPE_32FC1) {
+    throw core::InputError(what + ": encoding '" + msg.encoding + "' is not a range image (use 32FC1, metres)");
+  }
+  if (msg.step < 4 * msg.width || msg.data.size() < static_cast<std::size_t>(msg.step) * msg.height) {
+    throw core::InputError(what + ": malformed image message (" + std::to_string(msg.data.size()) + " bytes for " +
+                           std::to_string(msg.height) + " rows of " + std::to_string(msg.step) + ")");
+  }
+  try {
+    return cv_bridge::toCvCopy(msg, enc::TYPE_32FC1)->image;
+  } catch (const cv_bridge::Exception& e) {
+    throw core::InputError(what + ": " + e.what());
+  }
+}
+
 sensor_msgs::Image imageToMessage(const cv::Mat& image, const std::string& encoding, const std_msgs::Header& header) {
   sensor_msgs::Image msg;
   cv_bridge::CvImage(header, encoding, image).toImageMsg(msg);

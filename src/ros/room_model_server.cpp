@@ -66,6 +66,8 @@ RoomModelServer::RoomModelServer(::ros::NodeHandle nh, ::ros::NodeHandle private
   std::string classifier_file, families_file;
   private_nh_.param<std::string>("material_classifier_file", classifier_file, "");
   private_nh_.param<std::string>("material_families_file", families_file, "");
+  // A path, read on every build (the user may correct it between builds).
+  private_nh_.param<std::string>("materials_override", options_.materials.override_file, "");
   options_.classifier = std::make_shared<const core::MaterialClassifier>(core::MaterialClassifier::load(
       classifier_file.empty() ? core::MaterialClassifier::defaultPath() : classifier_file));
   options_.families = std::make_shared<const core::MaterialFamilyTable>(core::loadMaterialFamilyTable(
@@ -116,8 +118,18 @@ bool RoomModelServer::build(room_reverb::BuildRoomModel::Request& request,
     const double baseline = request.baseline_m != 0.0 ? request.baseline_m : baseline_m_;
     const bool has_top = request.top.width > 0 || !request.top.data.empty();
     const bool has_bottom = request.bottom.width > 0 || !request.bottom.data.empty();
-    if (has_top != has_bottom) throw core::InputError("give both images (top and bottom) or neither");
-    if (has_top) {
+    const bool has_range = request.range.width > 0 || !request.range.data.empty();
+    if (has_bottom && has_range) throw core::InputError("give the bottom image or the range image, not both");
+    if (has_top != (has_bottom || has_range)) {
+      throw core::InputError("give the top image with the bottom image or a range image, or no image at all");
+    }
+    if (has_range) {
+      const cv::Mat top = cameraImageFromMessage(request.top, "request top image");
+      const core::SphericalDepth depth =
+          core::depthFromRangeImage(rangeImageFromMessage(request.range, "request range image"), top.size(), "request range image");
+      const core::PointCloud cloud = core::depthToPointCloud(depth, top, baseline, options_.cloud);
+      buildFrom(&cloud, top, nullptr, baseline, Eigen::Matrix3d::Identity(), request.top.header, response);
+    } else if (has_top) {
       const cv::Mat top = cameraImageFromMessage(request.top, "request top image");
       const cv::Mat bottom = cameraImageFromMessage(request.bottom, "request bottom image");
       buildFrom(nullptr, top, &bottom, baseline, Eigen::Matrix3d::Identity(), request.top.header, response);

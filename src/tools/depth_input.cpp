@@ -30,35 +30,12 @@ std::string extensionOf(const std::string& path) {
 
 core::PointCloud cloudFromRange(const std::string& path, const cv::Mat& top, double baseline_m,
                                 const Eigen::Matrix3d& image_rotation) {
-  cv::Mat range = readImage(path);
-  if (range.type() != CV_32FC1) {
-    throw InputError(path + ": a range image must be one channel of 32-bit float metres (as --range writes)");
-  }
-  if (range.size() != top.size()) {
-    throw InputError(path + ": the range image is " + std::to_string(range.cols) + "x" + std::to_string(range.rows) +
-                     ", the top image " + std::to_string(top.cols) + "x" + std::to_string(top.rows) +
-                     " (it must be on the top image's grid)");
-  }
+  core::SphericalDepth depth = core::depthFromRangeImage(readImage(path), top.size(), path);
   // Turned about the baseline as the top image was; nearest neighbour, so that no range is
   // invented across a depth edge.
-  range = core::rotateEquirect(range, image_rotation, cv::INTER_NEAREST);
-  core::SphericalDepth depth;
-  depth.range_m = range;
-  depth.valid = cv::Mat(range.size(), CV_8UC1, cv::Scalar(0));
-  depth.filled = cv::Mat(range.size(), CV_8UC1, cv::Scalar(0));
-  int valid = 0;
-  for (int r = 0; r < range.rows; ++r) {
-    for (int c = 0; c < range.cols; ++c) {
-      float& v = depth.range_m.at<float>(r, c);
-      if (std::isfinite(v) && v > 0.0f) {
-        depth.valid.at<std::uint8_t>(r, c) = 255;
-        ++valid;
-      } else {
-        v = std::nanf("");
-      }
-    }
-  }
-  if (valid == 0) throw InputError(path + ": the range image has no valid (finite, positive) range");
+  depth.range_m = core::rotateEquirect(depth.range_m, image_rotation, cv::INTER_NEAREST);
+  depth.valid = core::rotateEquirect(depth.valid, image_rotation, cv::INTER_NEAREST);
+  depth.filled = core::rotateEquirect(depth.filled, image_rotation, cv::INTER_NEAREST);
   return core::depthToPointCloud(depth, top, baseline_m);
 }
 

@@ -3,6 +3,7 @@
 // materials, written as the room.yaml that `room_reverb simulate --room` reads.
 #include <cmath>
 #include <iostream>
+#include <sstream>
 #include <opencv2/imgproc.hpp>
 
 #include "arguments.h"
@@ -12,6 +13,7 @@
 #include "room_reverb/acoustics/room_model.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/vision/capture_ingest.h"
+#include "room_reverb/vision/material_overrides.h"
 #include "room_reverb/vision/visual_route.h"
 
 namespace room_reverb::tool {
@@ -22,6 +24,7 @@ using namespace room_reverb::core;
 const char* kHelp = R"(usage: room_reverb room-model --top TOP.png (--bottom BOTTOM.png | --depth FILE) --out ROOM.yaml
                               [--baseline M] [--fisheye] [--calibration FILE] [--width W]
                               [--leveling image|none] [--cloud CLOUD.pcd] [--range RANGE.tiff]
+                              [--materials-override FILE.yaml]
 
 The paper's visual route on a capture from two vertically aligned 360° cameras: spherical
 stereo along the image columns, the point cloud in the rig frame, the room box (walls,
@@ -46,11 +49,21 @@ or dual-fisheye with --fisheye. `room_reverb make-capture` renders test pairs.
   --cloud FILE                also write the point cloud (binary PCD, rig frame)
   --range FILE                also write the top camera's range image (32-bit float TIFF,
                               metres, NaN where invalid)
+  --materials-override FILE   materials you know better than the camera (YAML):
+                                surfaces: {floor: linoleum_on_concrete, wall_y_max: brick_bare}
+                                objects: [{index: 3, material: wood_panel},
+                                          {label: sofa, material: fabric_upholstered_seat}]
+                              names from config/materials.yaml; an overridden face or object
+                              gets confidence 1 (see docs/visual-route.md)
 
-Prints the room's size, the objects with their materials and the time of each step.
+Prints the room's size, the objects, each face's and object's material with its
+confidence and runner-up (the next likeliest), where a close vote fell back to the
+commonest material of the kind and where the override file replaced what was found, and
+the time of each step.
 Exit status: 0 on success, 2 with one line on stderr for bad input (unreadable or
 mismatched images, images that are not 2:1, black or saturated, a baseline that is not
-positive, depth of the wrong type or size, a capture that shows no room). What a user
+positive, depth of the wrong type or size, a capture that shows no room, an override file
+that is missing, malformed or names an unknown face, material, index or label). What a user
 should check (a wall placed without a plane of its own, an open side, levelling by the
 cloud where the images show too few straight edges) is printed as "warning:" lines on
 stderr.
@@ -63,19 +76,48 @@ cv::Mat readCameraImage(const std::string& path) {
   return image;
 }
 
-void printRoom(const RoomLayout& layout, const VisualRouteTimes& t, std::size_t points) {
+// How a material was chosen, after its name: confidence, runner-up, fallback, override.
+std::string materialNote(const SurfaceMaterialDecision& d, double confidence) {
+  std::ostringstream out;
+  out << " (confidence " << confidence;
+  if (d.overridden) {
+    out << "; override, the route found " << d.found_material << " at " << d.found_confidence;
+  } else {
+    if (!d.runner_up.empty()) out << "; runner-up " << d.runner_up << " " << d.runner_up_confidence;
+    if (d.fell_back) out << "; fallback: " << d.fallback_reason;
+    if (!d.seen && d.family != TextureFamily::kOpening) out << "; not seen";
+  }
+  out << ")";
+  return out.str();
+}
+
+void printRoom(const RoomLayout& layout, const std::vector<SurfaceMaterialDecision>& decisions, const VisualRouteTimes& t,
+               std::size_t points) {
   const RoomModel& m = layout.model;
   std::cout << "room " << m.size_m.x() << " x " << m.size_m.y() << " x " << m.size_m.z() << " m"
             << (m.has_ceiling ? "" : " (no ceiling)") << ", rig at (" << m.rig_position_m.transpose()
             << ") m, yaw " << layout.rig_yaw_rad * 180.0 / M_PI << " deg, " << points << " points\n";
+  // Decisions come faces first (kRoomSurfaceNames order, without a missing ceiling), then
+  // objects in the model's order.
+  std::size_t next = 0;
   for (const char* name : kRoomSurfaceNames) {
     const auto it = m.surfaces.find(name);
     if (it == m.surfaces.end()) continue;
-    std::cout << "  " << name << ": " << it->second.material << " (confidence " << it->second.confidence << ")\n";
+    std::cout << "  " << name << ": " << it->second.material;
+    if (next < decisions.size() && decisions[next].name == name) {
+      std::cout << materialNote(decisions[next++], it->second.confidence) << "\n";
+    } else {
+      std::cout << " (confidence " << it->second.confidence << ")\n";
+    }
   }
   for (const CuboidObject& o : m.objects) {
     std::cout << "  object " << o.label << ": " << o.size_m.x() << " x " << o.size_m.y() << " x " << o.size_m.z()
-              << " m at (" << o.center_m.transpose() << "), " << o.material << " (confidence " << o.confidence << ")\n";
+              << " m at (" << o.center_m.transpose() << "), " << o.material;
+    if (next < decisions.size()) {
+      std::cout << materialNote(decisions[next++], o.confidence) << "\n";
+    } else {
+      std::cout << " (confidence " << o.confidence << ")\n";
+    }
   }
   std::cout << "time: stereo " << t.stereo_s << " s, cloud " << t.cloud_s << " s, layout " << t.layout_s
             << " s, materials " << t.materials_s << " s\n";
@@ -83,7 +125,8 @@ void printRoom(const RoomLayout& layout, const VisualRouteTimes& t, std::size_t 
 
 int runRoomModel(const std::vector<std::string>& raw) {
   const Arguments args(raw,
-                       {"top", "bottom", "depth", "out", "baseline", "calibration", "width", "leveling", "cloud", "range"},
+                       {"top", "bottom", "depth", "out", "baseline", "calibration", "width", "leveling", "cloud", "range",
+                        "materials-override"},
                        {"fisheye"});
   if (!args.positional().empty()) throw UsageError("unexpected argument '" + args.positional().front() + "'");
   for (const char* required : {"top", "out"}) {
@@ -96,6 +139,13 @@ int runRoomModel(const std::vector<std::string>& raw) {
   if (!(baseline > 0.0) || !std::isfinite(baseline)) {
     throw InputError("--baseline must be a positive distance in metres (got " + args.value("baseline", "") + ")");
   }
+  const std::string override_file = args.value("materials-override", "");
+  if (args.has("materials-override") && override_file.empty()) {
+    throw UsageError("--materials-override needs a file");
+  }
+  // Read once here as well, so that a mistake in the file is reported before the stereo's
+  // seconds are spent; what depends on the room (indices, labels) is checked once it stands.
+  if (!override_file.empty()) loadMaterialOverrides(override_file, MaterialLibrary::loadDefault());
   CaptureIngestOptions ingest;
   ingest.leveling = parseLevelingSource(args.value("leveling", "image"), "--leveling");
   if (ingest.leveling != LevelingSource::kNone && ingest.leveling != LevelingSource::kImage) {
@@ -115,6 +165,7 @@ int runRoomModel(const std::vector<std::string>& raw) {
       ingestCapture(top, depth_given ? top : readCameraImage(args.value("bottom", "")), ingest);
   VisualRouteOptions options;
   loadDefaultMaterialModels(options);
+  options.materials.override_file = override_file;
   options.level_from_cloud = pair.level_from_cloud;
   VisualRoute route;
   if (depth_given) {
@@ -134,7 +185,7 @@ int runRoomModel(const std::vector<std::string>& raw) {
   }
   for (const std::string& warning : pair.warnings) std::cerr << "warning: " << warning << "\n";
   for (const std::string& warning : route.layout.warnings) std::cerr << "warning: " << warning << "\n";
-  printRoom(route.layout, route.times, route.cloud.points.size());
+  printRoom(route.layout, route.materials, route.times, route.cloud.points.size());
   std::cout << "wrote " << args.value("out", "") << "\n";
   return 0;
 }

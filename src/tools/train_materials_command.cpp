@@ -11,6 +11,7 @@
 #include "room_reverb/acoustics/material.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/synthetic_capture/material_training.h"
+#include "room_reverb/synthetic_capture/photo_textures.h"
 
 namespace room_reverb::tool {
 namespace {
@@ -19,12 +20,16 @@ using namespace room_reverb::core;
 
 const char* kHelp = R"(usage: room_reverb train-materials --out FILE.yml.gz [--samples N] [--seed S]
                                    [--max-rooms N] [--trees N] [--threads N]
+                                   [--textures CSV|none] [--photo-share X]
+                                   [--held-out-source NAME[,NAME...]]
 
 Trains the material classifier of the visual route (a random forest over colour and
-texture features of rectified surface patches; include/room_reverb/vision/
-material_training.h): renders random rooms with the capture generator, cuts their
-surfaces into patches labelled with the texture family of their material, trains, and
-reports the accuracy on a held-out set of rooms from other seeds.
+texture features of rectified surface patches; include/room_reverb/synthetic_capture/
+material_training.h): renders random rooms with the capture generator, their materials
+painted with photographs of real surfaces or drawn, cuts their surfaces into patches
+labelled with the texture family of their material, trains, and reports the accuracy on
+a held-out set of rooms from other seeds and on rooms painted with photographs from
+collections it was not trained on (with the confusion matrix).
 
   --out FILE        where to write the classifier (.yml or .yml.gz, OpenCV FileStorage)
   --samples N       patches per texture family; default 800
@@ -33,6 +38,13 @@ reports the accuracy on a held-out set of rooms from other seeds.
   --max-rooms N     stop after this many rooms even if a family is short; default 1000
   --trees N         trees in the forest; default 80
   --threads N       worker threads (0: all cores); default 0
+  --textures CSV    photographs of real surfaces (file,family,width_m,source,licence,
+                    origin); default data/textures/textures.csv; none: drawn only
+  --photo-share X   chance that a material is painted with a photograph when its family
+                    has any, 0..1; default 0.5
+  --held-out-source NAMES
+                    collections (the CSV's source column) kept out of training and
+                    evaluated on; default none
 
 Exit status: 0 on success, 2 with one line on stderr for bad input.
 )";
@@ -56,11 +68,41 @@ std::string description(const MaterialTrainingOptions& options, const MaterialTr
      << "on " << result.training_samples << " patches of " << result.training_rooms
      << " random rooms rendered by the capture generator (not the scenes of data/captures).\n"
      << "Held-out accuracy (other rooms, other seeds): " << percent(result.held_out.overall()) << ".";
+  for (const auto& [source, accuracy] : result.held_out_sources) {
+    os << "\nOn photographs of a collection not trained on (" << source << "): " << percent(accuracy.overall()) << ".";
+  }
   return os.str();
 }
 
+std::vector<std::string> commaList(const std::string& text) {
+  std::vector<std::string> names;
+  std::stringstream stream(text);
+  std::string name;
+  while (std::getline(stream, name, ',')) {
+    if (name.empty()) throw UsageError("--held-out-source needs collection names separated by commas");
+    names.push_back(name);
+  }
+  return names;
+}
+
+// Accuracy per family and the confusion matrix (rows: truth, columns: predicted), only
+// over the families that have samples.
+void printAccuracy(const std::string& title, const MaterialAccuracy& accuracy) {
+  std::cout << title << ": " << percent(accuracy.overall()) << "\n";
+  const std::vector<TextureFamily> all = allTextureFamilies();
+  std::cout << "  " << std::left << std::setw(10) << "truth" << std::right << std::setw(9) << "right";
+  for (const TextureFamily family : all) std::cout << std::setw(9) << toString(family).substr(0, 8);
+  std::cout << "\n";
+  for (std::size_t k = 0; k < all.size(); ++k) {
+    if (accuracy.total[k] == 0) continue;
+    std::cout << "  " << std::left << std::setw(10) << toString(all[k]) << std::right << std::setw(9) << percent(accuracy.of(all[k]));
+    for (std::size_t j = 0; j < all.size(); ++j) std::cout << std::setw(9) << accuracy.confusion[k][j];
+    std::cout << "\n";
+  }
+}
+
 int runTrainMaterials(const std::vector<std::string>& raw) {
-  const Arguments args(raw, {"out", "samples", "seed", "max-rooms", "trees", "threads"}, {});
+  const Arguments args(raw, {"out", "samples", "seed", "max-rooms", "trees", "threads", "textures", "photo-share", "held-out-source"}, {});
   if (!args.positional().empty()) throw UsageError("unexpected argument '" + args.positional().front() + "'");
   if (!args.has("out")) throw UsageError("--out FILE.yml.gz is required");
   MaterialTrainingOptions options;
@@ -76,13 +118,22 @@ int runTrainMaterials(const std::vector<std::string>& raw) {
   const std::filesystem::path folder = std::filesystem::path(out).parent_path();
   if (!folder.empty() && !std::filesystem::is_directory(folder)) throw InputError(out + ": the folder does not exist");
 
+  const std::string textures = args.value("textures", defaultPhotoTexturePath());
+  if (textures != "none") options.photo_textures = std::make_shared<const PhotoTextureSet>(loadPhotoTextures(textures));
+  options.photo_share = args.doubleValue("photo-share", options.photo_share);
+  if (!(options.photo_share >= 0.0 && options.photo_share <= 1.0)) throw UsageError("--photo-share needs a number in 0..1");
+  if (args.has("held-out-source")) {
+    if (!options.photo_textures) throw UsageError("--held-out-source needs photographs (--textures CSV)");
+    options.held_out_sources = commaList(args.value("held-out-source", ""));
+  }
+
   const MaterialTrainingResult result = trainMaterialClassifier(options, MaterialLibrary::loadDefault());
   result.classifier.save(out, description(options, result));
   std::cout << "trained on " << result.training_samples << " patches of " << result.training_rooms << " rooms in "
-            << std::fixed << std::setprecision(0) << result.seconds << " s; held-out accuracy "
-            << percent(result.held_out.overall()) << "\n";
-  for (const TextureFamily family : allTextureFamilies()) {
-    std::cout << "  " << std::left << std::setw(10) << toString(family) << " " << percent(result.held_out.of(family)) << "\n";
+            << std::fixed << std::setprecision(0) << result.seconds << " s\n";
+  printAccuracy("held-out rooms (other seeds)", result.held_out);
+  for (const auto& [source, accuracy] : result.held_out_sources) {
+    printAccuracy("photographs of " + source + " (a collection not trained on)", accuracy);
   }
   std::cout << "wrote " << out << " (" << std::filesystem::file_size(out) / 1024 << " KiB)\n";
   return 0;

@@ -17,30 +17,18 @@
 #include "room_reverb/vision/material_features.h"
 #include "room_reverb/synthetic_capture/material_training.h"
 #include "room_reverb/vision/surface_materials.h"
+#include "shipped_materials.h"
 #include "test_files.h"
 
 using namespace room_reverb::core;
 using room_reverb::test::expectInputError;
 using room_reverb::test::writeFile;
+using room_reverb::test::library;
+using room_reverb::test::shippedFamilies;
+using room_reverb::test::sourcePath;
+using room_reverb::test::shippedClassifier;
 
 namespace {
-
-std::string sourcePath(const std::string& relative) { return std::string(ROOM_REVERB_SOURCE_DIR) + "/" + relative; }
-
-const MaterialLibrary& library() {
-  static const MaterialLibrary materials = MaterialLibrary::load(sourcePath("config/materials.yaml"));
-  return materials;
-}
-
-const MaterialClassifier& shippedClassifier() {
-  static const MaterialClassifier classifier = MaterialClassifier::load(sourcePath("config/material_classifier.yml.gz"));
-  return classifier;
-}
-
-const MaterialFamilyTable& shippedFamilies() {
-  static const MaterialFamilyTable table = loadMaterialFamilyTable(sourcePath("config/material_families.yaml"), library());
-  return table;
-}
 
 // Brick-like courses (64 x 64): red-brown bricks 24 x 8 pixels in a running bond with
 // pale joints, each brick its own tone, times a brightness gain, plus Gaussian noise.

@@ -172,3 +172,54 @@ TEST(RoomModelTool, BadInputIsOneLineAndExitTwo) {
   EXPECT_EQ(run.exit_code, 2) << run.out << run.err;
   EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
 }
+
+TEST(RoomModelTool, MaterialsOverrideIsWrittenPrintedAndSimulates) {
+  const std::string dir = capture();
+  const std::string pair = "room-model --top " + dir + "/top.png --bottom " + dir + "/bottom.png";
+  const std::string override_file = room_reverb::test::writeFile(
+      "rm_override.yaml",
+      "surfaces: {floor: linoleum_on_concrete, wall_x_max: drywall}\nobjects:\n  - {index: 0, material: door_wood}\n");
+  const std::string out = tempPath("room_model_tool_override.yaml").string();
+  const auto run = runTool(pair + " --out " + out + " --materials-override " + override_file);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  // The printout says what the user chose and what the route had found, and gives the
+  // runner-up of the faces left to the classifier.
+  EXPECT_NE(run.out.find("floor: linoleum_on_concrete (confidence 1; override, the route found "), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("wall_x_max: plasterboard_on_studs (confidence 1; override"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("runner-up "), std::string::npos) << run.out;
+
+  const RoomModel room = loadRoomModel(out);
+  EXPECT_EQ(room.surfaces.at("floor").material, "linoleum_on_concrete");
+  EXPECT_DOUBLE_EQ(room.surfaces.at("floor").confidence, 1.0);
+  EXPECT_TRUE(room.surfaces.at("floor").runner_up.empty());
+  EXPECT_EQ(room.surfaces.at("wall_x_max").material, "plasterboard_on_studs");  // the alias, by its library name
+  ASSERT_FALSE(room.objects.empty());
+  EXPECT_EQ(room.objects[0].material, "door_wood");
+  int runner_ups = 0;
+  for (const auto& [face, surface] : room.surfaces) runner_ups += surface.runner_up.empty() ? 0 : 1;
+  EXPECT_GE(runner_ups, 3);  // the four faces not overridden, less any without a second family
+  expectMeetingRoom(out, "override");
+
+  // The written room, runner-up keys and all, is what simulate reads.
+  const std::string ir = tempPath("room_model_tool_override.wav").string();
+  const auto sim = runTool("simulate --room " + out + " --source 2.0 1.0 1.6 --listener 1.0 2.1 1.6 --rays 200 --duration 0.2 --out " + ir);
+  EXPECT_EQ(sim.exit_code, 0) << sim.err;
+
+  // Bad files: one line naming the file and the key, before the stereo where the file alone
+  // shows it, and once the room stands where it takes the room.
+  const std::string bad_out = " --out " + tempPath("room_model_tool_override_bad.yaml").string();
+  expectOneLineError(runTool(pair + bad_out + " --materials-override " + tempPath("rm_no_such_override.yaml").string()),
+                     "rm_no_such_override.yaml");
+  const std::string unknown = room_reverb::test::writeFile("rm_override_unknown.yaml", "surfaces: {floor: linolium}\n");
+  expectOneLineError(runTool(pair + bad_out + " --materials-override " + unknown), "rm_override_unknown.yaml:1: surfaces.floor: unknown material 'linolium'");
+  const std::string face = room_reverb::test::writeFile("rm_override_face.yaml", "surfaces: {north_wall: brick_bare}\n");
+  expectOneLineError(runTool(pair + bad_out + " --materials-override " + face), "surfaces.north_wall: unknown surface");
+  const std::string malformed = room_reverb::test::writeFile("rm_override_malformed.yaml", "surfaces: {floor: [\n");
+  expectOneLineError(runTool(pair + bad_out + " --materials-override " + malformed), "rm_override_malformed.yaml");
+  const std::string label = room_reverb::test::writeFile("rm_override_label.yaml", "objects:\n  - {label: piano, material: wood_panel}\n");
+  expectOneLineError(runTool(pair + bad_out + " --materials-override " + label),
+                     "rm_override_label.yaml: objects[0].label: no object is labelled 'piano'");
+  const std::string index = room_reverb::test::writeFile("rm_override_index.yaml", "objects:\n  - {index: 99, material: metal}\n");
+  expectOneLineError(runTool(pair + bad_out + " --materials-override " + index), "objects[0].index: 99 is past the room's objects");
+  EXPECT_FALSE(std::filesystem::exists(tempPath("room_model_tool_override_bad.yaml")));
+}

@@ -3,8 +3,9 @@
 // return the rendered room within the tolerances (dimensions within 3 cm or 1 %,
 // yaw within 1 degree), both from the published cloud and from images in the request. Bad
 // input (one image, mismatched sizes, a black pair, no cloud yet) gives success=false with a
-// message, and the nodes keep working. The whole chain from a tilted rig's dual-fisheye
-// images (capture_ingest -> spherical_depth -> room_model) must find the tilt and the room.
+// message, and the nodes keep working. A ~materials_override file is applied, a missing one
+// refused. The whole chain from a tilted rig's dual-fisheye images (capture_ingest ->
+// spherical_depth -> room_model) must find the tilt and the room.
 #include <geometry_msgs/QuaternionStamped.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
@@ -218,6 +219,17 @@ TEST(VisualRouteNodes, PairInTheRequest) {
   expectMeetingRoom(srv.response, "from_request");
 }
 
+// Depth from elsewhere (here the generator's exact range) with the top image: no stereo.
+TEST(VisualRouteNodes, RangeImageInTheRequest) {
+  const Capture& c = meetingRoom();
+  room_reverb::BuildRoomModel srv;
+  srv.request.top = toMessage(c.images.top.color, ros::Time::now());
+  srv.request.range = room_reverb::ros_bridge::imageToMessage(c.images.top.range_m, "32FC1", std_msgs::Header());
+  srv.request.baseline_m = c.scene.options.baseline_m;
+  ASSERT_TRUE(callBuild(srv));
+  expectMeetingRoom(srv.response, "from_range");
+}
+
 TEST(VisualRouteNodes, BadRequestsFailWithAReason) {
   const Capture& c = meetingRoom();
   const auto expectRefused = [](room_reverb::BuildRoomModel& srv, const std::string& needle, const std::string& what) {
@@ -227,7 +239,24 @@ TEST(VisualRouteNodes, BadRequestsFailWithAReason) {
   };
   room_reverb::BuildRoomModel only_top;
   only_top.request.top = toMessage(c.images.top.color, ros::Time::now());
-  expectRefused(only_top, "both images", "one image");
+  expectRefused(only_top, "bottom image or a range image", "one image");
+
+  room_reverb::BuildRoomModel both;
+  both.request.top = toMessage(c.images.top.color, ros::Time::now());
+  both.request.bottom = toMessage(c.images.bottom.color, ros::Time::now());
+  both.request.range = toMessage(c.images.bottom.color, ros::Time::now());
+  expectRefused(both, "not both", "bottom and range");
+
+  room_reverb::BuildRoomModel colour_range;
+  colour_range.request.top = toMessage(c.images.top.color, ros::Time::now());
+  colour_range.request.range = toMessage(c.images.bottom.color, ros::Time::now());
+  expectRefused(colour_range, "32FC1", "a colour image as the range");
+
+  room_reverb::BuildRoomModel no_range;
+  const cv::Mat invalid(kWidth / 2, kWidth, CV_32FC1, cv::Scalar(0.0f));
+  no_range.request.top = toMessage(c.images.top.color, ros::Time::now());
+  no_range.request.range = room_reverb::ros_bridge::imageToMessage(invalid, "32FC1", std_msgs::Header());
+  expectRefused(no_range, "no valid", "a range image with no range");
 
   room_reverb::BuildRoomModel sizes;
   cv::Mat half;
@@ -260,6 +289,28 @@ TEST(VisualRouteNodes, BadRequestsFailWithAReason) {
   good.request.bottom = toMessage(c.images.bottom.color, ros::Time::now());
   ASSERT_TRUE(callBuild(good));
   EXPECT_TRUE(good.response.success) << good.response.message;
+}
+
+TEST(VisualRouteNodes, MaterialsOverrideParameter) {
+  const Capture& c = meetingRoom();
+  room_reverb::BuildRoomModel srv;
+  srv.request.top = toMessage(c.images.top.color, ros::Time::now());
+  srv.request.bottom = toMessage(c.images.bottom.color, ros::Time::now());
+  srv.request.baseline_m = c.scene.options.baseline_m;
+  room_reverb::BuildRoomModel missing = srv;
+  ASSERT_TRUE(callBuild(srv, "/override/room_model/build"));
+  ASSERT_TRUE(srv.response.success) << srv.response.message;
+  EXPECT_EQ(srv.response.room.floor_material, "linoleum_on_concrete");
+  ASSERT_EQ(srv.response.room.surface_confidence.size(), 6u);
+  EXPECT_DOUBLE_EQ(srv.response.room.surface_confidence[0], 1.0);
+  ASSERT_FALSE(srv.response.room.objects.empty());
+  EXPECT_EQ(srv.response.room.objects[0].material, "door_wood");
+  // The faces the file leaves alone keep what the camera saw.
+  EXPECT_EQ(core::textureFamilyFor(srv.response.room.wall_y_min_material).family, core::TextureFamily::kGlass);
+
+  ASSERT_TRUE(callBuild(missing, "/override_missing/room_model/build"));
+  EXPECT_FALSE(missing.response.success);
+  EXPECT_NE(missing.response.message.find("no_such_override.yaml"), std::string::npos) << missing.response.message;
 }
 
 TEST(VisualRouteNodes, NodeletGivesTheSameCloud) {

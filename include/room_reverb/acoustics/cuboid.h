@@ -14,6 +14,10 @@ struct CuboidObject {
   Eigen::Vector3d size_m = Eigen::Vector3d::Zero();  // extent along its own x, y, z
   double yaw_rad = 0.0;                              // rotation about z
   double confidence = 1.0;
+  // Optional, as SurfaceAssignment's (room_model.h): the second choice of material and
+  // its confidence; not simulated.
+  std::string runner_up{};
+  double runner_up_confidence = 0.0;
 };
 
 // `point` in the cuboid's own frame: origin at its centre, axes along its sides.

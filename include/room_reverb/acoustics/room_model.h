@@ -19,6 +19,10 @@ namespace room_reverb::core {
 struct SurfaceAssignment {
   std::string material;
   double confidence = 1.0;
+  // Optional: the material the surface could otherwise be and its confidence (the visual
+  // route's second choice). Informative only; the simulation uses `material`.
+  std::string runner_up{};
+  double runner_up_confidence = 0.0;
 };
 
 // Names of the six box faces, as in room.yaml.

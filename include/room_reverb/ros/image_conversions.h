@@ -13,6 +13,10 @@ namespace room_reverb::ros_bridge {
 // step x height).
 cv::Mat cameraImageFromMessage(const sensor_msgs::Image& msg, const std::string& what);
 
+// A range image (32FC1, metres) as CV_32FC1. InputError naming `what` for an empty or
+// malformed message or another encoding.
+cv::Mat rangeImageFromMessage(const sensor_msgs::Image& msg, const std::string& what);
+
 // A copy of `image` as a message with the given header; `encoding` is a
 // sensor_msgs::image_encodings name matching the image's type (bgr8, mono8, 32FC1...).
 sensor_msgs::Image imageToMessage(const cv::Mat& image, const std::string& encoding, const std_msgs::Header& header);

@@ -12,12 +12,14 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
 #include "room_reverb/acoustics/material.h"
 #include "room_reverb/acoustics/room_model.h"
+#include "room_reverb/synthetic_capture/photo_textures.h"
 #include "room_reverb/vision/dual_fisheye.h"
 
 namespace room_reverb::core {
@@ -43,6 +45,12 @@ struct CaptureOptions {
   // calibration (scaled to S), as a Ricoh Theta records it.
   bool fisheye = false;
   DualFisheyeCalibration fisheye_calibration = idealDualFisheye(1024);
+  // Photographic textures (photo_textures.h): a material whose family the set holds is
+  // painted, with probability photo_share, with one of that family's photographs (chosen
+  // from the seed and the material's name, at its listed width times 0.75..1.33); the
+  // others keep their drawn texture. None: every material is drawn.
+  std::shared_ptr<const PhotoTextureSet> photo_textures;
+  double photo_share = 1.0;
   // Worker threads over image rows (0: the hardware's count). Rows are independent, so
   // the result does not depend on it.
   int threads = 0;

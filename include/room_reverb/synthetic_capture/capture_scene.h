@@ -13,11 +13,17 @@
 //     fisheye: false                  # also render dual-fisheye images
 //     low_texture_materials: [sheetrock]   # materials drawn nearly flat
 //     low_texture_contrast: 0.03      # their texture contrast (1 = normal)
+//     photo_textures: default         # paint materials with photographs (photo_textures.h):
+//                                     # `default` (data/textures/textures.csv) or a CSV path,
+//                                     # relative to the scene file; absent: drawn textures
+//     photo_sources: [sweethome3d]    # only these collections of the CSV (absent: all)
+//     photo_share: 1.0                # chance that a material with photographs gets one
 //
 // Every key is optional, with the CaptureOptions defaults. A rendered capture's scene file
 // adds a `labels:` section (the material and object names of the id images, and the camera
 // centres); reading ignores it.
 #include <string>
+#include <vector>
 
 #include "room_reverb/acoustics/room_model.h"
 #include "room_reverb/synthetic_capture/capture_generator.h"
@@ -26,7 +32,9 @@ namespace room_reverb::core {
 
 struct CaptureScene {
   RoomModel room;
-  CaptureOptions options;
+  CaptureOptions options;  // options.photo_textures loaded from the two fields below
+  std::string photo_textures;               // as written in the file ("default" or a path); empty: none
+  std::vector<std::string> photo_sources;   // empty: every collection
 };
 
 // InputError naming the file and key for anything malformed (room model errors as

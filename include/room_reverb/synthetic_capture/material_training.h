@@ -12,11 +12,14 @@
 // runs trainMaterialClassifier and writes config/material_classifier.yml.gz.
 #include <array>
 #include <cstdint>
+#include <map>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
 #include "room_reverb/acoustics/material.h"
+#include "room_reverb/synthetic_capture/photo_textures.h"
 #include "room_reverb/vision/material_classifier.h"
 
 namespace room_reverb::core {
@@ -36,6 +39,16 @@ struct MaterialTrainingOptions {
   MaterialPatchGeometry geometry;
   MaterialForestParams forest;
   int threads = 0;  // 0: all cores
+  // Photographs of real surfaces (photo_textures.h): in every room a material of a family
+  // they hold is painted with one of them with probability photo_share, else drawn.
+  // None: drawn textures only.
+  std::shared_ptr<const PhotoTextureSet> photo_textures;
+  double photo_share = 0.5;
+  // Collections of photo_textures kept out of training altogether: trainMaterialClassifier
+  // evaluates on them (cross-source accuracy). Empty: no such evaluation.
+  std::vector<std::string> held_out_sources;
+  // Only patches of these families are sampled (empty: every family the library has).
+  std::vector<TextureFamily> families;
 };
 
 struct MaterialSamples {
@@ -53,6 +66,8 @@ MaterialSamples generateMaterialSamples(const MaterialTrainingOptions& options, 
 struct MaterialAccuracy {
   std::array<int, kTextureFamilyCount> correct{};  // allTextureFamilies() order
   std::array<int, kTextureFamilyCount> total{};
+  // confusion[truth][predicted], allTextureFamilies() order.
+  std::array<std::array<int, kTextureFamilyCount>, kTextureFamilyCount> confusion{};
   double overall() const;                  // fraction of all samples right
   double of(TextureFamily family) const;   // fraction right of one family's samples (0 if none)
 };
@@ -65,6 +80,9 @@ struct MaterialTrainingResult {
   int training_rooms = 0;
   // On a separate set from other seeds, a quarter the size of the training set.
   MaterialAccuracy held_out;
+  // Per collection of options.held_out_sources: on rooms painted only with its
+  // photographs (the families it holds), a quarter the size of the training set.
+  std::map<std::string, MaterialAccuracy> held_out_sources;
   double seconds = 0.0;
 };
 

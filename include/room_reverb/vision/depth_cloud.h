@@ -4,6 +4,7 @@
 // the rig's axes), coloured from the top image and, where a label image is given, with its
 // surface hint.
 #include <opencv2/core.hpp>
+#include <string>
 
 #include "room_reverb/vision/point_cloud.h"
 #include "room_reverb/vision/spherical_stereo.h"
@@ -24,5 +25,12 @@ struct DepthCloudOptions {
 // baseline is not positive, or the stride is below 1.
 PointCloud depthToPointCloud(const SphericalDepth& depth, const cv::Mat& top_color, double baseline_m,
                              const DepthCloudOptions& options = {}, const cv::Mat& hints = cv::Mat());
+
+// A range image from elsewhere (another stereo matcher, a depth camera or a LiDAR
+// resampled to the top camera's equirect grid) as the depth the cloud is made from:
+// `range_m` is CV_32FC1, metres from the top camera along each pixel's direction, NaN, 0
+// or negative where invalid, the size of the top image. `what` names it in errors.
+// InputError for another type or size, or no valid range.
+SphericalDepth depthFromRangeImage(const cv::Mat& range_m, const cv::Size& top_size, const std::string& what);
 
 }  // namespace room_reverb::core

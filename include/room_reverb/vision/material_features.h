@@ -21,11 +21,16 @@
 //   [61..84]  filter-bank energies of log grey: Gaussian first and second derivatives at
 //             scales 1, 2, 4 pixels, each steered to 0, 45, 90, 135 degrees; log of the
 //             mean squared, scale-normalised response
+//   [85..86]  straight-line share: the fraction of the variance of log grey that survives
+//             averaging along rows, and along columns (lines that cross the whole patch,
+//             as the joints of tiles and bricks and the edges of planks do, keep theirs;
+//             isotropic texture keeps about 1 / length); larger one first, so a floor's
+//             heading does not matter
 #include <opencv2/core.hpp>
 
 namespace room_reverb::core {
 
-constexpr int kMaterialFeatureLength = 85;
+constexpr int kMaterialFeatureLength = 87;
 // Fewer pixels than this in the region say too little about its texture.
 constexpr int kMinMaterialRegionPixels = 16;
 

@@ -48,6 +48,13 @@ struct SphericalStereoOptions {
   int disp12_max_diff = 1;       // left-right check [px], < 0: off
   int pre_filter_cap = 31;
   bool full_dp = false;          // 8 paths (MODE_HH) instead of 5; slower, a little better
+  // Gauss-Newton refinement of each disparity on a (2 n + 1)^2 window of grey levels,
+  // which removes the matcher's pull towards whole pixels (vision/subpixel_disparity.h).
+  // It matters where disparities are small: on a plaster wall 8.8 m away the median range
+  // error falls from 2.5 % to 1.75 %; at 5-8 m it changes little (1.18 % to 1.15 %).
+  bool subpixel_refinement = true;
+  int refinement_half_window_px = 3;  // n
+  int threads = 0;                    // rows of the refinement and conversion (0: all cores)
   // Hole filling.
   bool fill_holes = true;
   int max_hole_px = 24;

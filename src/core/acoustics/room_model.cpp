@@ -6,6 +6,7 @@
 #include <charconv>
 #include <cmath>
 #include <sstream>
+#include <tuple>
 #include <utility>
 
 #include "room_reverb/common/error.h"
@@ -87,6 +88,9 @@ void checkModel(const RoomModel& model, const std::string& source) {
   for (const auto& [name, surface] : model.surfaces) {
     if (!isSurfaceName(name)) fail("surfaces." + name, "unknown surface");
     checkConfidence(surface.confidence, "surfaces." + name);
+    if (!(surface.runner_up_confidence >= 0.0 && surface.runner_up_confidence <= 1.0)) {
+      fail("surfaces." + name + ".runner_up_confidence", "must be in [0, 1]");
+    }
   }
   for (std::size_t i = 0; i < model.objects.size(); ++i) {
     const CuboidObject& object = model.objects[i];
@@ -99,6 +103,7 @@ void checkModel(const RoomModel& model, const std::string& source) {
     }
     if (!std::isfinite(object.yaw_rad)) fail(key + ".yaw_rad", "must be finite");
     checkConfidence(object.confidence, key);
+    if (!(object.runner_up_confidence >= 0.0 && object.runner_up_confidence <= 1.0)) fail(key + ".runner_up_confidence", "must be in [0, 1]");
   }
   for (const AcousticMaterial& material : model.inline_materials) {
     if (material.name.empty()) fail("materials", "an inline material has no name");
@@ -137,10 +142,21 @@ class Reader : public YamlReader {
     return size;
   }
 
-  double confidenceOr(const YAML::Node& parent, const std::string& key) const {
-    const double value = numberOr(parent, "confidence", key + ".confidence", 1.0);
-    if (value < 0.0 || value > 1.0) fail(parent["confidence"], key + ".confidence", "must be in [0, 1]");
+  double confidenceOr(const YAML::Node& parent, const std::string& key, const std::string& name = "confidence",
+                      double fallback = 1.0) const {
+    const double value = numberOr(parent, name, key + "." + name, fallback);
+    if (value < 0.0 || value > 1.0) fail(parent[name], key + "." + name, "must be in [0, 1]");
     return value;
+  }
+
+  // The optional runner_up and runner_up_confidence of a surface or object (the second
+  // one only with the first).
+  std::pair<std::string, double> runnerUp(const YAML::Node& parent, const std::string& key) const {
+    const std::string name = textOr(parent, "runner_up", key + ".runner_up", "");
+    if (name.empty() && parent["runner_up_confidence"].IsDefined()) {
+      fail(parent["runner_up_confidence"], key + ".runner_up_confidence", "given without runner_up");
+    }
+    return {name, name.empty() ? 0.0 : confidenceOr(parent, key, "runner_up_confidence", 0.0)};
   }
 
   OctaveBandValues bandCoefficients(const YAML::Node& node, const std::string& key) const {
@@ -186,6 +202,7 @@ class Reader : public YamlReader {
                                          "missing: every face of the box needs a material name"),
                                  key + ".material");
       assignment.confidence = confidenceOr(entry.second, key);
+      std::tie(assignment.runner_up, assignment.runner_up_confidence) = runnerUp(entry.second, key);
       model.surfaces[name] = assignment;
     }
     for (const char* name : kRoomSurfaceNames) {
@@ -211,6 +228,7 @@ class Reader : public YamlReader {
         object.size_m = positiveSize(require(node, "size_m", key + ".size_m"), key + ".size_m");
         object.yaw_rad = numberOr(node, "yaw_rad", key + ".yaw_rad", 0.0);
         object.confidence = confidenceOr(node, key);
+        std::tie(object.runner_up, object.runner_up_confidence) = runnerUp(node, key);
         model.objects.push_back(object);
       }
     }
@@ -305,6 +323,12 @@ std::string nameText(const std::string& name) {
   return out + "\"";
 }
 
+// The optional runner-up keys of a surface or object, after its confidence.
+std::string runnerUpText(const std::string& runner_up, double confidence) {
+  if (runner_up.empty()) return "";
+  return ", runner_up: " + nameText(runner_up) + ", runner_up_confidence: " + number(confidence);
+}
+
 }  // namespace
 
 RoomModel parseRoomModel(const std::string& yaml_text) { return Reader("room model").parse(yaml_text); }
@@ -325,7 +349,8 @@ std::string roomModelToYaml(const RoomModel& model) {
     const auto it = model.surfaces.find(name);
     if (it == model.surfaces.end()) continue;  // only an unused ceiling can be absent
     out << "  " << name << ": {material: " << nameText(it->second.material)
-        << ", confidence: " << number(it->second.confidence) << "}\n";
+        << ", confidence: " << number(it->second.confidence) << runnerUpText(it->second.runner_up, it->second.runner_up_confidence)
+        << "}\n";
   }
   if (model.objects.empty()) {
     out << "objects: []\n";
@@ -334,7 +359,8 @@ std::string roomModelToYaml(const RoomModel& model) {
     for (const CuboidObject& object : model.objects) {
       out << "  - {label: " << nameText(object.label) << ", material: " << nameText(object.material)
           << ", center_m: " << vectorText(object.center_m) << ", size_m: " << vectorText(object.size_m)
-          << ", yaw_rad: " << number(object.yaw_rad) << ", confidence: " << number(object.confidence) << "}\n";
+          << ", yaw_rad: " << number(object.yaw_rad) << ", confidence: " << number(object.confidence)
+          << runnerUpText(object.runner_up, object.runner_up_confidence) << "}\n";
     }
   }
   if (!model.inline_materials.empty()) {

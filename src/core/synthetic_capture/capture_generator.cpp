@@ -42,6 +42,9 @@ void checkOptions(const CaptureOptions& options) {
   if (!(options.low_texture_contrast >= 0.0 && options.low_texture_contrast <= 1.0)) {
     throw InputError("capture low_texture_contrast " + text(options.low_texture_contrast) + ": must be in [0, 1]");
   }
+  if (!(options.photo_share >= 0.0 && options.photo_share <= 1.0)) {
+    throw InputError("capture photo_share " + text(options.photo_share) + ": must be in [0, 1]");
+  }
   if (options.threads < 0) throw InputError("capture threads: must be 0 (all cores) or more");
   if (options.fisheye) validateDualFisheyeCalibration(options.fisheye_calibration, "capture fisheye calibration");
 }

@@ -32,6 +32,31 @@ std::vector<std::string> captureMaterialNames(const RoomModel& room) {
   return names;
 }
 
+namespace {
+
+double unitFraction(std::uint64_t h) { return static_cast<double>(h >> 11) * 0x1.0p-53; }
+
+// One photograph of the look's family, or none (the drawn texture), from `salt` alone, so
+// that a material looks the same in both cameras and in every capture with the seed.
+void choosePhoto(MaterialLook& look, const PhotoTextureSet& set, double share, std::uint64_t salt) {
+  // Suspended ceiling tiles (0.6 m mineral-fibre panels in a grid) share the tiles family
+  // with floor and wall tiles but not their look, and no collection has a photograph of
+  // them: they stay drawn rather than be painted as a terracotta floor.
+  if (look.large_tiles) return;
+  const auto candidates = set.ofFamily(look.family);
+  if (candidates.empty() || unitFraction(hashCombine(salt, 1)) >= share) return;
+  const std::size_t pick = hashCombine(salt, 2) % candidates.size();
+  look.photo = candidates[pick];
+  // A photograph's listed width is an estimate from its content (brick courses, planks);
+  // 0.75..1.33 of it covers that doubt and the spread of real sizes.
+  look.photo_width_m = look.photo->width_m * std::pow(4.0 / 3.0, 2.0 * unitFraction(hashCombine(salt, 3)) - 1.0);
+  // A white balance and paint shade of its own: up to +-15 % per channel, so that one
+  // photograph does not teach one exact colour.
+  for (int c = 0; c < 3; ++c) look.tint[c] = 0.85 + 0.3 * unitFraction(hashCombine(salt, 4 + static_cast<std::uint64_t>(c)));
+}
+
+}  // namespace
+
 CapturePainter makeCapturePainter(const RoomModel& room, const MaterialLibrary& library,
                                   const CaptureOptions& options, const std::vector<std::string>& material_names) {
   const MaterialLibrary materials = materialsFor(room, library);
@@ -44,7 +69,9 @@ CapturePainter makeCapturePainter(const RoomModel& room, const MaterialLibrary& 
   for (const std::string& name : material_names) {
     const std::string key = canonical(name);
     const bool poorly_textured = std::find(flat.begin(), flat.end(), key) != flat.end();
-    painter.looks.push_back(makeMaterialLook(key, poorly_textured ? options.low_texture_contrast : 1.0));
+    MaterialLook look = makeMaterialLook(key, poorly_textured ? options.low_texture_contrast : 1.0);
+    if (options.photo_textures) choosePhoto(look, *options.photo_textures, options.photo_share, hashCombine(options.seed, nameHash(key)));
+    painter.looks.push_back(std::move(look));
   }
   painter.seed = options.seed;
   painter.shading = options.shading;

@@ -3,6 +3,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
 #include "room_reverb/common/error.h"
@@ -16,7 +17,8 @@ class CaptureSectionReader : public YamlReader {
  public:
   using YamlReader::YamlReader;
 
-  void read(const std::string& yaml_text, CaptureOptions& options) const {
+  void read(const std::string& yaml_text, CaptureScene& scene) const {
+    CaptureOptions& options = scene.options;
     guarded("capture scene", [&] {
       const YAML::Node root = loadMap(yaml_text, "a room model with an optional capture section");
       const YAML::Node capture = root["capture"];
@@ -28,7 +30,7 @@ class CaptureSectionReader : public YamlReader {
           // A misspelt key would silently render with the default.
           fail(entry.first, "capture." + key,
                "unknown key (use baseline_m, width, supersampling, seed, shading, noise_sigma, fisheye, "
-               "low_texture_materials, low_texture_contrast)");
+               "low_texture_materials, low_texture_contrast, photo_textures, photo_sources, photo_share)");
         }
       }
       options.baseline_m = numberOr(capture, "baseline_m", "capture.baseline_m", options.baseline_m);
@@ -54,13 +56,26 @@ class CaptureSectionReader : public YamlReader {
           options.low_texture_materials.push_back(text(flat[i], "capture.low_texture_materials[" + std::to_string(i) + "]"));
         }
       }
+      if (capture["photo_textures"].IsDefined() && !capture["photo_textures"].IsNull()) {
+        scene.photo_textures = text(capture["photo_textures"], "capture.photo_textures");
+      }
+      const YAML::Node sources = capture["photo_sources"];
+      if (sources.IsDefined() && !sources.IsNull()) {
+        if (!sources.IsSequence()) fail(sources, "capture.photo_sources", "must be a list of collection names");
+        for (std::size_t i = 0; i < sources.size(); ++i) {
+          scene.photo_sources.push_back(text(sources[i], "capture.photo_sources[" + std::to_string(i) + "]"));
+        }
+        if (scene.photo_textures.empty()) fail(sources, "capture.photo_sources", "needs photo_textures");
+      }
+      options.photo_share = numberOr(capture, "photo_share", "capture.photo_share", options.photo_share);
     });
   }
 
  private:
   static bool isKnown(const std::string& key) {
     for (const char* known : {"baseline_m", "width", "supersampling", "seed", "shading", "noise_sigma", "fisheye",
-                              "low_texture_materials", "low_texture_contrast"}) {
+                              "low_texture_materials", "low_texture_contrast", "photo_textures", "photo_sources",
+                              "photo_share"}) {
       if (key == known) return true;
     }
     return false;
@@ -102,17 +117,41 @@ std::string nameList(const std::vector<std::string>& names) {
 
 }  // namespace
 
+// The photographs the scene names, relative paths from `folder`.
+void loadScenePhotos(CaptureScene& scene, const std::string& source, const std::filesystem::path& folder) {
+  if (scene.photo_textures.empty()) return;
+  std::string path = scene.photo_textures;
+  if (path == "default") {
+    path = defaultPhotoTexturePath();
+  } else if (std::filesystem::path(path).is_relative()) {
+    // Kept resolved, so that a scene written elsewhere (make-capture's output) still finds it.
+    path = std::filesystem::absolute(folder / path).lexically_normal().string();
+    scene.photo_textures = path;
+  }
+  PhotoTextureSet set = loadPhotoTextures(path);
+  if (!scene.photo_sources.empty()) {
+    try {
+      set = set.onlySources(scene.photo_sources);
+    } catch (const InputError& e) {
+      throw InputError(source + ": capture.photo_sources: " + e.what());
+    }
+  }
+  scene.options.photo_textures = std::make_shared<const PhotoTextureSet>(std::move(set));
+}
+
 CaptureScene parseCaptureScene(const std::string& yaml_text, const std::string& source) {
   CaptureScene scene;
   scene.room = parseRoomModel(yaml_text);
-  CaptureSectionReader(source).read(yaml_text, scene.options);
+  CaptureSectionReader(source).read(yaml_text, scene);
+  loadScenePhotos(scene, source, std::filesystem::current_path());
   return scene;
 }
 
 CaptureScene loadCaptureScene(const std::string& path) {
   CaptureScene scene;
   scene.room = loadRoomModel(path);  // reports a missing file as "no such file"
-  CaptureSectionReader(path).read(readTextFile(path, "capture scene"), scene.options);
+  CaptureSectionReader(path).read(readTextFile(path, "capture scene"), scene);
+  loadScenePhotos(scene, path, std::filesystem::path(path).parent_path());
   return scene;
 }
 
@@ -130,6 +169,11 @@ std::string captureSceneToYaml(const CaptureScene& scene, const StereoCapture* r
       << "  fisheye: " << (o.fisheye ? "true" : "false") << "\n"
       << "  low_texture_materials: " << nameList(o.low_texture_materials) << "\n"
       << "  low_texture_contrast: " << number(o.low_texture_contrast) << "\n";
+  if (!scene.photo_textures.empty()) {
+    out << "  photo_textures: " << nameText(scene.photo_textures) << "\n"
+        << "  photo_sources: " << nameList(scene.photo_sources) << "\n"
+        << "  photo_share: " << number(o.photo_share) << "\n";
+  }
   if (rendered != nullptr) {
     out << "labels:  # what the id images mean; 65535 is sky in both\n"
         << "  material_ids: " << nameList(rendered->material_names) << "  # *_material.png value i = i-th name\n"

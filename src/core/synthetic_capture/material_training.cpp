@@ -23,6 +23,9 @@ void checkOptions(const MaterialTrainingOptions& options) {
     throw InputError("material training: patches must be at least 0.05 m and 8 pixels across");
   }
   if (options.threads < 0) throw InputError("material training: threads must be 0 (all cores) or more");
+  if (!(options.photo_share >= 0.0 && options.photo_share <= 1.0)) {
+    throw InputError("material training: photo_share must be in [0, 1]");
+  }
   if (options.widths.empty()) throw InputError("material training: no capture widths to render at");
   for (const int width : options.widths) {
     if (width < 64 || width % 2 != 0) throw InputError("material training: capture width " + std::to_string(width) + " must be even and >= 64");
@@ -55,10 +58,16 @@ std::uint64_t heldOutSeed(std::uint64_t training_seed) { return capture_detail::
 MaterialSamples generateMaterialSamples(const MaterialTrainingOptions& options, const MaterialLibrary& library) {
   checkOptions(options);
   const auto by_family = libraryMaterialsByFamily(library);
+  std::array<bool, kTextureFamilyCount> wanted{};
+  for (std::size_t f = 0; f < wanted.size(); ++f) {
+    const TextureFamily family = textureFamilyAt(static_cast<int>(f));
+    wanted[f] = !by_family[f].empty() && (options.families.empty() || std::find(options.families.begin(), options.families.end(),
+                                                                                 family) != options.families.end());
+  }
   std::array<int, kTextureFamilyCount> count{};
   auto full = [&] {
     for (std::size_t f = 0; f < count.size(); ++f) {
-      if (!by_family[f].empty() && count[f] < options.patches_per_family) return false;
+      if (wanted[f] && count[f] < options.patches_per_family) return false;
     }
     return true;
   };
@@ -70,6 +79,8 @@ MaterialSamples generateMaterialSamples(const MaterialTrainingOptions& options, 
     const std::uint64_t room_seed = capture_detail::hashCombine(options.seed, static_cast<std::uint64_t>(r));
     TrainingRoom t = randomTrainingRoom(room_seed, by_family);
     t.options.threads = options.threads;
+    t.options.photo_textures = options.photo_textures;
+    t.options.photo_share = options.photo_share;
     t.options.width = options.widths[capture_detail::hashCombine(room_seed, 0x3d7ULL) % options.widths.size()];
     const double half_baseline = 0.5 * t.options.baseline_m;
     const Eigen::Vector3d camera = t.room.rig_position_m + t.room.rig_rotation * Eigen::Vector3d(0, 0, half_baseline);
@@ -82,8 +93,9 @@ MaterialSamples generateMaterialSamples(const MaterialTrainingOptions& options, 
     std::vector<const SurfacePatch*> picked;
     for (const SurfacePatch* patch : pickPatches(patches, options.max_patches_per_surface, rng)) {
       const std::string material = materialOf(t.room, patch->target);
-      int& n = count[static_cast<std::size_t>(textureFamilyIndex(textureFamilyFor(material).family))];
-      if (n >= options.patches_per_family) continue;
+      const auto f = static_cast<std::size_t>(textureFamilyIndex(textureFamilyFor(material).family));
+      int& n = count[f];
+      if (!wanted[f] || n >= options.patches_per_family) continue;
       ++n;
       picked.push_back(patch);
       samples.materials.push_back(material);
@@ -117,21 +129,41 @@ MaterialAccuracy evaluateMaterialClassifier(const MaterialClassifier& classifier
     const auto k = static_cast<std::size_t>(textureFamilyIndex(samples.families[i]));
     ++accuracy.total[k];
     if (predictions[i].family == samples.families[i]) ++accuracy.correct[k];
+    ++accuracy.confusion[k][static_cast<std::size_t>(textureFamilyIndex(predictions[i].family))];
   }
   return accuracy;
 }
 
 MaterialTrainingResult trainMaterialClassifier(const MaterialTrainingOptions& options, const MaterialLibrary& library) {
   const auto start = std::chrono::steady_clock::now();
-  const MaterialSamples training = generateMaterialSamples(options, library);
+  MaterialTrainingOptions train = options;
+  if (options.photo_textures && !options.held_out_sources.empty()) {
+    train.photo_textures = std::make_shared<const PhotoTextureSet>(options.photo_textures->withoutSources(options.held_out_sources));
+  } else if (!options.held_out_sources.empty()) {
+    throw InputError("material training: held-out photo collections named but no photo textures given");
+  }
+  const MaterialSamples training = generateMaterialSamples(train, library);
   MaterialTrainingResult result;
   result.classifier = MaterialClassifier::train(training.features, training.families, options.geometry, options.forest);
   result.training_samples = training.features.rows;
   result.training_rooms = training.rooms;
-  MaterialTrainingOptions held_out = options;
+  MaterialTrainingOptions held_out = train;
   held_out.seed = heldOutSeed(options.seed);
   held_out.patches_per_family = std::max(1, options.patches_per_family / 4);
   result.held_out = evaluateMaterialClassifier(result.classifier, generateMaterialSamples(held_out, library));
+  for (const std::string& source : options.held_out_sources) {
+    // Rooms painted only with the collection's photographs, sampled only where a
+    // photograph is painted: the families it holds.
+    MaterialTrainingOptions other = held_out;
+    other.seed = heldOutSeed(held_out.seed);
+    other.photo_textures = std::make_shared<const PhotoTextureSet>(options.photo_textures->onlySources({source}));
+    other.photo_share = 1.0;
+    other.families.clear();
+    for (const TextureFamily family : allTextureFamilies()) {
+      if (other.photo_textures->hasFamily(family)) other.families.push_back(family);
+    }
+    result.held_out_sources[source] = evaluateMaterialClassifier(result.classifier, generateMaterialSamples(other, library));
+  }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

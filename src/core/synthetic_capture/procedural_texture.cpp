@@ -10,11 +10,6 @@ namespace {
 
 bool has(const std::string& name, const char* word) { return name.find(word) != std::string::npos; }
 
-std::uint64_t nameHash(const std::string& name) {
-  std::uint64_t h = 0x51ed270b27aa1e3dULL;
-  for (const char c : name) h = hashCombine(h, static_cast<unsigned char>(c));
-  return h;
-}
 
 }  // namespace
 
@@ -39,6 +34,10 @@ MaterialLook makeMaterialLook(const std::string& canonical_name, double contrast
 }
 
 Rgb textureColor(const MaterialLook& look, const SurfaceSample& sample) {
+  if (look.photo) {
+    const Rgb color = photoTextureColor(*look.photo, look.photo_width_m, sample.s_m, sample.t_m, sample.footprint_m);
+    return (look.tint * (look.photo->mean_rgb + look.contrast * (color - look.photo->mean_rgb))).max(0.0).min(255.0);
+  }
   Rgb color;
   switch (look.family) {
     case TextureFamily::kPlaster: color = plasterPattern(look, sample); break;

@@ -5,8 +5,10 @@
 // cameras of the stereo rig, as the matcher needs.
 #include <Eigen/Core>
 #include <cstdint>
+#include <memory>
 #include <string>
 
+#include "room_reverb/synthetic_capture/photo_textures.h"
 #include "room_reverb/vision/texture_family.h"
 
 namespace room_reverb::core::capture_detail {
@@ -26,6 +28,10 @@ struct MaterialLook {
   bool blocks = false;    // concrete block: large courses
   bool large_tiles = false;  // suspended ceiling tiles: 0.6 m grid
   bool greenery = false;  // grass rather than gravel or rock
+  // A photograph of the family instead of the drawn pattern (photo_textures.h), tiled at
+  // photo_width_m per image width.
+  std::shared_ptr<const PhotoTexture> photo;
+  double photo_width_m = 1.0;
 };
 
 // `canonical_name` is the library's name (aliases resolved). The tint depends on the name

@@ -3,6 +3,7 @@
 // generator. Everything here is a pure function of its integer inputs and the seed, so a
 // texture looks the same from both cameras, from any thread, on every run.
 #include <cstdint>
+#include <string>
 
 #include "room_reverb/common/hash_mix.h"
 
@@ -14,6 +15,13 @@ inline std::uint64_t hashCombine(std::uint64_t seed, std::uint64_t value) {
 
 // Uniform in [0, 1) from a salt and two lattice indices: one mix of the salt and the
 // indices spread by two odd constants.
+// A hash of a name (a material's), for choices that must follow the name alone.
+inline std::uint64_t nameHash(const std::string& name) {
+  std::uint64_t h = 0x51ed270b27aa1e3dULL;
+  for (const char c : name) h = hashCombine(h, static_cast<unsigned char>(c));
+  return h;
+}
+
 inline double latticeUnit(std::uint64_t salt, std::int64_t i, std::int64_t j) {
   const std::uint64_t h = mixBits(salt ^ (static_cast<std::uint64_t>(i) * 0x9fb21c651e98df25ULL) ^
                                   (static_cast<std::uint64_t>(j) * 0xc2b2ae3d27d4eb4fULL));

@@ -48,4 +48,34 @@ PointCloud depthToPointCloud(const SphericalDepth& depth, const cv::Mat& top_col
   return cloud;
 }
 
+SphericalDepth depthFromRangeImage(const cv::Mat& range_m, const cv::Size& top_size, const std::string& what) {
+  if (range_m.type() != CV_32FC1) {
+    throw InputError(what + ": a range image must be one channel of 32-bit float metres (as room-model --range writes)");
+  }
+  if (range_m.size() != top_size) {
+    throw InputError(what + ": the range image is " + std::to_string(range_m.cols) + "x" + std::to_string(range_m.rows) +
+                     ", the top image " + std::to_string(top_size.width) + "x" + std::to_string(top_size.height) +
+                     " (it must be on the top image's grid)");
+  }
+  SphericalDepth depth;
+  depth.range_m = range_m.clone();
+  depth.valid = cv::Mat(range_m.size(), CV_8UC1, cv::Scalar(0));
+  depth.filled = cv::Mat(range_m.size(), CV_8UC1, cv::Scalar(0));
+  int valid = 0;
+  for (int r = 0; r < range_m.rows; ++r) {
+    float* row = depth.range_m.ptr<float>(r);
+    std::uint8_t* ok = depth.valid.ptr<std::uint8_t>(r);
+    for (int c = 0; c < range_m.cols; ++c) {
+      if (std::isfinite(row[c]) && row[c] > 0.0f) {
+        ok[c] = 255;
+        ++valid;
+      } else {
+        row[c] = std::nanf("");
+      }
+    }
+  }
+  if (valid == 0) throw InputError(what + ": the range image has no valid (finite, positive) range");
+  return depth;
+}
+
 }  // namespace room_reverb::core

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 #include "filter_bank_energy.h"
 #include "local_binary_patterns.h"
@@ -27,7 +28,8 @@ constexpr int kLogStd = kContrast + kContrastBins;
 constexpr int kLbp = kLogStd + 1;
 constexpr int kLbpRadii = 3;
 constexpr int kFilters = kLbp + kLbpRadii * kLbpBins;
-static_assert(kFilters + kFilterEnergies == kMaterialFeatureLength, "feature layout and length disagree");
+constexpr int kLineShare = kFilters + kFilterEnergies;
+static_assert(kLineShare + 2 == kMaterialFeatureLength, "feature layout and length disagree");
 
 void checkInputs(const cv::Mat& bgr, const cv::Mat& mask) {
   if (bgr.empty()) throw InputError("material features: the image is empty");
@@ -118,6 +120,43 @@ void contrastFeatures(const cv::Mat& log_grey, const cv::Mat& mask, double pixel
   out[kLogStd] = static_cast<float>(std::sqrt(variance / pixels));
 }
 
+// Share of the region's log-grey variance held by its row means and by its column means
+// (each mean over the region's pixels of that row or column), larger first.
+void lineShareFeatures(const cv::Mat& log_grey, const cv::Mat& mask, float* out) {
+  cv::Scalar mean, deviation;
+  cv::meanStdDev(log_grey, mean, deviation, mask);
+  const double variance = deviation[0] * deviation[0];
+  std::vector<double> row_sum(static_cast<std::size_t>(log_grey.rows), 0.0), col_sum(static_cast<std::size_t>(log_grey.cols), 0.0);
+  std::vector<int> row_n(row_sum.size(), 0), col_n(col_sum.size(), 0);
+  for (int y = 0; y < log_grey.rows; ++y) {
+    const unsigned char* m = mask.ptr<unsigned char>(y);
+    const float* l = log_grey.ptr<float>(y);
+    for (int x = 0; x < log_grey.cols; ++x) {
+      if (!m[x]) continue;
+      const double d = l[x] - mean[0];
+      row_sum[static_cast<std::size_t>(y)] += d;
+      col_sum[static_cast<std::size_t>(x)] += d;
+      ++row_n[static_cast<std::size_t>(y)];
+      ++col_n[static_cast<std::size_t>(x)];
+    }
+  }
+  // Variance of the line means, each line weighted by its pixels (a pixel-weighted
+  // decomposition: the between-lines part of the total variance).
+  auto between = [](const std::vector<double>& sum, const std::vector<int>& n) {
+    double energy = 0.0, pixels = 0.0;
+    for (std::size_t i = 0; i < sum.size(); ++i) {
+      if (n[i] == 0) continue;
+      energy += sum[i] * sum[i] / n[i];
+      pixels += n[i];
+    }
+    return pixels > 0.0 ? energy / pixels : 0.0;
+  };
+  const double rows = variance > 1e-12 ? between(row_sum, row_n) / variance : 0.0;
+  const double cols = variance > 1e-12 ? between(col_sum, col_n) / variance : 0.0;
+  out[kLineShare] = static_cast<float>(std::max(rows, cols));
+  out[kLineShare + 1] = static_cast<float>(std::min(rows, cols));
+}
+
 }  // namespace
 
 cv::Mat materialFeatures(const cv::Mat& bgr, const cv::Mat& mask_in) {
@@ -141,6 +180,7 @@ cv::Mat materialFeatures(const cv::Mat& bgr, const cv::Mat& mask_in) {
   const double radii[kLbpRadii] = {1.0, 2.0, 4.0};
   for (int k = 0; k < kLbpRadii; ++k) lbpHistogram(grey, mask, radii[k], out + kLbp + k * kLbpBins);
   filterBankEnergies(log_grey, mask, out + kFilters);
+  lineShareFeatures(log_grey, mask, out);
   return features;
 }
 

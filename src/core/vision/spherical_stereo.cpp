@@ -8,6 +8,8 @@
 #include <sstream>
 
 #include "room_reverb/common/error.h"
+#include "room_reverb/common/parallel_rows.h"
+#include "subpixel_disparity.h"
 
 namespace room_reverb::core {
 namespace {
@@ -43,9 +45,11 @@ void validate(const cv::Mat& top, const cv::Mat& bottom, double baseline_m, cons
   }
   if (!(o.min_range_m > baseline_m) || !(o.max_range_m > o.min_range_m) || !(o.polar_cap_deg >= 0.0 && o.polar_cap_deg < 90.0) ||
       o.seam_padding_px < 0 || o.block_size < 1 || o.block_size % 2 == 0 || o.p1_per_channel <= 0 ||
-      o.p2_per_channel <= o.p1_per_channel || o.max_hole_px < 0) {
+      o.p2_per_channel <= o.p1_per_channel || o.max_hole_px < 0 || o.refinement_half_window_px < 1 ||
+      o.refinement_half_window_px > 16 || o.threads < 0) {
     throw InputError("spherical stereo: options out of range (need baseline < min_range_m < max_range_m, 0 <= "
-                     "polar_cap_deg < 90, odd block_size, 0 < p1 < p2, non-negative paddings)");
+                     "polar_cap_deg < 90, odd block_size, 0 < p1 < p2, non-negative paddings, "
+                     "refinement_half_window_px 1..16, threads >= 0)");
   }
   requireUsable(top, "top");
   requireUsable(bottom, "bottom");
@@ -160,22 +164,35 @@ SphericalDepth computeSphericalDepth(const cv::Mat& top, const cv::Mat& bottom, 
   depth.filled = cv::Mat::zeros(h, w, CV_8UC1);
   cv::Mat cap_mask = cv::Mat::zeros(h, 1, CV_8UC1);
   const double cap_rad = o.polar_cap_deg * kPi / 180.0;
+  stereo_detail::EpipolarImage left_epipolar, right_epipolar;
+  if (o.subpixel_refinement) {
+    left_epipolar = stereo_detail::epipolarImage(left);
+    right_epipolar = stereo_detail::epipolarImage(right);
+  }
   for (int v = 0; v < h; ++v) {
     const double theta = (v + 0.5) * pixel_rad;
-    const bool capped = theta < cap_rad || theta > kPi - cap_rad;
-    cap_mask.at<std::uint8_t>(v, 0) = capped ? 255 : 0;
-    if (capped) continue;
+    cap_mask.at<std::uint8_t>(v, 0) = theta < cap_rad || theta > kPi - cap_rad ? 255 : 0;
+  }
+  // Rows are independent: each writes only its own row of the outputs.
+  forEachRow(h, o.threads, [&](int v) {
+    const double theta = (v + 0.5) * pixel_rad;
+    if (cap_mask.at<std::uint8_t>(v, 0)) return;
     for (int u = 0; u < w; ++u) {
       const short d16 = disparity16.at<short>(u + o.seam_padding_px, v + search);
       if (d16 <= 0) continue;  // negative: no match; 0: at infinity
-      const double gamma = d16 / 16.0 * pixel_rad;
+      double d = d16 / 16.0;
+      if (o.subpixel_refinement) {
+        d = stereo_detail::refineDisparity(left_epipolar, right_epipolar, u + o.seam_padding_px, v + search, d,
+                                           o.refinement_half_window_px, o.refinement_half_window_px);
+      }
+      const double gamma = d * pixel_rad;
       const double range = rangeFromDisparity(theta, gamma, baseline_m);
       depth.disparity_rad.at<float>(v, u) = static_cast<float>(gamma);
       if (!(range >= o.min_range_m && range <= o.max_range_m)) continue;
       depth.range_m.at<float>(v, u) = static_cast<float>(range);
       depth.valid.at<std::uint8_t>(v, u) = 255;
     }
-  }
+  });
   if (o.fill_holes && o.max_hole_px > 0) fillHoles(depth, top, o, cap_mask);
   return depth;
 }

@@ -2,20 +2,16 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 
 #include "room_reverb/common/error.h"
+#include "room_reverb/vision/material_overrides.h"
 #include "room_reverb/vision/surface_patches.h"
 
 namespace room_reverb::core {
 namespace {
 
 using namespace material_detail;
-
-struct Tally {
-  std::array<double, kTextureFamilyCount> votes{};  // area x vote share, per family
-  double area_m2 = 0.0;
-  int patches = 0;
-};
 
 void checkInputs(const RoomLayout& layout, const cv::Mat& image, double baseline_m, const MaterialClassifier& classifier) {
   if (image.empty()) throw InputError("surface materials: the top camera's image is empty");
@@ -33,43 +29,128 @@ void checkInputs(const RoomLayout& layout, const cv::Mat& image, double baseline
   if (!(layout.model.size_m.array() > 0.0).all()) throw InputError("surface materials: the layout's room box has no size");
 }
 
+bool isSeen(const MaterialVote& vote, const SurfaceMaterialOptions& options) {
+  return vote.area_m2 >= options.min_seen_area_m2 && vote.patches > 0;
+}
+
 SurfacePlacement placementOf(int target) {
   if (target == 0) return SurfacePlacement::kFloor;
   if (target == 1) return SurfacePlacement::kCeiling;
   return target < 6 ? SurfacePlacement::kWall : SurfacePlacement::kObject;
 }
 
-// The family with the largest area-weighted vote, or the unseen default (keeping a
-// material the model already had: someone put it there for a reason).
-SurfaceMaterialDecision decide(const Tally& tally, int target, const std::string& current_material, double current_confidence,
-                               const MaterialFamilyTable& families, const SurfaceMaterialOptions& options) {
+// The family's index in a vote (allTextureFamilies() order).
+std::size_t at(TextureFamily family) {
+  for (int k = 0; k < kTextureFamilyCount; ++k) {
+    if (textureFamilyAt(k) == family) return static_cast<std::size_t>(k);
+  }
+  throw InputError("surface materials: unknown texture family " + toString(family));
+}
+
+// A share of the vote as the printout gives it: two decimals.
+std::string shareText(double share) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2f", share);
+  return text;
+}
+
+// The fallback rule's choice for a vote whose winner `best` is below min_confidence.
+void fallBack(SurfaceMaterialDecision& decision, const std::array<double, kTextureFamilyCount>& shares, std::size_t best,
+              SurfacePlacement placement, const PlacementFallback& rule, const MaterialFamilyTable& families) {
+  std::string reason = "the vote for " + toString(textureFamilyAt(static_cast<int>(best))) + " (" + shareText(shares[best]) +
+                       ") is below min_confidence " + shareText(families.fallback.min_confidence) + "; ";
+  bool by_look = false;
+  std::size_t look = 0;
+  for (const TextureFamily family : rule.by_look) {
+    const std::size_t k = at(family);
+    if (!by_look || shares[k] > shares[look]) look = k;
+    by_look = true;
+  }
+  if (by_look && shares[look] >= rule.min_share) {
+    decision.family = textureFamilyAt(static_cast<int>(look));
+    decision.material = families.materialFor(decision.family, placement);
+    reason += toString(decision.family) + " has " + shareText(shares[look]) + " of it (at least min_share " +
+              shareText(rule.min_share) + "): the " + toString(placement) + " looks like " + toString(decision.family);
+  } else {
+    decision.material = rule.material;
+    decision.family = textureFamilyFor(rule.material).family;
+    reason += "the commonest " + toString(placement) + " material";
+    if (by_look) reason += " (no family the " + toString(placement) + " is commonly made of has min_share " + shareText(rule.min_share) + ")";
+  }
+  decision.fell_back = true;
+  decision.fallback_reason = reason;
+}
+
+// The unseen default, or the material the model already had (someone put it there for a
+// reason), for a face or object the camera did not see enough of.
+SurfaceMaterialDecision unseen(const MaterialVote& vote, SurfacePlacement placement, const std::string& current_material,
+                               double current_confidence, const MaterialFamilyTable& families,
+                               const SurfaceMaterialOptions& options) {
   SurfaceMaterialDecision decision;
-  decision.seen_area_m2 = tally.area_m2;
-  decision.patches = tally.patches;
-  decision.seen = tally.area_m2 >= options.min_seen_area_m2 && tally.patches > 0;
-  if (!decision.seen) {
-    if (!current_material.empty()) {
-      decision.family = textureFamilyFor(current_material).family;
-      decision.material = current_material;
-      decision.confidence = current_confidence;
-    } else {
-      decision.family = families.unseen_family;
-      decision.material = families.materialFor(decision.family, placementOf(target));
-      decision.confidence = options.unseen_confidence;
-    }
-    return decision;
+  decision.seen_area_m2 = vote.area_m2;
+  decision.patches = vote.patches;
+  if (!current_material.empty()) {
+    decision.family = textureFamilyFor(current_material).family;
+    decision.material = current_material;
+    decision.confidence = current_confidence;
+  } else {
+    decision.family = families.unseen_family;
+    decision.material = families.materialFor(decision.family, placement);
+    decision.confidence = options.unseen_confidence;
   }
-  int best = 0;
-  for (int k = 1; k < kTextureFamilyCount; ++k) {
-    if (tally.votes[static_cast<std::size_t>(k)] > tally.votes[static_cast<std::size_t>(best)]) best = k;
-  }
-  decision.family = textureFamilyAt(best);
-  decision.material = families.materialFor(decision.family, placementOf(target));
-  decision.confidence = tally.votes[static_cast<std::size_t>(best)] / tally.area_m2;
   return decision;
 }
 
+// What the override file sets replaces the decision, which keeps what was found.
+void applyOverride(SurfaceMaterialDecision& decision, const std::string& material) {
+  decision.overridden = true;
+  decision.found_material = decision.material;
+  decision.found_confidence = decision.confidence;
+  decision.material = material;
+  decision.family = textureFamilyFor(material).family;
+  decision.confidence = 1.0;
+}
+
 }  // namespace
+
+SurfaceMaterialDecision decideFromVote(const MaterialVote& vote, SurfacePlacement placement,
+                                       const MaterialFamilyTable& families) {
+  if (!(vote.area_m2 > 0.0) || !std::isfinite(vote.area_m2)) {
+    throw InputError("surface materials: a vote needs the positive area of the patches it was cast on");
+  }
+  SurfaceMaterialDecision decision;
+  decision.seen = true;
+  decision.seen_area_m2 = vote.area_m2;
+  decision.patches = vote.patches;
+  std::array<double, kTextureFamilyCount> shares{};
+  std::size_t best = 0;
+  for (std::size_t k = 0; k < shares.size(); ++k) {
+    shares[k] = vote.votes[k] / vote.area_m2;
+    if (shares[k] > shares[best]) best = k;
+  }
+  decision.family = textureFamilyAt(static_cast<int>(best));
+  decision.material = families.materialFor(decision.family, placement);
+  const auto rule = families.fallback.rules.find(placement);
+  if (shares[best] < families.fallback.min_confidence && rule != families.fallback.rules.end()) {
+    fallBack(decision, shares, best, placement, rule->second, families);
+  }
+  decision.confidence = shares[at(decision.family)];
+  // The runner-up is the best family other than the one chosen, so a fallback's runner-up
+  // is the close winner it set aside.
+  bool any = false;
+  std::size_t second = 0;
+  for (std::size_t k = 0; k < shares.size(); ++k) {
+    if (textureFamilyAt(static_cast<int>(k)) == decision.family || !(shares[k] > 0.0)) continue;
+    if (!any || shares[k] > shares[second]) second = k;
+    any = true;
+  }
+  if (any) {
+    decision.runner_up_family = textureFamilyAt(static_cast<int>(second));
+    decision.runner_up = families.materialFor(decision.runner_up_family, placement);
+    decision.runner_up_confidence = shares[second];
+  }
+  return decision;
+}
 
 std::vector<SurfaceMaterialDecision> assignSurfaceMaterials(RoomLayout& layout, const cv::Mat& top_color_equirect,
                                                             double baseline_m, const MaterialClassifier& classifier,
@@ -77,6 +158,14 @@ std::vector<SurfaceMaterialDecision> assignSurfaceMaterials(RoomLayout& layout, 
                                                             const SurfaceMaterialOptions& options) {
   checkInputs(layout, top_color_equirect, baseline_m, classifier);
   RoomModel& model = layout.model;
+  // The override file is read and checked against the model first: a mistake in it is
+  // reported before the classifier's seconds are spent.
+  std::vector<std::string> overrides(6 + model.objects.size());
+  if (!options.override_file.empty()) {
+    MaterialLibrary library = MaterialLibrary::loadDefault();
+    for (const AcousticMaterial& material : model.inline_materials) library.add(material);
+    overrides = resolveMaterialOverrides(loadMaterialOverrides(options.override_file, library), model);
+  }
   const Eigen::Isometry3d room_from_camera = layout.room_from_rig * Eigen::Translation3d(0.0, 0.0, 0.5 * baseline_m);
   const Eigen::Vector3d camera = room_from_camera.translation();
   if (!camera.allFinite() || !(camera.array() > 0.0).all() || !(camera.array() < model.size_m.array()).all()) {
@@ -90,13 +179,13 @@ std::vector<SurfaceMaterialDecision> assignSurfaceMaterials(RoomLayout& layout, 
   sampling.threads = options.threads;
   const std::vector<SurfacePatch> patches = sampleSurfacePatches(top_color_equirect, model, room_from_camera, sampling);
 
-  std::vector<Tally> tallies(6 + model.objects.size());
+  std::vector<MaterialVote> tallies(6 + model.objects.size());
   if (!patches.empty()) {
     std::vector<const SurfacePatch*> all;
     for (const SurfacePatch& patch : patches) all.push_back(&patch);
     const std::vector<MaterialPrediction> predictions = classifier.predictAll(patchFeatures(all, options.threads));
     for (std::size_t i = 0; i < patches.size(); ++i) {
-      Tally& tally = tallies[static_cast<std::size_t>(patches[i].target)];
+      MaterialVote& tally = tallies[static_cast<std::size_t>(patches[i].target)];
       for (int k = 0; k < kTextureFamilyCount; ++k) {
         tally.votes[static_cast<std::size_t>(k)] += patches[i].area_m2 * predictions[i].posterior[static_cast<std::size_t>(k)];
       }
@@ -108,37 +197,44 @@ std::vector<SurfaceMaterialDecision> assignSurfaceMaterials(RoomLayout& layout, 
   std::vector<SurfaceMaterialDecision> decisions;
   for (int f = 0; f < 6; ++f) {
     if (f == 1 && !model.has_ceiling) continue;
-    SurfaceAssignment& surface = model.surfaces[kRoomSurfaceNames[static_cast<std::size_t>(f)]];
-    if (layout.face_evidence[static_cast<std::size_t>(f)].open) {
+    const std::size_t face = static_cast<std::size_t>(f);
+    SurfaceAssignment& surface = model.surfaces[kRoomSurfaceNames[face]];
+    SurfaceMaterialDecision decision;
+    if (layout.face_evidence[face].open) {
       // An open side has no surface to classify: what the camera sees there is beyond it.
-      SurfaceMaterialDecision open;
-      open.name = kRoomSurfaceNames[static_cast<std::size_t>(f)];
-      open.material = surface.material;
-      open.confidence = surface.confidence;
-      open.family = TextureFamily::kOpening;
-      decisions.push_back(open);
-      continue;
+      decision.material = surface.material;
+      decision.confidence = surface.confidence;
+      decision.family = TextureFamily::kOpening;
+    } else if (isSeen(tallies[face], options)) {
+      decision = decideFromVote(tallies[face], placementOf(f), families);
+    } else {
+      decision = unseen(tallies[face], placementOf(f), surface.material, surface.confidence, families, options);
     }
-    SurfaceMaterialDecision decision =
-        decide(tallies[static_cast<std::size_t>(f)], f, surface.material, surface.confidence, families, options);
-    decision.name = kRoomSurfaceNames[static_cast<std::size_t>(f)];
+    decision.name = kRoomSurfaceNames[face];
+    if (!overrides[face].empty()) applyOverride(decision, overrides[face]);
     surface.material = decision.material;
     surface.confidence = decision.confidence;
+    surface.runner_up = decision.overridden ? "" : decision.runner_up;
+    surface.runner_up_confidence = surface.runner_up.empty() ? 0.0 : decision.runner_up_confidence;
     decisions.push_back(decision);
   }
   for (std::size_t k = 0; k < model.objects.size(); ++k) {
     CuboidObject& object = model.objects[k];
-    const int target = 6 + static_cast<int>(k);
-    SurfaceMaterialDecision decision =
-        decide(tallies[static_cast<std::size_t>(target)], target, object.material, object.confidence, families, options);
+    const std::size_t target = 6 + k;
+    const MaterialVote& vote = tallies[target];
+    SurfaceMaterialDecision decision = isSeen(vote, options)
+                                           ? decideFromVote(vote, SurfacePlacement::kObject, families)
+                                           : unseen(vote, SurfacePlacement::kObject, object.material, object.confidence, families, options);
     decision.name = "objects[" + std::to_string(k) + "] (" + object.label + ")";
     // An object's one confidence also says how sure the layout is of the box itself, so
-    // the material's multiplies it. A material it already had is left as it was.
+    // the material's multiplies it. A material it already had is left as it was, unless
+    // the user overrides it.
     const bool kept = !decision.seen && !object.material.empty();
-    if (!kept) {
-      object.material = decision.material;
-      object.confidence *= decision.confidence;
-    }
+    if (!overrides[target].empty()) applyOverride(decision, overrides[target]);
+    if (!kept || decision.overridden) object.material = decision.material;
+    if (!kept) object.confidence *= decision.confidence;
+    object.runner_up = decision.overridden ? "" : decision.runner_up;
+    object.runner_up_confidence = object.runner_up.empty() ? 0.0 : decision.runner_up_confidence;
     decisions.push_back(decision);
   }
   return decisions;

@@ -1,0 +1,69 @@
+#include "subpixel_disparity.h"
+
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+namespace room_reverb::core::stereo_detail {
+namespace {
+
+constexpr int kIterations = 3;
+// Below this mean squared gradient [grey levels^2 per pixel^2] the window is too plain for
+// the step to mean anything (sensor noise alone gives a few).
+constexpr double kMinGradientEnergy = 4.0;
+
+}  // namespace
+
+EpipolarImage epipolarImage(const cv::Mat& image) {
+  EpipolarImage out;
+  cv::Mat grey8;
+  if (image.channels() == 3) {
+    cv::cvtColor(image, grey8, cv::COLOR_BGR2GRAY);
+  } else {
+    grey8 = image;
+  }
+  grey8.convertTo(out.grey, CV_32F);
+  out.dx = cv::Mat::zeros(out.grey.size(), CV_32F);
+  for (int r = 0; r < out.grey.rows; ++r) {
+    const float* g = out.grey.ptr<float>(r);
+    float* d = out.dx.ptr<float>(r);
+    for (int c = 1; c + 1 < out.grey.cols; ++c) d[c] = 0.5f * (g[c + 1] - g[c - 1]);
+  }
+  return out;
+}
+
+double refineDisparity(const EpipolarImage& left, const EpipolarImage& right, int row, int col, double d0, int half_rows,
+                       int half_cols) {
+  const int cols = left.grey.cols;
+  if (row - half_rows < 0 || row + half_rows >= left.grey.rows) return d0;
+  if (col - half_cols < 0 || col + half_cols >= cols) return d0;
+  // Every sample of the right image must stay inside it for a move of up to a pixel.
+  if (col - half_cols - d0 - 2.0 < 0.0 || col + half_cols - d0 + 2.0 >= cols) return d0;
+  double d = d0;
+  for (int iteration = 0; iteration < kIterations; ++iteration) {
+    const double x0 = -d;  // right-image position of left column c is c - d
+    const double base = std::floor(x0);
+    const double a = x0 - base;
+    const int shift = static_cast<int>(base);
+    double num = 0.0, den = 0.0;
+    for (int r = row - half_rows; r <= row + half_rows; ++r) {
+      const float* l = left.grey.ptr<float>(r);
+      const float* g = right.grey.ptr<float>(r);
+      const float* gx = right.dx.ptr<float>(r);
+      for (int c = col - half_cols; c <= col + half_cols; ++c) {
+        const int k = c + shift;
+        const double value = (1.0 - a) * g[k] + a * g[k + 1];
+        const double slope = (1.0 - a) * gx[k] + a * gx[k + 1];
+        num += (l[c] - value) * slope;
+        den += slope * slope;
+      }
+    }
+    const double samples = (2.0 * half_rows + 1.0) * (2.0 * half_cols + 1.0);
+    if (den < kMinGradientEnergy * samples) return d0;
+    // r(d) = L - R(c - d); dr/dd = R'(c - d); step = -sum(r r') / sum(r'^2).
+    d -= num / den;
+    if (std::abs(d - d0) > 0.5) return d0;
+  }
+  return d;
+}
+
+}  // namespace room_reverb::core::stereo_detail
