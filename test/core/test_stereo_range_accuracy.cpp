@@ -3,10 +3,10 @@
 // generated pairs with sensor noise: a hall whose walls stand 3.8 to 6.2 m from the rig.
 // A vertical baseline's disparity is b sin(theta) / r: about 8 pixels at 8 m on the
 // horizon, so a tenth of a pixel is over 1 % of the range there, and a plain wall (smooth
-// plaster) is matched to about that. The bounds are on walls seen within 45 degrees of
-// face-on (docs/visual-route.md has the figures). Everything else (the floor and ceiling,
-// seen near the poles where a vertical baseline has no disparity, and walls seen along
-// their length) is reported.
+// plaster) is matched to about that. The bounds (default options) are on walls seen
+// within 45 degrees of face-on (docs/visual-route.md has the figures). Everything else
+// (the floor and ceiling, seen near the poles where a vertical baseline has no
+// disparity, and walls seen along their length) is reported.
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
