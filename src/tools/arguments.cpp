@@ -1,6 +1,7 @@
 #include "arguments.h"
 
 #include <cstdlib>
+#include <sstream>
 
 #include "command.h"
 
@@ -58,6 +59,15 @@ double Arguments::doubleValue(const std::string& name, double fallback) const {
   const double parsed = std::strtod(text.c_str(), &end);
   if (text.empty() || *end != '\0') throw UsageError("--" + name + " needs a number, got '" + text + "'");
   return parsed;
+}
+
+std::vector<std::string> commaSeparated(const std::string& text) {
+  std::vector<std::string> items;
+  std::stringstream stream(text);
+  for (std::string item; std::getline(stream, item, ',');) {
+    if (!item.empty()) items.push_back(item);
+  }
+  return items;
 }
 
 }  // namespace room_reverb::tool

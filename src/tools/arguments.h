@@ -25,4 +25,7 @@ class Arguments {
   std::vector<std::string> positional_;
 };
 
+// The items of a comma-separated option value ("a,b,c"), empty items left out.
+std::vector<std::string> commaSeparated(const std::string& text);
+
 }  // namespace room_reverb::tool

@@ -52,15 +52,6 @@ DIR/extended_room.yaml (the corrected room).
                      pairs; the simulations are then omni): for the same doubt, or speed
 )";
 
-std::vector<std::string> splitList(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream ss(text);
-  for (std::string item; std::getline(ss, item, ',');) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
-
 int runDiagnose(const std::vector<std::string>& raw) {
   const Arguments args(raw,
                        {"measured", "room", "mesh", "out", "causes", "max-causes", "rays", "order", "duration", "seed",
@@ -86,7 +77,7 @@ int runDiagnose(const std::vector<std::string>& raw) {
   const RoomUnderTest room = loadRoomUnderTest(room_file, mesh_file, up, measurements, args.has("no-air"), library);
 
   DiagnosisOptions options;
-  if (args.has("causes")) options.causes = splitList(args.value("causes", ""));
+  if (args.has("causes")) options.causes = commaSeparated(args.value("causes", ""));
   options.max_causes = args.intValue("max-causes", 3);
   if (options.max_causes < 0) throw InputError("--max-causes must not be negative");
   options.noise_seeds = args.intValue("noise-seeds", options.noise_seeds);

@@ -339,13 +339,7 @@ std::string reportMarkdown(const Analysis& a) {
 
 std::vector<std::string> nameList(const std::string& text) {
   if (text == "none") return {};
-  std::vector<std::string> names;
-  std::stringstream list(text);
-  std::string name;
-  while (std::getline(list, name, ',')) {
-    if (!name.empty()) names.push_back(name);
-  }
-  return names;
+  return commaSeparated(text);
 }
 
 int runAnalyze(const std::vector<std::string>& raw) {

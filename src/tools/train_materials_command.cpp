@@ -74,16 +74,6 @@ std::string description(const MaterialTrainingOptions& options, const MaterialTr
   return os.str();
 }
 
-std::vector<std::string> commaList(const std::string& text) {
-  std::vector<std::string> names;
-  std::stringstream stream(text);
-  std::string name;
-  while (std::getline(stream, name, ',')) {
-    if (name.empty()) throw UsageError("--held-out-source needs collection names separated by commas");
-    names.push_back(name);
-  }
-  return names;
-}
 
 // Accuracy per family and the confusion matrix (rows: truth, columns: predicted), only
 // over the families that have samples.
@@ -124,7 +114,8 @@ int runTrainMaterials(const std::vector<std::string>& raw) {
   if (!(options.photo_share >= 0.0 && options.photo_share <= 1.0)) throw UsageError("--photo-share needs a number in 0..1");
   if (args.has("held-out-source")) {
     if (!options.photo_textures) throw UsageError("--held-out-source needs photographs (--textures CSV)");
-    options.held_out_sources = commaList(args.value("held-out-source", ""));
+    options.held_out_sources = commaSeparated(args.value("held-out-source", ""));
+    if (options.held_out_sources.empty()) throw UsageError("--held-out-source needs collection names separated by commas");
   }
 
   const MaterialTrainingResult result = trainMaterialClassifier(options, MaterialLibrary::loadDefault());

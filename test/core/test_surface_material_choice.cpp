@@ -15,10 +15,12 @@
 #include "room_reverb/vision/surface_materials.h"
 #include "shipped_materials.h"
 #include "test_files.h"
+#include "true_layout.h"
 
 using namespace room_reverb::core;
 using room_reverb::test::expectInputError;
 using room_reverb::test::writeFile;
+using room_reverb::test::trueLayout;
 using room_reverb::test::library;
 using room_reverb::test::shippedFamilies;
 using room_reverb::test::sourcePath;
@@ -53,19 +55,6 @@ MaterialVote voteOf(const std::map<TextureFamily, double>& shares) {
 }
 
 using F = TextureFamily;
-
-// The meeting room capture's own layout, materials cleared (as test_material_classifier).
-RoomLayout trueLayout(const RoomModel& room) {
-  RoomLayout layout;
-  layout.model = room;
-  for (auto& [name, surface] : layout.model.surfaces) surface = {"", 0.0};
-  for (CuboidObject& object : layout.model.objects) {
-    object.material.clear();
-    object.confidence = 1.0;
-  }
-  layout.room_from_rig = Eigen::Translation3d(room.rig_position_m) * room.rig_rotation;
-  return layout;
-}
 
 struct MeetingRoom {
   CaptureScene scene;

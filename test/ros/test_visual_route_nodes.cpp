@@ -209,12 +209,18 @@ TEST(VisualRouteNodes, PairToCloudToRoomModel) {
   EXPECT_GE(markers.get()->markers.size(), 1u + 6u + 6u);  // clear, six faces, six labels
 }
 
-TEST(VisualRouteNodes, PairInTheRequest) {
-  const Capture& c = meetingRoom();
+// A ~build request carrying the capture's pair and baseline.
+room_reverb::BuildRoomModel pairRequest(const Capture& c) {
   room_reverb::BuildRoomModel srv;
   srv.request.top = toMessage(c.images.top.color, ros::Time::now());
   srv.request.bottom = toMessage(c.images.bottom.color, ros::Time::now());
   srv.request.baseline_m = c.scene.options.baseline_m;
+  return srv;
+}
+
+TEST(VisualRouteNodes, PairInTheRequest) {
+  const Capture& c = meetingRoom();
+  room_reverb::BuildRoomModel srv = pairRequest(c);
   ASSERT_TRUE(callBuild(srv));
   expectMeetingRoom(srv.response, "from_request");
 }
@@ -293,10 +299,7 @@ TEST(VisualRouteNodes, BadRequestsFailWithAReason) {
 
 TEST(VisualRouteNodes, MaterialsOverrideParameter) {
   const Capture& c = meetingRoom();
-  room_reverb::BuildRoomModel srv;
-  srv.request.top = toMessage(c.images.top.color, ros::Time::now());
-  srv.request.bottom = toMessage(c.images.bottom.color, ros::Time::now());
-  srv.request.baseline_m = c.scene.options.baseline_m;
+  room_reverb::BuildRoomModel srv = pairRequest(c);
   room_reverb::BuildRoomModel missing = srv;
   ASSERT_TRUE(callBuild(srv, "/override/room_model/build"));
   ASSERT_TRUE(srv.response.success) << srv.response.message;

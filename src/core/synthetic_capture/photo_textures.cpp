@@ -10,6 +10,7 @@
 
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/text_file.h"
+#include "room_reverb/vision/material_families.h"
 
 namespace room_reverb::core {
 namespace {
@@ -24,13 +25,6 @@ std::vector<std::string> splitFields(const std::string& line) {
   while (std::getline(stream, field, ',')) fields.push_back(field);
   if (!line.empty() && line.back() == ',') fields.emplace_back();
   return fields;
-}
-
-TextureFamily familyNamed(const std::string& name, const std::string& where) {
-  for (const TextureFamily family : allTextureFamilies()) {
-    if (toString(family) == name) return family;
-  }
-  throw InputError(where + ": unknown texture family '" + name + "'");
 }
 
 std::vector<cv::Mat> mipLevels(const cv::Mat& bgr) {
@@ -121,7 +115,7 @@ PhotoTextureSet loadPhotoTextures(const std::string& csv_path) {
     }
     auto texture = std::make_shared<PhotoTexture>();
     texture->file = fields[0];
-    texture->family = familyNamed(fields[1], where);
+    texture->family = textureFamilyNamed(fields[1], where);
     std::size_t used = 0;
     double width = 0.0;
     try {

@@ -40,12 +40,7 @@ SurfacePlacement placementOf(int target) {
 }
 
 // The family's index in a vote (allTextureFamilies() order).
-std::size_t at(TextureFamily family) {
-  for (int k = 0; k < kTextureFamilyCount; ++k) {
-    if (textureFamilyAt(k) == family) return static_cast<std::size_t>(k);
-  }
-  throw InputError("surface materials: unknown texture family " + toString(family));
-}
+std::size_t at(TextureFamily family) { return static_cast<std::size_t>(textureFamilyIndex(family)); }
 
 // A share of the vote as the printout gives it: two decimals.
 std::string shareText(double share) {
