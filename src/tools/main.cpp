@@ -32,6 +32,7 @@ void printOverview(std::ostream& out) {
 
 int main(int argc, char** argv) {
   using namespace room_reverb::tool;
+  using room_reverb::core::printableLine;
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
     printOverview(args.empty() ? std::cerr : std::cout);
@@ -50,17 +51,17 @@ int main(int argc, char** argv) {
     try {
       return command.run(rest);
     } catch (const UsageError& e) {
-      std::cerr << "room_reverb " << name << ": " << e.what() << " (see room_reverb " << name
+      std::cerr << "room_reverb " << name << ": " << printableLine(e.what()) << " (see room_reverb " << name
                 << " --help)\n";
       return 2;
     } catch (const room_reverb::core::InputError& e) {
-      std::cerr << "room_reverb " << name << ": " << e.what() << "\n";
+      std::cerr << "room_reverb " << name << ": " << e.what() << "\n";  // already one line
       return 2;
     } catch (const std::exception& e) {
-      std::cerr << "room_reverb " << name << ": internal error: " << e.what() << "\n";
+      std::cerr << "room_reverb " << name << ": internal error: " << printableLine(e.what()) << "\n";
       return 1;
     }
   }
-  std::cerr << "room_reverb: unknown subcommand '" << name << "' (see room_reverb --help)\n";
+  std::cerr << "room_reverb: unknown subcommand '" << printableLine(name, 80) << "' (see room_reverb --help)\n";
   return 2;
 }
