@@ -25,6 +25,7 @@
 
 #include "room_reverb/acoustics/acoustic_scene.h"
 #include "room_reverb/acoustics/material.h"
+#include "room_reverb/acoustics/room_model.h"
 #include "room_reverb/acoustics/ray_tracer.h"
 #include "room_reverb/acoustics/room_modes.h"
 #include "room_reverb/acoustics/room_simulation.h"
@@ -350,6 +351,37 @@ void BM_SimulateCr2Accurate(benchmark::State& state) {
   state.counters["leaked_rays"] = static_cast<double>(leaks);
 }
 BENCHMARK(BM_SimulateCr2Accurate)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+
+// The preview modes, one response each: fast (image sources + the room's own decay from
+// 8000 rays, no receiver detection; arg 0) and eyring (image sources + Eyring tail; arg 1),
+// 2 s, first order, 2 threads, on CR2 and on the demo's sample room.
+void simulatePreview(benchmark::State& state, const AcousticScene& scene, const Eigen::Vector3d& source,
+                     const Eigen::Vector3d& listener) {
+  SimulationSettings settings;
+  settings.mode = state.range(0) == 0 ? SimulationMode::kFast : SimulationMode::kEyring;
+  settings.duration_s = 2.0;
+  settings.ambisonic_order = 1;
+  settings.rays.threads = 2;
+  const double cpu_start = processCpuS();
+  for (auto _ : state) {
+    const SimulationResult result = simulateRoom(scene, source, listener, settings);
+    benchmark::DoNotOptimize(result.impulse_response.durationS());
+  }
+  state.counters["cpu_s"] = (processCpuS() - cpu_start) / static_cast<double>(state.iterations());
+}
+
+void BM_SimulateCr2Preview(benchmark::State& state) {
+  const AcousticScene* cr2 = cr2Scene(state);
+  if (cr2) simulatePreview(state, *cr2, kSource, kReceiver);
+}
+BENCHMARK(BM_SimulateCr2Preview)->ArgName("eyring")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+
+void BM_SimulateSampleRoomPreview(benchmark::State& state) {
+  static const AcousticScene scene =
+      roomModelToScene(loadRoomModel(sourceDir() + "/data/sample_room/visible.yaml"), MaterialLibrary::loadDefault(), {});
+  simulatePreview(state, scene, {4.6, 2.9, 1.5}, {2.7, 2.1, 1.4});
+}
+BENCHMARK(BM_SimulateSampleRoomPreview)->ArgName("eyring")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(5);
 
 // Loading the AC3D file and building the scene (materials, planes, BVH).
 void BM_BuildCr2Scene(benchmark::State& state) {

@@ -3,7 +3,7 @@
 // <ns>/room_simulator/simulate for the impulse response of a room model, and prints what
 // came back (and writes the simulated RIR with --out). Usage:
 //   rosrun room_reverb example_client --rir FILE --format fuma|ambix
-//       --room ROOM.yaml --source X Y Z --listener X Y Z [--mode fast|accurate] [--ns rig]
+//       --room ROOM.yaml --source X Y Z --listener X Y Z [--mode accurate|fast|eyring] [--ns rig]
 //       [--out IR.wav]
 // Exit status: 0 both answered, 1 a service failed or is missing, 2 bad arguments.
 #include <ros/ros.h>
@@ -36,7 +36,7 @@ geometry_msgs::Point point(const std::vector<std::string>& a, std::size_t at) {
 int usage(const std::string& why) {
   std::cerr << "example_client: " << why
             << "\nusage: example_client --rir FILE --format fuma|ambix --room ROOM.yaml --source X Y Z --listener X Y Z"
-               " [--mode fast|accurate] [--ns rig] [--out IR.wav]\n";
+               " [--mode accurate|fast|eyring] [--ns rig] [--out IR.wav]\n";
   return 2;
 }
 

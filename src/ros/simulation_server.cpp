@@ -17,6 +17,7 @@ SimulationServer::SimulationServer(::ros::NodeHandle& private_nh) {
   defaults_.mode = core::parseSimulationMode(mode);
   defaults_.image_source_order = positiveIntParam(private_nh, "image_source_order", 3);
   defaults_.rays.ray_count = static_cast<std::size_t>(positiveIntParam(private_nh, "rays", 100000));
+  defaults_.fast_ray_count = static_cast<std::size_t>(positiveIntParam(private_nh, "fast_rays", 8000));
   defaults_.rays.seed = static_cast<std::uint32_t>(positiveIntParam(private_nh, "seed", 1));
   private_nh.param("threads", defaults_.rays.threads, 0);
   private_nh.param("ambisonic_order", defaults_.ambisonic_order, 1);
@@ -38,7 +39,10 @@ bool SimulationServer::simulate(room_reverb::SimulateRoom::Request& request,
       throw core::InputError("image_source_order, rays, ambisonic_order and duration_s must not be negative (0: the node's default)");
     }
     if (request.image_source_order > 0) settings.image_source_order = request.image_source_order;
-    if (request.rays > 0) settings.rays.ray_count = static_cast<std::size_t>(request.rays);
+    if (request.rays > 0) {
+      (settings.mode == core::SimulationMode::kFast ? settings.fast_ray_count : settings.rays.ray_count) =
+          static_cast<std::size_t>(request.rays);
+    }
     if (request.seed > 0) settings.rays.seed = static_cast<std::uint32_t>(request.seed);
     if (request.ambisonic_order > 0) settings.ambisonic_order = request.ambisonic_order;
     if (request.duration_s > 0.0) settings.duration_s = request.duration_s;

@@ -17,7 +17,7 @@ using namespace room_reverb::core;
 
 const char* kHelpHead = R"(usage: room_reverb simulate (--room ROOM.yaml | --mesh FILE [--y-up] [--open])
                             --source X Y Z --listener X Y Z --out IR.wav
-                            [--mode fast|accurate] [--order N] [--rays N] [--seed N]
+                            [--mode accurate|fast|eyring] [--order N] [--rays N] [--seed N]
                             [--ambisonic-order N] [--duration S] [--threads N]
                             [--materials FILE] [--no-air] [--temperature C] [--humidity PCT]
                             [--scattering S] [--receiver-radius M]
@@ -74,7 +74,7 @@ int runSimulate(const std::vector<std::string>& raw) {
   std::cout << "room: " << scene.mesh().triangleCount() << " triangles, " << scene.planes().size() << " planes, V "
             << scene.volumeM3() << " m^3, S " << scene.surfaceM2() << " m^2\n";
   std::cout << "mode " << toString(settings.mode) << ": " << result.paths.size() << " image-source paths";
-  if (settings.mode == SimulationMode::kAccurate) {
+  if (settings.mode != SimulationMode::kEyring) {
     std::cout << ", " << result.stats.rays << " rays, " << result.stats.reflections << " reflections, "
               << result.stats.leaked_rays << " leaked, " << result.stats.escaped_rays << " escaped, receiver sphere "
               << result.stats.receiver_radius_m << " m";

@@ -9,10 +9,12 @@ namespace room_reverb::tool {
 
 using namespace room_reverb::core;
 
-const char* const kSimulationOptionsHelp = R"(  --mode MODE          accurate (image sources + ray tracing, default) or fast
-                       (image sources + Eyring tail)
+const char* const kSimulationOptionsHelp = R"(  --mode MODE          accurate (image sources + ray tracing, default), fast (image
+                       sources + a diffuse tail on the room's own decay from a few
+                       thousand rays) or eyring (image sources + Eyring tail: the
+                       paper's fast route)
   --order N            image-source order (default 3)
-  --rays N             rays (default 100000)
+  --rays N             rays (default 100000; fast mode 8000)
   --seed N             random seed (default 1); same seed and threads, same output
   --threads N          worker threads (default: all cores)
   --ambisonic-order N  0 to 3 (default 1)
@@ -37,9 +39,9 @@ SimulationSettings simulationSettingsFrom(const Arguments& args) {
   SimulationSettings settings;
   settings.mode = parseSimulationMode(args.value("mode", "accurate"));
   settings.image_source_order = args.intValue("order", 3);
-  const int rays = args.intValue("rays", 100000);
+  const int rays = args.intValue("rays", settings.mode == SimulationMode::kFast ? 8000 : 100000);
   if (rays <= 0) throw InputError("--rays must be at least 1");
-  settings.rays.ray_count = static_cast<std::size_t>(rays);
+  (settings.mode == SimulationMode::kFast ? settings.fast_ray_count : settings.rays.ray_count) = static_cast<std::size_t>(rays);
   settings.rays.seed = static_cast<std::uint32_t>(args.intValue("seed", 1));
   settings.rays.threads = args.intValue("threads", 0);
   settings.rays.receiver_radius_m = args.doubleValue("receiver-radius", 0.0);

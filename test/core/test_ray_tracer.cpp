@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 #include <vector>
 
+#include "room_reverb/acoustics/room_model.h"
 #include "room_reverb/acoustics/room_simulation.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/sample_statistics.h"
@@ -99,10 +101,10 @@ TEST(RoomSimulation, AccurateShoeboxDecayFollowsEyring) {
   }
 }
 
-TEST(RoomSimulation, FastModeTailFollowsEyringWithAir) {
+TEST(RoomSimulation, EyringModeTailFollowsEyringWithAir) {
   const AcousticScene scene(room_reverb::test::shoeboxMesh({6, 4, 3}), room_reverb::test::uniformLibrary(0.15, 0.3));
   SimulationSettings settings;
-  settings.mode = SimulationMode::kFast;
+  settings.mode = SimulationMode::kEyring;
   settings.duration_s = 2.0;
   settings.ambisonic_order = 0;
   const SimulationResult result = simulateRoom(scene, {1.5, 1.2, 1.4}, {4.3, 2.9, 1.6}, settings);
@@ -112,6 +114,82 @@ TEST(RoomSimulation, FastModeTailFollowsEyringWithAir) {
     // Measured: within 8 % (the image-source early part and the fade shape the first 35 dB).
     EXPECT_NEAR(*metrics.bands[band].t30_s / result.eyring_t60_s[band], 1.0, 0.10) << metrics.bands[band].nominal_hz;
   }
+}
+
+// The energy in flight is conserved in a closed lossless room (every bin holds the 1 J
+// emitted) and falls as exp(-m c t) with air alone.
+TEST(RayTracer, EnergyInFlightIsConservedAndFallsWithAir) {
+  const AcousticScene scene(room_reverb::test::shoeboxMesh({5, 4, 3}), room_reverb::test::uniformLibrary(0.0, 0.5));
+  RayTracingOptions options;
+  options.ray_count = 500;
+  options.max_time_s = 0.5;
+  options.record_energy_in_flight = true;
+  const Eigen::Vector3d source(1.2, 1.1, 1.3), listener(3.6, 2.7, 1.7);
+  const RayTracingResult lossless = traceRays(scene, source, listener, PropagationModel::from(noAir(), {}), options);
+  ASSERT_EQ(lossless.energy_in_flight.size(), 500u);
+  for (const OctaveBandValues& bin : lossless.energy_in_flight) {
+    for (double e : bin) ASSERT_NEAR(e, 1.0, 1e-9);
+  }
+  AirConditions air;  // 20 C, 50 %
+  const PropagationModel model = PropagationModel::from(air, {});
+  const RayTracingResult with_air = traceRays(scene, source, listener, model, options);
+  for (std::size_t k = 0; k < with_air.energy_in_flight.size(); k += 50) {
+    const double distance = (k + 0.5) * options.bin_s * model.speed_of_sound_m_s;
+    for (int b = 0; b < kOctaveBandCount; ++b) {
+      // The air factor is taken at each bin's start: within m c bin_s of the exact value.
+      const double expected = std::exp(-model.air_attenuation_per_m[b] * distance);
+      EXPECT_NEAR(with_air.energy_in_flight[k][b] / expected, 1.0, model.air_attenuation_per_m[b] * 0.35 + 1e-9) << k << " " << b;
+    }
+  }
+  RayTracingOptions without = options;
+  without.record_energy_in_flight = false;
+  EXPECT_TRUE(traceRays(scene, source, listener, model, without).energy_in_flight.empty());
+}
+
+// A room whose absorption sits on the floor and ceiling (carpet, ceiling tiles) between
+// hard walls, with low scattering: Eyring's mean absorption makes the decay far too short,
+// since the sound that lasts travels between the hard walls. The fast mode follows the
+// room's own decay: its T20, the mean over three seeds, is within 15 % of the accurate
+// mode's in every octave 250 Hz - 2 kHz; the eyring mode's is not. (This room is used by
+// no other check; docs/simulation.md has the figures of the sample room and others.)
+TEST(RoomSimulation, FastModeFollowsTheDecayWhereTheAbsorptionIsUneven) {
+  RoomModel room;
+  room.size_m = {7.0, 5.0, 3.2};
+  for (const char* name : kRoomSurfaceNames) room.surfaces[name] = {"plaster_smooth", 1.0};
+  room.surfaces["floor"] = {"carpet_thick", 1.0};
+  room.surfaces["ceiling"] = {"acoustic_ceiling_tiles", 1.0};
+  room.surfaces["wall_y_min"] = {"concrete_painted", 1.0};
+  const AcousticScene scene = roomModelToScene(room, MaterialLibrary::loadDefault(), {});
+  const Eigen::Vector3d source(1.8, 1.6, 1.5), listener(5.1, 3.4, 1.3);
+  SimulationSettings settings;
+  settings.duration_s = 2.0;
+  settings.ambisonic_order = 0;
+  settings.rays.ray_count = 30000;
+  auto t20 = [&](SimulationMode mode, std::uint32_t seed) {
+    settings.mode = mode;
+    settings.rays.seed = seed;
+    const SimulationResult r = simulateRoom(scene, source, listener, settings);
+    return computeRoomAcousticParameters(r.impulse_response.channels[0], 48000.0);
+  };
+  const MetricsReport accurate = t20(SimulationMode::kAccurate, 1);
+  const MetricsReport eyring = t20(SimulationMode::kEyring, 1);
+  std::vector<MetricsReport> fast;
+  for (std::uint32_t seed = 1; seed <= 3; ++seed) fast.push_back(t20(SimulationMode::kFast, seed));
+  int eyring_misses = 0;
+  for (std::size_t band = 2; band <= 5; ++band) {
+    ASSERT_TRUE(accurate.bands[band].t20_s && eyring.bands[band].t20_s);
+    double mean = 0.0;
+    for (const MetricsReport& m : fast) {
+      ASSERT_TRUE(m.bands[band].t20_s) << m.bands[band].reason;
+      mean += *m.bands[band].t20_s / 3.0;
+    }
+    const double reference = *accurate.bands[band].t20_s;
+    std::cout << "[ measured ] " << accurate.bands[band].nominal_hz << " Hz: T20 accurate " << reference << " s, fast "
+              << mean << " s, eyring " << *eyring.bands[band].t20_s << " s\n";
+    EXPECT_NEAR(mean / reference, 1.0, 0.15) << accurate.bands[band].nominal_hz;
+    if (std::abs(*eyring.bands[band].t20_s / reference - 1.0) > 0.4) ++eyring_misses;
+  }
+  EXPECT_EQ(eyring_misses, 4);
 }
 
 TEST(RoomSimulation, BadPositionsAndSettingsAreClearErrors) {
@@ -137,6 +215,10 @@ TEST(RoomSimulation, BadPositionsAndSettingsAreClearErrors) {
   out_of_range.scattering["test_wall"].fill(1.2);
   EXPECT_THROW(AcousticScene(room_reverb::test::shoeboxMesh({5, 4, 3}), room_reverb::test::uniformLibrary(0.2, 0.2), out_of_range), InputError);
   EXPECT_THROW(parseSimulationMode("exact"), InputError);
+  for (const char* name : {"fast", "accurate", "eyring"}) EXPECT_EQ(toString(parseSimulationMode(name)), name);
+  settings.mode = SimulationMode::kFast;
+  settings.fast_ray_count = 0;
+  EXPECT_THROW(simulateRoom(scene, {1, 1, 1}, inside, settings), InputError);
 }
 
 namespace {

@@ -41,7 +41,7 @@ const SyntheticRoom& syntheticRoom() {
     const AcousticScene scene(room_reverb::test::shoeboxMesh({7.2, 5.1, 3.0}),
                               room_reverb::test::uniformLibrary(0.15, 0.1));
     SimulationSettings settings;
-    settings.mode = SimulationMode::kFast;
+    settings.mode = SimulationMode::kEyring;
     settings.duration_s = 1.5;
     r.result = simulateRoom(scene, r.source, r.listener, settings);
     // Measurement noise 70 dB below the direct sound's peak.

@@ -38,6 +38,9 @@ struct RayTracingOptions {
   double roulette_db = -60.0;
   int image_source_order = 3;       // specular-only paths up to this order are not counted (-1: count all)
   bool diffuse_rain = true;
+  // Also sum the energy every ray carries through the room over time
+  // (RayTracingResult::energy_in_flight): the room's own decay, which the fast mode plays.
+  bool record_energy_in_flight = false;
   std::uint32_t seed = 1;
   int threads = 0;                  // 0: all hardware threads
 };
@@ -59,6 +62,12 @@ struct RayTracingStats {
 struct RayTracingResult {
   EnergyHistogram histogram;
   RayTracingStats stats;
+  // With record_energy_in_flight: per histogram bin and band, the energy still travelling
+  // in the room, averaged over the bin (J per J emitted; air included). It does not depend
+  // on the listener: in a diffuse field the energy density anywhere is this over the
+  // volume, and its course holds where the absorption sits (a ray between hard walls
+  // keeps its energy longer than Eyring's mean absorption allows).
+  std::vector<OctaveBandValues> energy_in_flight;
 };
 
 // Radius of the detection sphere when none is given. Its crossings are the only estimate

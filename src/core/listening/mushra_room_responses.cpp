@@ -28,7 +28,9 @@ class ResponseRenderer {
     if (condition == "wrong_room") return {reference(plan_.room(room.wrong_room_of)), 0.0};
     if (condition == "lowpass_3k5") return {reference(room), kLowAnchorCutoffHz};
     if (condition == "rsao") return {rsao(room), 0.0};
-    if (condition == "fast") return {simulated(room, SimulationMode::kFast), 0.0};
+    // The paper's "fast" condition is its Resonance-like renderer: image sources and an
+    // Eyring tail (simulate --mode eyring).
+    if (condition == "fast") return {simulated(room, SimulationMode::kEyring), 0.0};
     if (condition == "accurate") return {simulated(room, SimulationMode::kAccurate), 0.0};
     throw InputError("unknown MUSHRA condition '" + condition + "'");
   }
