@@ -106,14 +106,19 @@ TEST_F(SimulationService, SimulatesARoomModelWithFurniture) {
   }
 }
 
-TEST_F(SimulationService, FastModeAndSecondOrderOnRequest) {
+TEST_F(SimulationService, FastAndEyringModesAndSecondOrderOnRequest) {
   auto r = request();
   r.mode = "fast";
+  r.rays = 3000;  // the fast mode's rays
   r.ambisonic_order = 2;
-  const auto response = call(r);
-  ASSERT_TRUE(response.success) << response.message;
-  EXPECT_EQ(response.impulse_response.audio.channel_count, 9u);
-  EXPECT_EQ(response.rays_traced, 0u);
+  const auto fast = call(r);
+  ASSERT_TRUE(fast.success) << fast.message;
+  EXPECT_EQ(fast.impulse_response.audio.channel_count, 9u);
+  EXPECT_EQ(fast.rays_traced, 3000u);
+  r.mode = "eyring";
+  const auto eyring = call(r);
+  ASSERT_TRUE(eyring.success) << eyring.message;
+  EXPECT_EQ(eyring.rays_traced, 0u);
 }
 
 TEST_F(SimulationService, BadInputAnswersWithAReason) {
