@@ -9,6 +9,7 @@
 #include "room_reverb/acoustics/impulse_response_synthesis.h"
 #include "room_reverb/audio/fft.h"
 #include "shoebox.h"
+#include "test_files.h"
 
 using namespace room_reverb::core;
 
@@ -62,6 +63,29 @@ TEST(ImageSources, ShoeboxMatchesTheAnalyticLatticeToOrderThree) {
     for (int b = 0; b < kOctaveBandCount; ++b) EXPECT_NEAR(match->pressure_gain[b] / amplitude, 1.0, 0.01);
     EXPECT_NEAR((match->arrival_direction - (image.position - listener).normalized()).norm(), 0.0, 1e-9);
   }
+}
+
+// An order whose search would run for hours is refused up front, with the order that fits.
+TEST(ImageSources, AnOrderBeyondTheCandidateBudgetIsRefusedUpFront) {
+  const AcousticScene scene(room_reverb::test::shoeboxMesh({6.2, 4.3, 2.9}), room_reverb::test::uniformLibrary(0.2, 0.0));
+  const Eigen::Vector3d source(1.7, 1.1, 1.3), listener(4.4, 3.05, 1.6);
+  // Orders 0 and 1: the source itself, and its image in each of the six walls.
+  EXPECT_EQ(estimatedImageCandidates(scene, source, listener, 0), 1.0);
+  EXPECT_EQ(estimatedImageCandidates(scene, source, listener, 1), 7.0);
+  // Order 3 is counted: its candidates include the 63 real images.
+  EXPECT_GE(estimatedImageCandidates(scene, source, listener, 3), 63.0);
+  const PropagationModel model = PropagationModel::from(AirConditions{}, {});
+  ImageSourceOptions options;
+  options.max_order = 40;
+  room_reverb::test::expectInputError([&] { computeImageSources(scene, source, listener, model, options); },
+                                      {"image-source order 40", "candidate paths", "use order"});
+  // Within the budget the same room searches as before.
+  options.max_order = 3;
+  EXPECT_EQ(computeImageSources(scene, source, listener, model, options).size(), 63u);
+  options.max_order = 4;
+  options.max_candidates = estimatedImageCandidates(scene, source, listener, 3);
+  room_reverb::test::expectInputError([&] { computeImageSources(scene, source, listener, model, options); },
+                                      {"use order 3 or less"});
 }
 
 TEST(ImageSources, SpecularShareAndAirAreApplied) {

@@ -85,6 +85,7 @@ materials:
 )");
   expectExit2("simulate --mesh " + cube("hot.obj", "hot_panel") + kInside + " --materials " + bad_library + out, "hot_panel");
   expectExit2("simulate --mesh " + good + kInside + " --mode quantum" + out, "quantum");
+  expectExit2("simulate --mesh " + good + kInside + " --order 60" + out, "candidate paths");
   expectExit2("simulate --mesh " + good + " --source 1 1 --listener 3 2 1.5" + out, "--source");
 }
 

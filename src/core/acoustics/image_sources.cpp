@@ -1,6 +1,8 @@
 #include "room_reverb/acoustics/image_sources.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "room_reverb/common/error.h"
 
@@ -101,12 +103,50 @@ void expand(Search& s) {
   }
 }
 
+// Candidates per order up to `order`, as expand() visits them (no path checked).
+void countCandidates(const std::vector<ScenePlane>& planes, const Eigen::Vector3d& image, const Eigen::Vector3d& listener,
+                     std::size_t last_plane, int depth, int order, std::vector<double>& per_order) {
+  per_order[static_cast<std::size_t>(depth)] += 1.0;
+  if (depth >= order) return;
+  for (std::size_t p = 0; p < planes.size(); ++p) {
+    if (p == last_plane) continue;
+    if (signedDistance(image, planes[p]) * signedDistance(listener, planes[p]) <= 0.0) continue;
+    countCandidates(planes, mirror(image, planes[p]), listener, p, depth + 1, order, per_order);
+  }
+}
+
 }  // namespace
+
+double estimatedImageCandidates(const AcousticScene& scene, const Eigen::Vector3d& source,
+                                const Eigen::Vector3d& listener, int order) {
+  constexpr int kCounted = 3;
+  const int counted = std::min(order, kCounted);
+  std::vector<double> per_order(static_cast<std::size_t>(counted) + 1, 0.0);
+  countCandidates(scene.planes(), source, listener, scene.planes().size(), 0, counted, per_order);
+  double total = 0.0;
+  for (double n : per_order) total += n;
+  if (order <= counted || per_order.back() <= 0.0) return total;
+  const double growth = per_order[counted] / std::max(1.0, per_order[counted - 1]);
+  double level = per_order.back();
+  for (int k = counted + 1; k <= order; ++k) total += (level *= growth);
+  return total;
+}
 
 std::vector<SpecularPath> computeImageSources(const AcousticScene& scene, const Eigen::Vector3d& source,
                                               const Eigen::Vector3d& listener, const PropagationModel& model,
                                               const ImageSourceOptions& options) {
   if (options.max_order < 0) throw InputError("image-source order must be 0 or more");
+  const double candidates = estimatedImageCandidates(scene, source, listener, options.max_order);
+  if (candidates > options.max_candidates) {
+    int fits = 0;
+    while (fits + 1 < options.max_order && estimatedImageCandidates(scene, source, listener, fits + 1) <= options.max_candidates) ++fits;
+    char count[32];
+    std::snprintf(count, sizeof count, "%.1e", candidates);
+    throw InputError("image-source order " + std::to_string(options.max_order) + " over the room's " +
+                     std::to_string(scene.planes().size()) + " planes means about " + count +
+                     " candidate paths, more than can be checked in minutes: use order " + std::to_string(fits) +
+                     " or less (the rays carry the later reflections)");
+  }
   Search search{scene, source, listener, model, options, {}, {}, {}};
   expand(search);
   return search.paths;
