@@ -327,6 +327,10 @@ TEST(RsaoVisrJson, BadInputNamesTheKey) {
       "room.lreverb.decayconst[0]: must be negative");
   expectInputError([&] { visrJsonToRsao(broken([](nlohmann::json& o) { o["type"] = "point"; })); }, "no object of type pointreverb");
   expectInputError([&] { visrJsonToRsao("{\"objects\": ["); }, "not valid JSON");
+  // Valid JSON syntax, but a number no double holds: nlohmann throws out_of_range, not
+  // parse_error, and that too must reach the user as InputError (fuzz/fuzz_visr_json.cpp).
+  expectInputError([&] { visrJsonToRsao("{\"objects\": [{\"level\": 13.0e444}]}"); },
+                   "VISR JSON: not valid JSON ([json.exception.out_of_range.406] number overflow parsing '13.0e444')");
 }
 
 TEST(RsaoVisrJson, RefusesWhatVisrCannotHold) {

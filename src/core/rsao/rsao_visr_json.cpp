@@ -336,7 +336,7 @@ VisrImport visrJsonToRsao(const std::string& json_text, int object_id) {
   json root;
   try {
     root = json::parse(json_text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, and out_of_range for a number past double's range
     throw InputError(std::string("VISR JSON: not valid JSON (") + e.what() + ")");
   }
   try {
