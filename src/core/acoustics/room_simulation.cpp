@@ -72,14 +72,8 @@ EnergyHistogram diffuseLateField(const AcousticScene& scene, double volume_m3, d
 // The volume a diffuse field fills: the enclosed one, or for an open mesh its bounding box's.
 double diffuseVolumeM3(const AcousticScene& scene) {
   if (scene.volumeM3() > 0.0 && scene.closed()) return scene.volumeM3();
-  const TriangleMesh& mesh = scene.mesh();
-  if (mesh.vertices.empty()) return 0.0;
-  Eigen::Vector3d low = mesh.vertices.front(), high = mesh.vertices.front();
-  for (const Eigen::Vector3d& v : mesh.vertices) {
-    low = low.cwiseMin(v);
-    high = high.cwiseMax(v);
-  }
-  return (high - low).prod();
+  if (scene.mesh().vertices.empty()) return 0.0;
+  return (scene.geometry().boundsMax() - scene.geometry().boundsMin()).prod();
 }
 
 }  // namespace
