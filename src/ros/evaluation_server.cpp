@@ -1,5 +1,6 @@
 #include "room_reverb/ros/evaluation_server.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -74,6 +75,12 @@ EvaluationServer::EvaluationServer(::ros::NodeHandle& private_nh) {
   noise_seeds_ = positiveIntParam(private_nh, "noise_seeds", core::DiagnosisOptions{}.noise_seeds);
   if (noise_seeds_ > core::DiagnosisOptions::kMaxNoiseSeeds) {
     throw core::InputError("parameter ~noise_seeds must be 1-" + std::to_string(core::DiagnosisOptions::kMaxNoiseSeeds));
+  }
+  causes_ = stringListParam(private_nh, "causes");
+  for (const std::string& cause : causes_) {
+    if (std::find(core::kCatalogueCauses.begin(), core::kCatalogueCauses.end(), cause) == core::kCatalogueCauses.end()) {
+      throw core::InputError("parameter ~causes: unknown cause '" + cause + "' (docs/diagnosis.md lists the catalogue)");
+    }
   }
   private_nh.param("threads", threads_, 0);
   if (threads_ < 0) throw core::InputError("parameter ~threads must not be negative");
@@ -237,7 +244,11 @@ bool EvaluationServer::diagnose(room_reverb::DiagnoseRoom::Request& request,
     const core::RoomUnderTest room =
         roomOf(request.room, request.mesh_file, request.mesh_y_up, measurements, request.no_air, library_);
     core::DiagnosisOptions options;
-    if (!request.causes.empty()) options.causes = request.causes;
+    if (!request.causes.empty()) {
+      options.causes = request.causes;
+    } else if (!causes_.empty()) {
+      options.causes = causes_;
+    }
     options.max_causes = request.max_causes >= 0 ? request.max_causes : max_causes_;
     options.noise_seeds = noise_seeds_;
     core::SimulationSettings& sim = options.evaluation.simulation;

@@ -8,6 +8,7 @@
 #include <room_reverb/RoomScene.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
@@ -260,6 +261,38 @@ TEST_F(EvaluationService, BadInputAnswersWithAReason) {
   EXPECT_FALSE(d.success);
   EXPECT_NE(d.message.find("channel"), std::string::npos) << d.message;
   EXPECT_TRUE(d.causes.empty());
+}
+
+// Starts a second evaluation node (the binary next to this test's) under `name`, whose
+// private parameters the caller has set on the master; its output and exit status.
+std::string runEvaluationNode(const std::string& name) {
+  const std::string node = (std::filesystem::read_symlink("/proc/self/exe").parent_path() / "evaluation").string();
+  FILE* pipe = popen(("timeout 20 " + node + " __name:=" + name + " 2>&1; echo \"exit $?\"").c_str(), "r");
+  if (pipe == nullptr) return "popen failed";
+  std::string output;
+  char line[512];
+  while (fgets(line, sizeof line, pipe)) output += line;
+  pclose(pipe);
+  return output;
+}
+
+TEST(EvaluationNode, AnUnknownOrMistypedCauseListStopsTheNodeWithOneLine) {
+  ros::param::set("/evaluation_unknown_cause/causes", std::vector<std::string>{"air_absorption", "reverb_gremlins"});
+  std::string output = runEvaluationNode("evaluation_unknown_cause");
+  EXPECT_NE(output.find("unknown cause 'reverb_gremlins'"), std::string::npos) << output;
+  EXPECT_NE(output.find("exit 2"), std::string::npos) << output;
+
+  // One name where a list belongs: refused, not silently replaced by the whole catalogue.
+  ros::param::set("/evaluation_cause_string/causes", std::string("air_absorption"));
+  output = runEvaluationNode("evaluation_cause_string");
+  EXPECT_NE(output.find("parameter ~causes must be a list of strings"), std::string::npos) << output;
+  EXPECT_NE(output.find("exit 2"), std::string::npos) << output;
+
+  // A number given as text is refused too.
+  ros::param::set("/evaluation_rays_string/diagnosis_rays", std::string("many"));
+  output = runEvaluationNode("evaluation_rays_string");
+  EXPECT_NE(output.find("parameter ~diagnosis_rays must be an integer"), std::string::npos) << output;
+  EXPECT_NE(output.find("exit 2"), std::string::npos) << output;
 }
 
 }  // namespace

@@ -20,6 +20,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "room_reverb/acoustics/material.h"
 
@@ -54,6 +55,7 @@ class EvaluationServer {
   int seed_ = 1;
   int max_causes_ = 3;
   int noise_seeds_ = 5;  // ~noise_seeds
+  std::vector<std::string> causes_;  // ~causes: tried when a request names none; empty: the catalogue
   int threads_ = 0;
   std::string out_root_;
   core::MaterialLibrary library_;
