@@ -197,20 +197,27 @@ void addLateField(const EnergyHistogram& late, const SynthesisOptions& o, AudioB
   const BandFilterBank bank(lateSynthesisBands(), o.sample_rate_hz, 0.5, Complementarity::kAmplitude);
   const std::vector<double> bandwidth_hz = noiseBandwidthsHz(bank);
 
-  // Per bin and octave: power spectral density per sample, directional fraction and the
-  // direction's harmonics (flat: [bin][band][channel]).
+  // Per bin and octave: power spectral density per sample, and per channel the two gains
+  // the sample loop applies (flat: [bin][band][channel]): of the main sequence (the
+  // direction's harmonic times the square root of the directional fraction) and of the
+  // channel's own sequence's power (the diffuse fraction spread over the order's 2l+1
+  // channels). Precomputed here, the loop over samples takes one square root per channel.
   std::vector<std::array<double, kOctaveBandCount>> density(late.bins());
-  std::vector<std::array<double, kOctaveBandCount>> directional(late.bins());
-  std::vector<double> harmonics(late.bins() * kOctaveBandCount * channels);
+  std::vector<double> directional_gain(late.bins() * kOctaveBandCount * channels);
+  std::vector<double> diffuse_share(late.bins() * kOctaveBandCount * channels);
   const double per_hz = 1.0 / (0.5 * o.sample_rate_hz);
   for (std::size_t bin = 0; bin < late.bins(); ++bin) {
     for (int b = 0; b < kOctaveBandCount; ++b) {
       const double energy = to_pressure * late.energy(bin, b) / bin_frames;
       density[bin][b] = energy * per_hz;
       const Eigen::Vector3d flux = to_pressure * late.flux(bin, b) / bin_frames;
-      directional[bin][b] = energy > 0.0 ? std::min(1.0, flux.norm() / energy) : 0.0;
+      const double directional = energy > 0.0 ? std::min(1.0, flux.norm() / energy) : 0.0;
       const std::vector<double> y = sn3dHarmonics(order, flux.norm() > 0.0 ? Eigen::Vector3d(flux.normalized()) : Eigen::Vector3d::UnitX());
-      std::copy(y.begin(), y.end(), harmonics.begin() + static_cast<long>((bin * kOctaveBandCount + b) * channels));
+      const std::size_t at = (bin * kOctaveBandCount + b) * channels;
+      for (std::size_t c = 0; c < channels; ++c) {
+        directional_gain[at + c] = y[c] * std::sqrt(directional);
+        diffuse_share[at + c] = (1.0 - directional) / (2.0 * orderOfChannel(c) + 1.0);
+      }
     }
   }
   std::vector<int> owner;
@@ -238,14 +245,12 @@ void addLateField(const EnergyHistogram& late, const SynthesisOptions& o, AudioB
       const double target = interpolatedTarget(targets[t], position) * bandwidth_hz[t];
       if (target <= 0.0 || realised[0][n] <= 0.0) continue;
       const auto bin = std::min(late.bins() - 1, static_cast<std::size_t>(position));
+      const std::size_t at = (bin * kOctaveBandCount + b) * channels;
       const double main = std::sqrt(target / realised[0][n]) * noise[0][n];
       out.channels[0][n] += static_cast<float>(main);
       for (std::size_t c = 1; c < channels; ++c) {
-        double v = main * harmonics[(bin * kOctaveBandCount + b) * channels + c] * std::sqrt(directional[bin][b]);
-        if (realised[c][n] > 0.0) {
-          const double diffuse = target * (1.0 - directional[bin][b]) / (2.0 * orderOfChannel(c) + 1.0);
-          v += std::sqrt(diffuse / realised[c][n]) * noise[c][n];
-        }
+        double v = main * directional_gain[at + c];
+        if (realised[c][n] > 0.0) v += std::sqrt(target * diffuse_share[at + c] / realised[c][n]) * noise[c][n];
         out.channels[c][n] += static_cast<float>(v);
       }
     }
