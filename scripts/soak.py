@@ -1,0 +1,166 @@
+#!/usr/bin/python3
+"""Drives a running binaural_renderer for a soak: swaps rooms and turns the head while it
+streams, samples its status and its resident memory, and reports.
+
+    soak.py --pid PID [--ns /soak] [--minutes 60] [--swap-s 20] [--out REPORT.md]
+
+Every --swap-s seconds the next measured B-format RIR of data/rirs/bformat goes to
+<ns>/binaural_renderer/impulse_response (FuMa, 2-6 s long); the head turns continuously,
+one revolution every 12 s, at 50 orientations per second on .../head_orientation. Every
+10 s the renderer's resident memory (/proc/PID/status VmRSS) and its last
+.../status are recorded. At the end: chunks published, late and dropped, rooms accepted
+and refused, the CPU share (median and worst of the status periods), and the memory's
+least-squares slope over the run after its first five minutes (warm-up: the convolver
+and the HRTF caches fill), in MiB per hour.
+
+Exit status: 0 when the run completed with no chunk dropped, no room refused and the
+renderer alive; 1 otherwise; 2 for bad arguments.
+"""
+import argparse
+import array
+import math
+import os
+import statistics
+import sys
+import time
+import wave
+
+import rospy
+from geometry_msgs.msg import QuaternionStamped
+from room_reverb.msg import ImpulseResponse, StreamStatus
+
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+RIRS = ["dixon_studio_theatre_r1", "terrys_typing_room", "st_andrews_church", "tyndall_bruce_monument"]
+WARM_UP_S = 300.0
+
+
+def read_wav_float(path):
+    """Interleaved float samples of a 16- or 24-bit PCM WAV, its channel count and rate."""
+    with wave.open(path, "rb") as w:
+        channels, width, rate = w.getnchannels(), w.getsampwidth(), w.getframerate()
+        raw = w.readframes(w.getnframes())
+    if width == 2:
+        ints, scale = array.array("h", raw), 32768.0
+    elif width == 3:
+        # 24-bit little-endian into the top three bytes of int32: value * 256.
+        wide = bytearray(len(raw) // 3 * 4)
+        wide[1::4], wide[2::4], wide[3::4] = raw[0::3], raw[1::3], raw[2::3]
+        ints, scale = array.array("i", bytes(wide)), 2147483648.0
+    else:
+        raise ValueError(f"{path}: {8 * width}-bit samples (16 or 24 expected)")
+    return [v / scale for v in ints], channels, rate
+
+
+def rss_mib(pid):
+    with open(f"/proc/{pid}/status") as f:
+        for line in f:
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1]) / 1024.0
+    raise RuntimeError("no VmRSS")
+
+
+def slope_per_hour(samples):
+    """Least-squares slope of (t_s, value) pairs, per hour."""
+    if len(samples) < 3:
+        return float("nan")
+    mt = statistics.fmean(t for t, _ in samples)
+    mv = statistics.fmean(v for _, v in samples)
+    num = sum((t - mt) * (v - mv) for t, v in samples)
+    den = sum((t - mt) ** 2 for t, _ in samples)
+    return 3600.0 * num / den if den > 0 else float("nan")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--pid", type=int, required=True, help="the renderer's process id")
+    parser.add_argument("--ns", default="/soak", help="the renderer's namespace")
+    parser.add_argument("--minutes", type=float, default=60.0)
+    parser.add_argument("--swap-s", type=float, default=20.0)
+    parser.add_argument("--out", default="", help="write the report (Markdown) here too")
+    args = parser.parse_args()
+    if args.minutes <= 0 or args.swap_s <= 0:
+        print("soak.py: --minutes and --swap-s must be positive", file=sys.stderr)
+        return 2
+    if not os.path.exists(f"/proc/{args.pid}"):
+        print(f"soak.py: no process {args.pid}", file=sys.stderr)
+        return 2
+
+    rospy.init_node("soak_driver", anonymous=True)
+    base = args.ns.rstrip("/") + "/binaural_renderer/"
+    rir_pub = rospy.Publisher(base + "impulse_response", ImpulseResponse, queue_size=1, latch=True)
+    head_pub = rospy.Publisher(base + "head_orientation", QuaternionStamped, queue_size=10)
+    status = {"last": None, "cpu": [], "worst_chunk": 0.0}
+
+    def on_status(message):
+        status["last"] = message
+        status["cpu"].append(message.process_cpu_share)
+        status["worst_chunk"] = max(status["worst_chunk"], message.worst_chunk_render_s)
+
+    rospy.Subscriber(base + "status", StreamStatus, on_status)
+
+    rooms = []
+    for name in RIRS:
+        samples, channels, rate = read_wav_float(os.path.join(REPO, "data", "rirs", "bformat", name + ".wav"))
+        message = ImpulseResponse()
+        message.audio.sample_rate_hz = rate
+        message.audio.channel_count = channels
+        message.audio.channel_layout = "fuma"
+        message.audio.samples = samples
+        rooms.append((name, message))
+
+    start = time.monotonic()
+    end = start + 60.0 * args.minutes
+    next_swap, next_sample, swaps = start, start, 0
+    memory = []
+    rate = rospy.Rate(50)
+    while not rospy.is_shutdown() and time.monotonic() < end:
+        now = time.monotonic()
+        if not os.path.exists(f"/proc/{args.pid}"):
+            print(f"soak.py: the renderer (pid {args.pid}) died after {now - start:.0f} s")
+            return 1
+        if now >= next_swap:
+            name, message = rooms[swaps % len(rooms)]
+            message.audio.header.stamp = rospy.Time.now()
+            rir_pub.publish(message)
+            swaps += 1
+            next_swap += args.swap_s
+        if now >= next_sample:
+            memory.append((now - start, rss_mib(args.pid)))
+            next_sample += 10.0
+        yaw = 2.0 * math.pi * ((now - start) / 12.0 % 1.0)
+        q = QuaternionStamped()
+        q.header.stamp = rospy.Time.now()
+        q.header.frame_id = "head"
+        q.quaternion.z, q.quaternion.w = math.sin(yaw / 2.0), math.cos(yaw / 2.0)
+        head_pub.publish(q)
+        rate.sleep()
+
+    last = status["last"]
+    if last is None:
+        print("soak.py: no status from the renderer")
+        return 1
+    after_warm_up = [(t, v) for t, v in memory if t >= WARM_UP_S] or memory
+    cpu = sorted(status["cpu"])
+    lines = [
+        f"| run | {args.minutes:g} min, a room swap every {args.swap_s:g} s ({swaps} swaps over {len(rooms)} RIRs), "
+        f"head turning at 50 Hz |",
+        "| --- | --- |",
+        f"| chunks published / late / dropped | {last.chunks_published} / {last.chunks_late} / {last.chunks_dropped} |",
+        f"| rooms accepted / refused | {last.room_changes} / {last.rooms_rejected} |",
+        f"| orientations refused | {last.orientations_rejected} |",
+        f"| process CPU share, median / worst status period | {statistics.median(cpu):.3f} / {cpu[-1]:.3f} |",
+        f"| longest chunk render | {1000.0 * status['worst_chunk']:.1f} ms |",
+        f"| resident memory, first / last sample | {memory[0][1]:.1f} / {memory[-1][1]:.1f} MiB |",
+        f"| resident memory slope after {WARM_UP_S / 60:g} min | {slope_per_hour(after_warm_up):+.2f} MiB per hour |",
+    ]
+    report = "\n".join(lines)
+    print(report)
+    if args.out:
+        with open(args.out, "w") as f:
+            f.write(report + "\n")
+    healthy = last.chunks_dropped == 0 and last.rooms_rejected == 0
+    return 0 if healthy else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
