@@ -9,6 +9,7 @@
 #include "room_reverb/common/error.h"
 #include "room_reverb/ros/image_conversions.h"
 #include "room_reverb/ros/parameters.h"
+#include "room_reverb/vision/image_leveling.h"
 
 namespace room_reverb::ros_bridge {
 
@@ -86,8 +87,17 @@ void CaptureIngestServer::onImu(const sensor_msgs::ImuConstPtr& imu) {
   const auto& q = imu->orientation;
   // REP 145: a covariance of -1 in its first element means no orientation estimate.
   if (imu->orientation_covariance[0] < 0.0) return;
+  const Eigen::Quaterniond orientation(q.w, q.x, q.y, q.z);
+  try {
+    // What the levelling refuses is dropped here: stored, it would replace the last good
+    // orientation and fail every pair until the next good one.
+    core::cameraUpFromImu(orientation);
+  } catch (const core::InputError& e) {
+    ROS_WARN_THROTTLE(5.0, "capture_ingest: imu ignored, the last good orientation stays: %s", e.what());
+    return;
+  }
   std::lock_guard<std::mutex> lock(imu_mutex_);
-  imu_ = Eigen::Quaterniond(q.w, q.x, q.y, q.z);
+  imu_ = orientation;
 }
 
 void CaptureIngestServer::onFileTimer(const ::ros::WallTimerEvent&) {

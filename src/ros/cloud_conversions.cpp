@@ -20,12 +20,18 @@ const sensor_msgs::PointField* findField(const sensor_msgs::PointCloud2& msg, co
   return nullptr;
 }
 
+// Whether a 4-byte field lies inside the point; in 64 bits, as an offset near 2^32 would
+// wrap past a 32-bit check and send the reads outside the message.
+bool fieldFits(const sensor_msgs::PointField& field, std::uint32_t point_step) {
+  return std::uint64_t{field.offset} + 4 <= point_step;
+}
+
 const sensor_msgs::PointField& requireFloatField(const sensor_msgs::PointCloud2& msg, const std::string& name) {
   const sensor_msgs::PointField* field = findField(msg, name);
   if (field == nullptr || field->datatype != sensor_msgs::PointField::FLOAT32) {
     throw core::InputError("point cloud: needs a float32 field '" + name + "'");
   }
-  if (field->offset + 4 > msg.point_step) throw core::InputError("point cloud: field '" + name + "' lies outside the point");
+  if (!fieldFits(*field, msg.point_step)) throw core::InputError("point cloud: field '" + name + "' lies outside the point");
   return *field;
 }
 
@@ -74,9 +80,9 @@ core::PointCloud cloudFromMessage(const sensor_msgs::PointCloud2& msg) {
   const auto& fz = requireFloatField(msg, "z");
   const sensor_msgs::PointField* rgb = findField(msg, "rgb");
   if (rgb == nullptr) rgb = findField(msg, "rgba");
-  if (rgb != nullptr && rgb->offset + 4 > msg.point_step) rgb = nullptr;
+  if (rgb != nullptr && !fieldFits(*rgb, msg.point_step)) rgb = nullptr;
   const sensor_msgs::PointField* label = findField(msg, "label");
-  if (label != nullptr && (label->datatype != sensor_msgs::PointField::UINT32 || label->offset + 4 > msg.point_step)) {
+  if (label != nullptr && (label->datatype != sensor_msgs::PointField::UINT32 || !fieldFits(*label, msg.point_step))) {
     label = nullptr;
   }
   if (msg.is_bigendian) throw core::InputError("point cloud: big-endian data is not supported");

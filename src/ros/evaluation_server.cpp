@@ -58,6 +58,21 @@ core::RoomUnderTest roomOf(const room_reverb::RoomModel& message, const std::str
                                  no_air, library);
 }
 
+bool finite(const geometry_msgs::Point& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
+
+// What the live diagnosis would refuse in a RIR, refused on arrival (the layout is also
+// written into measurements.yaml, so only the known names pass).
+void checkLiveImpulseResponse(const room_reverb::ImpulseResponse& rir) {
+  fromMessage(rir.audio);
+  const std::string& layout = rir.audio.channel_layout;
+  if (layout != "mono" && layout != "fuma" && layout != "ambix") {
+    throw core::InputError("channel_layout \"" + layout + "\" is not mono, fuma or ambix");
+  }
+  if (!finite(rir.source_position) || !finite(rir.receiver_position)) {
+    throw core::InputError("the source or receiver position is not finite");
+  }
+}
+
 // A new folder name under `root`: PREFIX_<milliseconds since 1970>.
 std::filesystem::path stampedFolder(const std::string& root, const std::string& prefix) {
   const auto stamp = std::chrono::duration_cast<std::chrono::milliseconds>(
@@ -116,6 +131,14 @@ void EvaluationServer::publishCorrection(const room_reverb::RoomModel& room, con
 }
 
 void EvaluationServer::onRoom(const room_reverb::RoomModel::ConstPtr& message) {
+  try {
+    // Refused now, not at the next live diagnosis (which waits for a RIR): the last good
+    // room stays.
+    core::roomModelToScene(fromMessage(*message), library_);
+  } catch (const std::exception& e) {
+    ROS_WARN("evaluation: ~room ignored, the last good one stays: %s", e.what());
+    return;
+  }
   {
     std::lock_guard<std::mutex> lock(live_mutex_);
     live_room_ = *message;
@@ -127,6 +150,12 @@ void EvaluationServer::onRoom(const room_reverb::RoomModel::ConstPtr& message) {
 void EvaluationServer::onImpulseResponse(const room_reverb::ImpulseResponse::ConstPtr& message) {
   if (!message->positions_known) {
     ROS_WARN("evaluation: ~impulse_response without source and receiver positions: not diagnosed");
+    return;
+  }
+  try {
+    checkLiveImpulseResponse(*message);
+  } catch (const std::exception& e) {
+    ROS_WARN("evaluation: ~impulse_response ignored, the last good one stays: %s", e.what());
     return;
   }
   {

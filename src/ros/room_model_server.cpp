@@ -82,6 +82,13 @@ RoomModelServer::RoomModelServer(::ros::NodeHandle nh, ::ros::NodeHandle private
 }
 
 void RoomModelServer::onImage(const sensor_msgs::ImageConstPtr& image) {
+  try {
+    // Refused now, not at the next build: the last good image stays.
+    checkCameraImageMessage(*image, "top/image_equirect");
+  } catch (const core::InputError& e) {
+    ROS_WARN("room_model: %s; ignored, the last good image stays", e.what());
+    return;
+  }
   std::lock_guard<std::mutex> lock(latest_mutex_);
   latest_image_ = image;
 }

@@ -10,8 +10,12 @@ namespace room_reverb::ros_bridge {
 // An 8-bit colour or grey camera image as the core takes it: bgr8 for colour encodings
 // (rgb8, bgr8, rgba8, bgra8), mono8 for mono8. core::InputError naming `what` for an empty
 // image, another encoding (16-bit, float, Bayer) or a malformed message (data shorter than
-// step x height).
+// step x height, or step shorter than a row of pixels).
 cv::Mat cameraImageFromMessage(const sensor_msgs::Image& msg, const std::string& what);
+
+// The checks of cameraImageFromMessage without the conversion: for an image that is kept
+// to be converted later.
+void checkCameraImageMessage(const sensor_msgs::Image& msg, const std::string& what);
 
 // A range image (32FC1, metres) as CV_32FC1. InputError naming `what` for an empty or
 // malformed message or another encoding.
