@@ -67,7 +67,7 @@ sensor_msgs::PointCloud2 cloudToMessage(const core::PointCloud& cloud, const std
   return msg;
 }
 
-core::PointCloud cloudFromMessage(const sensor_msgs::PointCloud2& msg) {
+void checkCloudMessage(const sensor_msgs::PointCloud2& msg) {
   const std::size_t count = static_cast<std::size_t>(msg.width) * msg.height;
   if (count > 0 && (msg.row_step < static_cast<std::size_t>(msg.width) * msg.point_step ||
                     msg.data.size() < static_cast<std::size_t>(msg.row_step) * msg.height)) {
@@ -75,6 +75,13 @@ core::PointCloud cloudFromMessage(const sensor_msgs::PointCloud2& msg) {
                            std::to_string(msg.height) + " rows of " + std::to_string(msg.width) + " points of " +
                            std::to_string(msg.point_step) + " bytes");
   }
+  for (const char* axis : {"x", "y", "z"}) requireFloatField(msg, axis);
+  if (msg.is_bigendian) throw core::InputError("point cloud: big-endian data is not supported");
+}
+
+core::PointCloud cloudFromMessage(const sensor_msgs::PointCloud2& msg) {
+  checkCloudMessage(msg);
+  const std::size_t count = static_cast<std::size_t>(msg.width) * msg.height;
   const auto& fx = requireFloatField(msg, "x");
   const auto& fy = requireFloatField(msg, "y");
   const auto& fz = requireFloatField(msg, "z");
@@ -85,7 +92,6 @@ core::PointCloud cloudFromMessage(const sensor_msgs::PointCloud2& msg) {
   if (label != nullptr && (label->datatype != sensor_msgs::PointField::UINT32 || !fieldFits(*label, msg.point_step))) {
     label = nullptr;
   }
-  if (msg.is_bigendian) throw core::InputError("point cloud: big-endian data is not supported");
 
   core::PointCloud cloud;
   cloud.frame = msg.header.frame_id;

@@ -105,6 +105,13 @@ void RoomModelServer::onTilt(const geometry_msgs::QuaternionStampedConstPtr& til
 }
 
 void RoomModelServer::onCloud(const sensor_msgs::PointCloud2ConstPtr& cloud) {
+  try {
+    // Refused now, not at the next build: the last good cloud stays.
+    checkCloudMessage(*cloud);
+  } catch (const core::InputError& e) {
+    ROS_WARN("room_model: %s; ignored, the last good cloud stays", e.what());
+    return;
+  }
   {
     std::lock_guard<std::mutex> lock(latest_mutex_);
     latest_cloud_ = cloud;

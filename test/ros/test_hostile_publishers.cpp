@@ -390,6 +390,10 @@ sensor_msgs::PointCloud2 cloud(const std::vector<std::array<float, 3>>& points) 
   return m;
 }
 
+// The clouds below whose structure is broken (the six after the first three and before
+// the last): refused on arrival.
+constexpr std::size_t kMalformedClouds = 6;
+
 std::vector<sensor_msgs::PointCloud2> hostileClouds() {
   std::vector<sensor_msgs::PointCloud2> out;
   out.push_back(cloud({}));                                                            // no points
@@ -504,9 +508,18 @@ TEST_F(HostilePublishers, RoomModelRefusesBadCloudsImagesAndTilts) {
   for (const auto& pair : hostileImagePairs()) images.push_back(pair.first);
   publishAll(*nh_, "/rm/top/image_equirect", images);
   publishAll(*nh_, "/rm/points", hostileClouds(), 0.2);
-  // Every bad tilt, malformed image and cloud (each cloud's failed build logs twice).
+  // Every bad tilt, malformed image and cloud: a malformed cloud is refused on arrival
+  // (one line), a well-formed one that holds no usable room fails its build (two: the
+  // build's reason and the node's note that the build on the new cloud failed).
   expectWarnings("/rm/room_model", static_cast<int>(hostileQuaternions().size() + kMalformedImagePairs +
-                                                    2 * hostileClouds().size()));
+                                                    2 * hostileClouds().size() - kMalformedClouds));
+  const std::string lines = log_->lines("/rm/room_model");
+  std::size_t kept = 0;
+  for (std::size_t at = lines.find("the last good cloud stays"); at != std::string::npos;
+       at = lines.find("the last good cloud stays", at + 1)) {
+    ++kept;
+  }
+  EXPECT_EQ(kept, kMalformedClouds) << lines;
   room_reverb::BuildRoomModel build;
   ASSERT_TRUE(answers("/rm/room_model/build", build));
   EXPECT_FALSE(build.response.success);

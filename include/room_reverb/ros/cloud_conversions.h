@@ -16,5 +16,8 @@ sensor_msgs::PointCloud2 cloudToMessage(const core::PointCloud& cloud, const std
 // core::InputError for a cloud without float32 x/y/z fields or with a data size that does
 // not match its width, height and point step.
 core::PointCloud cloudFromMessage(const sensor_msgs::PointCloud2& msg);
+// The structural checks of cloudFromMessage (sizes, x/y/z float fields inside the point,
+// byte order) without the conversion: for a cloud that is kept to be converted later.
+void checkCloudMessage(const sensor_msgs::PointCloud2& msg);
 
 }  // namespace room_reverb::ros_bridge
