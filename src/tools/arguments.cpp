@@ -1,6 +1,8 @@
 #include "arguments.h"
 
+#include <cerrno>
 #include <cstdlib>
+#include <limits>
 #include <sstream>
 
 #include "command.h"
@@ -47,8 +49,13 @@ int Arguments::intValue(const std::string& name, int fallback) const {
   if (!has(name)) return fallback;
   const std::string text = value(name, "");
   char* end = nullptr;
+  errno = 0;
   const long parsed = std::strtol(text.c_str(), &end, 10);
   if (text.empty() || *end != '\0') throw UsageError("--" + name + " needs an integer, got '" + text + "'");
+  // Checked before the narrowing, which would wrap 4294967296 to 0.
+  if (errno == ERANGE || parsed < std::numeric_limits<int>::min() || parsed > std::numeric_limits<int>::max()) {
+    throw UsageError("--" + name + " is out of range, got '" + text + "'");
+  }
   return static_cast<int>(parsed);
 }
 

@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <iostream>
+#include <mutex>
 
 #include "arguments.h"
 #include "command.h"
@@ -34,7 +35,7 @@ void installStopHandlers() {
 
 }  // namespace
 
-const char* const kMushraServeHelp = R"(usage: room_reverb mushra serve DIR [--port 8000] [--host 127.0.0.1]
+const char* const kMushraServeHelp = R"(usage: room_reverb mushra serve DIR [--port 8000] [--host 127.0.0.1] [--timeout 10]
 
 serve: serves the test page of a test made by `mushra make` over HTTP, so that each
 listener's results are also saved on this machine: the page posts its CSV to /results,
@@ -47,11 +48,14 @@ results are only downloaded.
   --port N             TCP port (default 8000; 0 picks a free one and prints it)
   --host ADDRESS       address to listen on (default 127.0.0.1, this machine only;
                        0.0.0.0 lets other machines of the network connect)
+  --timeout S          seconds a request may take to arrive whole (default 10; a
+                       client that has not sent it by then is answered 408 and
+                       dropped, so a stalled browser never holds the server)
 
 )";
 
 int runMushraServe(const std::vector<std::string>& raw) {
-  const Arguments args(raw, {"port", "host"}, {});
+  const Arguments args(raw, {"port", "host", "timeout"}, {});
   if (args.positional().empty()) throw UsageError("name the test folder: room_reverb mushra serve DIR");
   if (args.positional().size() > 1) throw UsageError("unexpected argument '" + args.positional()[1] + "'");
   const std::string dir = args.positional().front();
@@ -59,9 +63,13 @@ int runMushraServe(const std::vector<std::string>& raw) {
   options.port = args.intValue("port", 8000);
   options.host = args.value("host", "127.0.0.1");
   if (options.port < 0 || options.port > 65535) throw UsageError("--port must lie in 0..65535");
+  options.timeout_s = args.intValue("timeout", 10);
+  if (options.timeout_s < 1 || options.timeout_s > 3600) throw UsageError("--timeout must lie in 1..3600 s");
 
   MushraRequestHandler handler(dir);
-  handler.on_saved = [](const std::string& path, const std::string& listener, std::size_t rows) {
+  std::mutex output;  // whole lines from the connections' threads
+  handler.on_saved = [&output](const std::string& path, const std::string& listener, std::size_t rows) {
+    const std::lock_guard<std::mutex> lock(output);
     std::cout << "saved " << rows << " ratings of " << listener << " to " << path << std::endl;
   };
   HttpServer server(options, [&handler](const HttpRequest& request) { return handler(request); });

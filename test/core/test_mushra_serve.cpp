@@ -7,25 +7,35 @@
 #include <gtest/gtest.h>
 
 #include <arpa/inet.h>
+#include <poll.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
-#include <sys/time.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <mutex>
+#include <thread>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "room_reverb/common/text_file.h"
 #include "room_reverb/common/http_server.h"
 #include "room_reverb/listening/mushra_server.h"
+#include "http_client.h"
 #include "served_tool.h"
 #include "test_files.h"
 #include "tool_run.h"
 
 using namespace room_reverb::core;
 using room_reverb::test::expectOneLineError;
+using room_reverb::test::sendRequest;
+using Reply = room_reverb::test::HttpReply;
 using room_reverb::test::runTool;
 using room_reverb::test::ServedTool;
 using room_reverb::test::tempPath;
@@ -38,9 +48,8 @@ const char* kSecret = "the experimenter's secret";
 // A test folder as `mushra make` leaves it, reduced to what the server reads: test.json
 // (its scale and page ids), the page, an audio script; and a file beside the folder that
 // must stay out of reach, also through a link inside the folder.
-fs::path testFolder() {
-  static const fs::path dir = [] {
-    const fs::path parent = tempPath("serve_parent");
+fs::path makeTestFolder(const std::string& name) {
+    const fs::path parent = tempPath(name);
     const fs::path d = parent / "test";
     fs::create_directories(d / "audio" / "room");
     const nlohmann::json test = {{"format", "room_reverb MUSHRA test"},
@@ -52,59 +61,28 @@ fs::path testFolder() {
     std::ofstream(parent / "secret.txt") << kSecret;
     fs::create_symlink(parent / "secret.txt", d / "link.txt");
     return d;
-  }();
+}
+
+fs::path testFolder() {
+  static const fs::path dir = makeTestFolder("serve_parent");
   return dir;
 }
 
-struct Reply {
-  int status = 0;
-  std::string head;
-  std::string body;
-};
-
-// Sends `request` as raw bytes and reads the answer until the server closes.
-Reply sendRequest(int port, const std::string& request) {
-  Reply reply;
-  const int s = ::socket(AF_INET, SOCK_STREAM, 0);
-  timeval timeout{10, 0};
-  ::setsockopt(s, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(static_cast<std::uint16_t>(port));
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(s, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
-    ::close(s);
-    return reply;
-  }
-  std::size_t sent = 0;
-  while (sent < request.size()) {
-    const ssize_t n = ::send(s, request.data() + sent, request.size() - sent, MSG_NOSIGNAL);
-    if (n <= 0) break;
-    sent += static_cast<std::size_t>(n);
-  }
-  std::string data;
-  char chunk[4096];
-  ssize_t n = 0;
-  while ((n = ::recv(s, chunk, sizeof chunk, 0)) > 0) data.append(chunk, static_cast<std::size_t>(n));
-  ::close(s);
-  const auto end = data.find("\r\n\r\n");
-  if (data.rfind("HTTP/1.1 ", 0) != 0 || end == std::string::npos) return reply;
-  reply.status = std::atoi(data.c_str() + 9);
-  reply.head = data.substr(0, end);
-  reply.body = data.substr(end + 4);
-  return reply;
-}
-
 Reply get(int port, const std::string& path, const std::string& method = "GET") {
-  return sendRequest(port, method + " " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n");
+  return room_reverb::test::httpGet(port, path, method);
 }
 
 Reply post(int port, const std::string& path, const std::string& body) {
-  return sendRequest(port, "POST " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: text/csv\r\nContent-Length: " +
-                            std::to_string(body.size()) + "\r\n\r\n" + body);
+  return room_reverb::test::httpPost(port, path, body);
 }
 
 const std::string kHeader = "listener,page,room,content,attribute,condition,letter,score,duration_s\n";
+
+std::string hexCount(std::size_t n) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%zx", n);
+  return text;
+}
 
 std::vector<fs::path> savedResults() {
   std::vector<fs::path> files;
@@ -185,21 +163,134 @@ TEST(MushraServe, ServesTheFolderAndSavesCheckedResults) {
   EXPECT_EQ(sendRequest(port, "PUT /index.html HTTP/1.1\r\nContent-Length: 1\r\n\r\nx").status, 405);
   EXPECT_EQ(sendRequest(port, "hello\r\n\r\n").status, 400);
   EXPECT_EQ(sendRequest(port, "GET index.html HTTP/1.1\r\n\r\n").status, 400);
-  EXPECT_EQ(sendRequest(port, "POST /results HTTP/1.1\r\nTransfer-Encoding: chunked\r\n\r\n0\r\n\r\n").status, 501);
+  // A chunked body (what a client sends when it streams) is read as any other...
+  const std::string bo = kHeader + "Bo,room/speech/spatial,room,speech,spatial,rsao,A,4,3\n";
+  const Reply chunked = sendRequest(port, "POST /results HTTP/1.1\r\nTransfer-Encoding: chunked\r\n\r\n" +
+                                              hexCount(bo.size() - 20) + "\r\n" + bo.substr(0, bo.size() - 20) + "\r\n" +
+                                              "14\r\n" + bo.substr(bo.size() - 20) + "\r\n0\r\n\r\n");
+  ASSERT_EQ(chunked.status, 201) << chunked.body;
+  EXPECT_EQ(readTextFile((testFolder() / nlohmann::json::parse(chunked.body).at("saved").get<std::string>()).string(),
+                         "saved results"),
+            bo);
+  // ...and other encodings are refused.
+  EXPECT_EQ(sendRequest(port, "POST /results HTTP/1.1\r\nTransfer-Encoding: gzip\r\n\r\nxyz").status, 501);
   EXPECT_EQ(sendRequest(port, "POST /results HTTP/1.1\r\nContent-Length: -4\r\n\r\n").status, 400);
   // A client that connects and says nothing does not hold up the others.
-  const int idle = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(static_cast<std::uint16_t>(port));
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ASSERT_EQ(::connect(idle, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
+  const int idle = room_reverb::test::connectLoopback(port);
+  ASSERT_GE(idle, 0);
   EXPECT_EQ(get(port, "/").status, 200);
   ::close(idle);
+  EXPECT_EQ(savedResults().size(), 3u);  // and no half-written file beside them
 
   EXPECT_EQ(server.stop(), 0);
   EXPECT_NE(server.output().find("saved 2 ratings of Ann, the first to "), std::string::npos) << server.output();
+  EXPECT_NE(server.output().find("saved 1 ratings of Bo to "), std::string::npos) << server.output();
   EXPECT_NE(server.output().find("stopped"), std::string::npos) << server.output();
+}
+
+// The load a lab's listening session puts on the server, and more: 50 listeners post
+// their results at the same moment, 20 rounds over, while browsers fetch the page and
+// four clients trickle requests they never finish. Every result is saved exactly once and
+// whole, every listener gets its answer, the trickling clients are cut at the deadline
+// (408) without holding up anyone, and the server still answers and stops when told.
+TEST(MushraServe, FiftyListenersPostingAtOnceForTwentyRoundsAreEachSavedOnce) {
+  constexpr int kListeners = 50, kRounds = 20, kTricklers = 4, kTimeoutS = 2;
+  const fs::path folder = makeTestFolder("serve_load");
+  ServedTool server("mushra serve " + folder.string() + " --port 0 --timeout " + std::to_string(kTimeoutS),
+                    tempPath("serve_load_err.txt").string());
+  const int port = server.port();
+  ASSERT_GT(port, 0) << "first line: '" << server.firstLine() << "'";
+  // One "saved ..." line per result: read as it comes, or the tool blocks on a full pipe.
+  std::atomic<bool> done{false};
+  std::thread reader([&] {
+    while (!done) server.readSome(100);
+  });
+
+  using Clock = std::chrono::steady_clock;
+  std::vector<int> trickled_status(kTricklers, 0);
+  std::vector<double> trickled_s(kTricklers, 0.0);
+  std::vector<std::thread> tricklers;
+  for (int t = 0; t < kTricklers; ++t) {
+    tricklers.emplace_back([&, t] {
+      const auto start = Clock::now();
+      const int s = room_reverb::test::connectLoopback(port);
+      if (s < 0) return;
+      const std::string request = "POST /results HTTP/1.1\r\nContent-Length: 400\r\n\r\n" + std::string(400, 'x');
+      // A byte every 100 ms: each read of the server's succeeds long before any per-read
+      // timeout, the whole request never arrives within the deadline.
+      for (char c : request) {
+        pollfd answered{s, POLLIN, 0};
+        if (::poll(&answered, 1, 100) != 0 || !room_reverb::test::sendBytes(s, std::string(1, c))) break;
+        if (Clock::now() - start > std::chrono::seconds(3 * kTimeoutS)) break;
+      }
+      trickled_status[t] = room_reverb::test::readReply(s).status;
+      trickled_s[t] = std::chrono::duration<double>(Clock::now() - start).count();
+      ::close(s);
+    });
+  }
+
+  std::map<std::string, std::string> posted;  // saved file -> the body posted
+  int refused = 0, page_failures = 0;
+  for (int round = 0; round < kRounds; ++round) {
+    std::vector<Reply> replies(kListeners);
+    std::vector<std::string> bodies(kListeners);
+    // The listeners wait at a gate, which opens once all are waiting: they post at once.
+    std::mutex gate;
+    std::condition_variable opened;
+    int waiting = 0;
+    std::vector<std::thread> listeners;
+    for (int l = 0; l < kListeners; ++l) {
+      bodies[l] = kHeader + "listener " + std::to_string(l) + ",room/speech/quality,room,speech,quality,reference,A,5," +
+                  std::to_string(round) + "\nlistener " + std::to_string(l) +
+                  ",room/speech/quality,room,speech,quality,rsao,B," + std::to_string((l + round) % 6) + "," +
+                  std::to_string(round) + "\n";
+      listeners.emplace_back([&, l] {
+        {
+          std::unique_lock<std::mutex> lock(gate);
+          if (++waiting == kListeners) opened.notify_all();
+          opened.wait(lock, [&] { return waiting == kListeners; });
+        }
+        replies[l] = post(port, "/results", bodies[l]);
+      });
+    }
+    if (get(port, "/").status != 200) ++page_failures;
+    for (std::thread& t : listeners) t.join();
+    for (int l = 0; l < kListeners; ++l) {
+      if (replies[l].status != 201) {
+        ++refused;
+        continue;
+      }
+      const std::string saved = nlohmann::json::parse(replies[l].body).at("saved");
+      EXPECT_TRUE(posted.emplace(saved, bodies[l]).second) << saved << " given to two listeners";
+    }
+  }
+  for (std::thread& t : tricklers) t.join();
+
+  EXPECT_EQ(refused, 0);
+  EXPECT_EQ(page_failures, 0);
+  EXPECT_EQ(posted.size(), static_cast<std::size_t>(kListeners * kRounds));
+  std::size_t files = 0, whole = 0;
+  for (const auto& entry : fs::directory_iterator(folder / "results")) {
+    ++files;
+    const auto found = posted.find("results/" + entry.path().filename().string());
+    if (found != posted.end() && readTextFile(entry.path().string(), "saved results") == found->second) ++whole;
+  }
+  EXPECT_EQ(files, posted.size()) << "every result saved once, no partial files";
+  EXPECT_EQ(whole, posted.size()) << "each file holds exactly what its listener posted";
+  for (int t = 0; t < kTricklers; ++t) {
+    EXPECT_EQ(trickled_status[t], 408) << "trickling client " << t;
+    EXPECT_GE(trickled_s[t], kTimeoutS - 0.2) << "trickling client " << t;
+    EXPECT_LT(trickled_s[t], kTimeoutS + 3.0) << "trickling client " << t;
+  }
+  EXPECT_EQ(get(port, "/").status, 200);
+  done = true;
+  reader.join();
+  EXPECT_EQ(server.stop(), 0);
+  std::size_t lines = 0;
+  for (std::size_t at = 0; (at = server.output().find("\nsaved 2 ratings of listener ", at)) != std::string::npos; ++at) {
+    ++lines;
+  }
+  EXPECT_EQ(lines, posted.size());
 }
 
 TEST(MushraServe, BadFoldersAndPortsExitTwoWithOneLine) {
@@ -214,6 +305,9 @@ TEST(MushraServe, BadFoldersAndPortsExitTwoWithOneLine) {
   expectOneLineError(runTool("mushra serve"), "test folder");
   expectOneLineError(runTool("mushra serve " + testFolder().string() + " --port 70000"), "--port");
   expectOneLineError(runTool("mushra serve " + testFolder().string() + " --port http"), "--port");
+  expectOneLineError(runTool("mushra serve " + testFolder().string() + " --port 4294967296"), "--port");
+  expectOneLineError(runTool("mushra serve " + testFolder().string() + " --timeout 0"), "--timeout");
+  expectOneLineError(runTool("mushra serve " + testFolder().string() + " --timeout soon"), "--timeout");
   expectOneLineError(runTool("mushra serve " + testFolder().string() + " --host no.such.host.invalid"),
                      "no.such.host.invalid");
 

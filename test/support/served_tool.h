@@ -81,7 +81,9 @@ class ServedTool {
   // Everything the tool printed on stdout so far.
   const std::string& output() const { return output_; }
 
- private:
+  // Reads what the tool printed within `timeout_ms` into output(); false when nothing
+  // came. A test that makes the tool print a lot calls it meanwhile (from one thread),
+  // or the tool blocks on a full pipe.
   bool readSome(int timeout_ms) {
     pollfd watched{out_, POLLIN, 0};
     if (::poll(&watched, 1, timeout_ms) <= 0) return false;
@@ -92,6 +94,7 @@ class ServedTool {
     return true;
   }
 
+ private:
   pid_t pid_ = -1;
   int out_ = -1;
   std::string output_;

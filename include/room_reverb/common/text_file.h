@@ -16,6 +16,13 @@ std::string readTextFile(const std::string& path, const std::string& what);
 // Writes `text` (replacing the file). InputError naming the path when it cannot.
 void writeTextFile(const std::string& path, const std::string& text);
 
+// Writes `text` as a new file at `path`, whole or not at all: into "<path>.part", synced
+// to the disk, then linked to `path`, so that a reader of the folder (or a crash
+// mid-write) never sees half a file. False, writing nothing, when `path` (or another
+// writer's "<path>.part") exists already: concurrent writers may race for one name, and
+// each gets a name of its own by trying the next. InputError when it cannot write.
+bool writeNewFileAtomically(const std::string& path, const std::string& text);
+
 // Creates the folder and its parents if missing. InputError naming the path when it cannot
 // ("<path>: cannot create the folder: <reason>").
 void createFolder(const std::string& path);

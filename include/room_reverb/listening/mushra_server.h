@@ -10,7 +10,6 @@
 //                      {"saved": "results/..."}, or 400 and {"error": "..."}
 //   anything else      405
 #include <functional>
-#include <mutex>
 #include <set>
 #include <string>
 
@@ -35,7 +34,8 @@ class MushraRequestHandler {
   // Thread-safe (the server calls it from several connections at once).
   HttpResponse operator()(const HttpRequest& request);
 
-  // Called with the saved file's path (and the listener) after each accepted POST.
+  // Called with the saved file's path (and the listener) after each accepted POST, on
+  // the connection's thread: several may call it at once.
   std::function<void(const std::string& path, const std::string& listener, std::size_t rows)> on_saved;
 
   MushraScale scale() const { return scale_; }
@@ -47,7 +47,6 @@ class MushraRequestHandler {
   std::string root_;  // canonical
   MushraScale scale_ = MushraScale::kZeroToFive;
   std::set<std::string> page_ids_;
-  std::mutex save_mutex_;  // two listeners finishing at once must not pick one file name
 };
 
 }  // namespace room_reverb::core

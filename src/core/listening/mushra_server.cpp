@@ -132,13 +132,15 @@ HttpResponse MushraRequestHandler::saveResults(const HttpRequest& request) {
   }
   const std::string listener = ratings.front().listener;
   const fs::path folder = fs::path(root_) / "results";
-  std::lock_guard<std::mutex> lock(save_mutex_);
+  // Listeners finishing in the same second race for one name; each write claims its name
+  // or tries the next, so no lock is held while a file goes to the disk.
   const std::string stem = safeFileNamePart(listener) + "_" + localTimestamp();
   fs::path file = folder / (stem + ".csv");
-  for (int n = 2; fs::exists(file); ++n) file = folder / (stem + "-" + std::to_string(n) + ".csv");
   try {
     createFolder(folder.string());
-    writeTextFile(file.string(), request.body);
+    for (int n = 2; !writeNewFileAtomically(file.string(), request.body); ++n) {
+      file = folder / (stem + "-" + std::to_string(n) + ".csv");
+    }
   } catch (const InputError& e) {
     return jsonResponse(500, {{"error", e.what()}});
   }
