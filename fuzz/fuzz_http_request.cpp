@@ -1,8 +1,9 @@
-// The request handling of the HTTP server behind `mushra serve` (http_server.h). Its
-// parser is private to the server, so the bytes go where a browser's would: over a
-// loopback connection to a server started once per process. The handler answers from
-// the parsed request (method, decoded path, headers, body), so everything the parser
-// produced is read back; the answer must always arrive, a missing one is a finding.
+// The request handling of the HTTP server behind `mushra serve` (http_server.h):
+// cpp-httplib's parser under this project's limits, deadline stream and framing checks.
+// The bytes go where a browser's would: over a loopback connection to a server started
+// once per process. The handler answers from the parsed request (method, decoded path,
+// headers, body), so everything the parser produced is read back; the answer must always
+// arrive, a missing one is a finding.
 #include <arpa/inet.h>
 #include <dirent.h>
 #include <netinet/in.h>
@@ -22,10 +23,49 @@ namespace {
 using room_reverb::core::HttpRequest;
 using room_reverb::core::HttpResponse;
 
+// Sends `size` bytes as one request over a loopback connection, ends it, and reads the
+// answer until the server closes; traps when no answer ends within 20 s (longer than the
+// server's own deadline: its answer must come first).
+void exchange(int port, const uint8_t* data, std::size_t size) {
+  const int s = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  if (s < 0) return;  // out of descriptors: not the server's fault
+  timeval timeout{};
+  timeout.tv_sec = 20;
+  ::setsockopt(s, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(static_cast<uint16_t>(port));
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (::connect(s, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
+    ::close(s);
+    return;
+  }
+  // The server may answer (431, 413) and close before reading everything: a failed send
+  // is expected then, hence MSG_NOSIGNAL and no check.
+  std::size_t sent = 0;
+  while (sent < size) {
+    const ssize_t n = ::send(s, data + sent, size - sent, MSG_NOSIGNAL);
+    if (n <= 0) break;
+    sent += static_cast<std::size_t>(n);
+  }
+  ::shutdown(s, SHUT_WR);  // the end of the request: a half request is answered as malformed
+  char buffer[4096];
+  while (true) {
+    const ssize_t n = ::recv(s, buffer, sizeof buffer, 0);
+    if (n == 0) break;
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      if (errno == EAGAIN || errno == EWOULDBLOCK) __builtin_trap();  // the server hung on this request
+      break;  // a reset after an early answer
+    }
+  }
+  ::close(s);
+}
+
 int serverPort() {
   static const int port = [] {
     room_reverb::core::HttpServerOptions options;
-    options.timeout_s = 5;
+    options.timeout_s = 5;  // the whole request: one that never ends gets its 408 within it
     options.max_body_bytes = 1u << 16;  // small limits, so the fuzzer reaches them
     options.max_header_bytes = 1u << 12;
     // Never destroyed: the serving thread runs until the process ends.
@@ -36,6 +76,10 @@ int serverPort() {
     });
     static std::atomic<bool> stop{false};
     std::thread([server] { server->serve(stop); }).detach();
+    // One answered request first: the server's own threads (serving, accepting) are up
+    // before the first input counts the process's threads.
+    static const char kWarmUp[] = "GET / HTTP/1.1\r\n\r\n";
+    exchange(server->port(), reinterpret_cast<const uint8_t*>(kWarmUp), sizeof kWarmUp - 1);
     return server->port();
   }();
   return port;
@@ -68,39 +112,7 @@ void waitForConnectionThreads(int baseline) {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   const int port = serverPort();
   const int baseline = threadCount();
-  const int s = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  if (s < 0) return 0;  // out of descriptors: not the server's fault
-  timeval timeout{};
-  timeout.tv_sec = 20;  // longer than the server's own timeout: its answer must come first
-  ::setsockopt(s, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(static_cast<uint16_t>(port));
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(s, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
-    ::close(s);
-    return 0;
-  }
-  // The server may answer (431, 413) and close before reading everything: a failed send
-  // is expected then, hence MSG_NOSIGNAL and no check.
-  std::size_t sent = 0;
-  while (sent < size) {
-    const ssize_t n = ::send(s, data + sent, size - sent, MSG_NOSIGNAL);
-    if (n <= 0) break;
-    sent += static_cast<std::size_t>(n);
-  }
-  ::shutdown(s, SHUT_WR);  // the end of the request: a half request gets no answer
-  char buffer[4096];
-  while (true) {
-    const ssize_t n = ::recv(s, buffer, sizeof buffer, 0);
-    if (n == 0) break;
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      if (errno == EAGAIN || errno == EWOULDBLOCK) __builtin_trap();  // the server hung on this request
-      break;  // a reset after an early answer
-    }
-  }
-  ::close(s);
+  exchange(port, data, size);
   waitForConnectionThreads(baseline);
   // The path decoder on the raw bytes too, where the server's own checks do not filter.
   std::string decoded;
