@@ -67,7 +67,15 @@ sensor_msgs::PointCloud2 cloudToMessage(const core::PointCloud& cloud, const std
   return msg;
 }
 
-void checkCloudMessage(const sensor_msgs::PointCloud2& msg) {
+namespace {
+
+struct XyzFields {
+  sensor_msgs::PointField x, y, z;
+};
+
+// The structural checks (sizes, x/y/z float fields inside the point, byte order), and the
+// coordinate fields they found.
+XyzFields checkedXyzFields(const sensor_msgs::PointCloud2& msg) {
   const std::size_t count = static_cast<std::size_t>(msg.width) * msg.height;
   if (count > 0 && (msg.row_step < static_cast<std::size_t>(msg.width) * msg.point_step ||
                     msg.data.size() < static_cast<std::size_t>(msg.row_step) * msg.height)) {
@@ -75,16 +83,18 @@ void checkCloudMessage(const sensor_msgs::PointCloud2& msg) {
                            std::to_string(msg.height) + " rows of " + std::to_string(msg.width) + " points of " +
                            std::to_string(msg.point_step) + " bytes");
   }
-  for (const char* axis : {"x", "y", "z"}) requireFloatField(msg, axis);
+  XyzFields fields{requireFloatField(msg, "x"), requireFloatField(msg, "y"), requireFloatField(msg, "z")};
   if (msg.is_bigendian) throw core::InputError("point cloud: big-endian data is not supported");
+  return fields;
 }
 
+}  // namespace
+
+void checkCloudMessage(const sensor_msgs::PointCloud2& msg) { checkedXyzFields(msg); }
+
 core::PointCloud cloudFromMessage(const sensor_msgs::PointCloud2& msg) {
-  checkCloudMessage(msg);
+  const auto [fx, fy, fz] = checkedXyzFields(msg);
   const std::size_t count = static_cast<std::size_t>(msg.width) * msg.height;
-  const auto& fx = requireFloatField(msg, "x");
-  const auto& fy = requireFloatField(msg, "y");
-  const auto& fz = requireFloatField(msg, "z");
   const sensor_msgs::PointField* rgb = findField(msg, "rgb");
   if (rgb == nullptr) rgb = findField(msg, "rgba");
   if (rgb != nullptr && !fieldFits(*rgb, msg.point_step)) rgb = nullptr;

@@ -92,10 +92,10 @@ EvaluationServer::EvaluationServer(::ros::NodeHandle& private_nh) {
     throw core::InputError("parameter ~noise_seeds must be 1-" + std::to_string(core::DiagnosisOptions::kMaxNoiseSeeds));
   }
   causes_ = stringListParam(private_nh, "causes");
-  for (const std::string& cause : causes_) {
-    if (std::find(core::kCatalogueCauses.begin(), core::kCatalogueCauses.end(), cause) == core::kCatalogueCauses.end()) {
-      throw core::InputError("parameter ~causes: unknown cause '" + cause + "' (docs/diagnosis.md lists the catalogue)");
-    }
+  try {
+    for (const std::string& cause : causes_) core::requireKnownCause(cause);
+  } catch (const core::InputError& e) {
+    throw core::InputError(std::string("parameter ~causes: ") + e.what());
   }
   private_nh.param("threads", threads_, 0);
   if (threads_ < 0) throw core::InputError("parameter ~threads must not be negative");

@@ -97,6 +97,21 @@ void publishAll(ros::NodeHandle& nh, const std::string& topic, const std::vector
   ros::WallDuration(0.2).sleep();  // let the last ones leave before the publisher goes
 }
 
+// As publishAll, for a subscriber whose queue holds one message (the latest room wins):
+// each message waits until `handled()` (the node's count of what it took or refused) has
+// moved, so that none is replaced unread when the node is slow.
+template <typename Message>
+void publishEach(ros::NodeHandle& nh, const std::string& topic, const std::vector<Message>& messages,
+                 const std::function<std::uint64_t()>& handled) {
+  ros::Publisher pub = nh.advertise<Message>(topic, 100);
+  ASSERT_TRUE(waitUntil([&] { return pub.getNumSubscribers() > 0; }, 20.0)) << "nobody subscribes " << topic;
+  for (const Message& m : messages) {
+    const std::uint64_t before = handled();
+    pub.publish(m);
+    EXPECT_TRUE(waitUntil([&] { return handled() > before; }, 10.0)) << topic << ": a message was not handled";
+  }
+}
+
 // --- what a broken driver sends -------------------------------------------------------
 
 std_msgs::Header stampedAt(double t_s) {
@@ -547,12 +562,15 @@ TEST_F(HostilePublishers, BinauralRendererRefusesBadRoomsSourcesAndHeads) {
       });
   publishAll(*nh_, "/br/binaural_renderer/source", hostileAudio("mono", 1));
   publishAll(*nh_, "/br/binaural_renderer/head_orientation", hostileStampedQuaternions());
+  // Rooms: each one taken or refused (~status counts both) before the next.
+  ASSERT_TRUE(waitUntil([&] { return statuses > 0; }, 10.0)) << "no ~status";
+  const auto rooms_handled = [&] { return status.room_changes + status.rooms_rejected; };
   const auto rirs = hostileImpulseResponses();
-  publishAll(*nh_, "/br/binaural_renderer/impulse_response", rirs, 0.1);
+  publishEach(*nh_, "/br/binaural_renderer/impulse_response", rirs, rooms_handled);
   const auto rsaos = hostileRsaos();
-  publishAll(*nh_, "/br/binaural_renderer/rsao", rsaos, 0.1);
+  publishEach(*nh_, "/br/binaural_renderer/rsao", rsaos, rooms_handled);
   const auto scenes = hostileRoomScenes();
-  publishAll(*nh_, "/br/binaural_renderer/room_scene", scenes, 0.2);
+  publishEach(*nh_, "/br/binaural_renderer/room_scene", scenes, rooms_handled);
 
   // The renderer counts what it refused on ~status. Played, not refused: the RIR without
   // positions (the renderer needs none) and the RSAO whose sample_rate_hz is 0 (the

@@ -124,6 +124,9 @@ double heldoutNoise(const std::vector<double>& heldout_over_seeds);
 // and its standard error.
 SeedGains pairedGains(const std::vector<double>& before_over_seeds, const std::vector<double>& after_over_seeds);
 
+// InputError naming the catalogue unless `cause` is one of its ids.
+void requireKnownCause(const std::string& cause);
+
 // How many parameters a cause's fit is free to choose (per-band absorption: nine);
 // InputError for an unknown id.
 int freeParameters(const std::string& cause);

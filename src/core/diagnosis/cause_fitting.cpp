@@ -58,6 +58,8 @@ std::vector<std::string> catalogueIds() {
 
 const std::vector<std::string> kCatalogueCauses = catalogueIds();
 
+void requireKnownCause(const std::string& cause) { entry(cause); }
+
 CauseFitter causeFitter(const std::string& cause) { return entry(cause).fit; }
 
 int freeParameters(const std::string& cause) { return entry(cause).free_parameters; }
