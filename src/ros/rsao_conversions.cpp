@@ -1,5 +1,6 @@
 #include "room_reverb/ros/rsao_conversions.h"
 
+#include <array>
 #include <string>
 
 #include "room_reverb/common/error.h"
@@ -17,6 +18,11 @@ room_reverb::Rsao toMessage(const core::Rsao& rsao) {
     m.azimuth_rad = r.azimuth_rad;
     m.elevation_rad = r.elevation_rad;
     m.distance_m = r.distance_m;
+    const std::array<double, 3> image = core::imageSourcePosition(r);
+    m.image_source.x = image[0];
+    m.image_source.y = image[1];
+    m.image_source.z = image[2];
+    m.confidence = r.confidence.value_or(-1.0);
     m.lpc = r.lpc;
     m.lpc_gain = r.lpc_gain;
     for (const core::BiquadSection& s : r.sos) m.sos.insert(m.sos.end(), {s.b0, s.b1, s.b2, s.a1, s.a2});
@@ -57,6 +63,9 @@ core::Rsao fromMessage(const room_reverb::Rsao& msg) {
     r.azimuth_rad = m.azimuth_rad;
     r.elevation_rad = m.elevation_rad;
     r.distance_m = m.distance_m;
+    // The image source follows from distance and direction; a confidence outside 0..1
+    // (-1) means none was estimated.
+    if (m.confidence >= 0.0 && m.confidence <= 1.0) r.confidence = m.confidence;
     r.lpc = m.lpc;
     r.lpc_gain = m.lpc_gain;
     for (std::size_t i = 0; i < m.sos.size(); i += 5) {

@@ -156,6 +156,14 @@ bool RsaoEstimatorServer::estimate(room_reverb::EstimateRsao::Request& request,
                                "channel_layout is \"" + request.impulse_response.audio.channel_layout + "\")");
       }
       rir = fromMessage(request.impulse_response.audio);
+      if (request.impulse_response.positions_known) {
+        // The direct sound's true distance places the image sources whatever latency the
+        // measurement added before the RIR's first sample.
+        const auto& s = request.impulse_response.source_position;
+        const auto& m = request.impulse_response.receiver_position;
+        const double distance = std::sqrt((s.x - m.x) * (s.x - m.x) + (s.y - m.y) * (s.y - m.y) + (s.z - m.z) * (s.z - m.z));
+        if (distance > 0.0 && std::isfinite(distance)) options.early.direct_distance_m = distance;
+      }
     }
     const core::Rsao rsao = core::estimateRsao(rir, core::parseAmbisonicFormat(format), options);
     response.rsao = toMessage(rsao);

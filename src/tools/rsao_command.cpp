@@ -22,7 +22,7 @@ using namespace room_reverb::core;
 const char* kHelp = R"(usage: room_reverb rsao RIR.wav --format fuma|ambix [--yaml OUT.yaml] [--visr-json OUT.json]
                         [--resynthesis OUT.wav] [--max-reflections N] [--window-ms D]
                         [--lpc-order P] [--mixing-time S] [--grid] [--paper-ramp]
-                        [--matched-onsets]
+                        [--matched-onsets] [--source-distance M]
 
 Parameterises a measured first-order B-format room impulse response into a reverberant
 spatial audio object (RSAO, Remaggi et al.): the direct sound and early reflections (time
@@ -44,6 +44,10 @@ of arrival, level, direction, LPC filter) and the late reverb per octave band 63
                       from the steered cardioid over the window; docs/rsao.md)
   --grid              directions by the paper's grid search instead of the closed form
                       (without --matched-onsets)
+  --source-distance M the loudspeaker's distance from the microphone, m: places each
+                      reflection's image source at M plus c times its delay after the
+                      direct sound (default: c times the direct sound's time, which takes
+                      the file to start at the emission)
   --paper-ramp        keep the paper's linear onset ramp in every band instead of fitting
                       each band's early course to the measured early energy (docs/rsao.md)
 
@@ -59,13 +63,14 @@ void printSummary(const Rsao& rsao, std::ostream& out) {
   out << std::fixed;
   out << "direct sound and " << rsao.reflections.size() - 1 << " early reflections; mixing time "
       << std::setprecision(4) << rsao.late.mixing_time_s << " s\n";
-  out << "   #   toa_s    level_db  azimuth_deg  elevation_deg  distance_m\n";
+  out << "   #   toa_s    level_db  azimuth_deg  elevation_deg  distance_m  confidence\n";
   const double direct = rsao.reflections.front().level;
   for (std::size_t k = 0; k < rsao.reflections.size(); ++k) {
     const EarlyReflection& r = rsao.reflections[k];
     out << std::setw(4) << k << "  " << std::setprecision(5) << r.time_of_arrival_s << "  " << std::setw(8)
         << std::setprecision(2) << decibels(r.level / direct) << "  " << std::setw(11) << degrees(r.azimuth_rad)
-        << "  " << std::setw(13) << degrees(r.elevation_rad) << "  " << std::setw(10) << r.distance_m << "\n";
+        << "  " << std::setw(13) << degrees(r.elevation_rad) << "  " << std::setw(10) << r.distance_m << "  "
+        << std::setw(10) << r.confidence.value_or(-1.0) << "\n";
   }
   out << "late reverb (level re the direct sound):\n  band_hz   t60_s  level_db  reliable\n";
   for (const LateReverbBand& b : rsao.late.bands) {
@@ -77,7 +82,7 @@ void printSummary(const Rsao& rsao, std::ostream& out) {
 
 int runRsao(const std::vector<std::string>& raw) {
   const Arguments args(raw, {"format", "yaml", "visr-json", "resynthesis", "max-reflections", "window-ms", "lpc-order",
-                             "mixing-time"},
+                             "mixing-time", "source-distance"},
                        {"grid", "paper-ramp", "matched-onsets"});
   if (args.positional().size() != 1) throw UsageError("give exactly one B-format RIR file");
   if (!args.has("format")) throw UsageError("--format fuma|ambix is required: the file's convention is never guessed");
@@ -90,6 +95,10 @@ int runRsao(const std::vector<std::string>& raw) {
   options.early.analysis_window_s = args.doubleValue("window-ms", 2.0) / 1000.0;
   options.early.lpc_order = args.intValue("lpc-order", options.early.lpc_order);
   if (args.has("mixing-time")) options.mixing_time_s = args.doubleValue("mixing-time", 0.0);
+  if (args.has("source-distance")) {
+    options.early.direct_distance_m = args.doubleValue("source-distance", 0.0);
+    if (!(*options.early.direct_distance_m > 0.0)) throw UsageError("--source-distance must be a positive distance in m");
+  }
   if (args.has("grid")) options.early.direction_method = DirectionMethod::kGridSearch;
   if (args.has("matched-onsets")) options.early.onset_method = OnsetMethod::kMatchedPursuit;
   options.fit_onset_ramps = !args.has("paper-ramp");

@@ -32,6 +32,7 @@ Rsao awkwardRsao(std::uint32_t seed) {
     e.lpc = {1.0, -1.0 * unit(rng), 0.3 * unit(rng)};
     e.lpc_gain = unit(rng);
     e.sos = {BiquadSection{unit(rng), 0.1 * unit(rng), 0.0, -0.5 * unit(rng), 0.25 * unit(rng)}};
+    if (k != 2) e.confidence = unit(rng);  // reflection 2 without: as read from an older file
     r.reflections.push_back(e);
   }
   r.reflections[0].azimuth_rad = 0.1;  // 0.1 rad = 5.729577951308232 deg: no short decimal either way
@@ -67,6 +68,7 @@ void expectSameRsao(const Rsao& a, const Rsao& b) {
     EXPECT_NEAR(x.azimuth_rad, y.azimuth_rad, 1e-15);
     EXPECT_NEAR(x.elevation_rad, y.elevation_rad, 1e-15);
     EXPECT_EQ(x.distance_m, y.distance_m);
+    EXPECT_EQ(x.confidence, y.confidence);
     EXPECT_EQ(x.lpc, y.lpc);
     EXPECT_EQ(x.lpc_gain, y.lpc_gain);
     ASSERT_EQ(x.sos.size(), y.sos.size());
@@ -128,6 +130,33 @@ TEST(RsaoYaml, RoundTripIsExact) {
     EXPECT_EQ(rsaoToYaml(read), text);
   }
   EXPECT_NE(rsaoToYaml(awkwardRsao(1)).find("azimuth_deg: 5.729577951308232\n"), std::string::npos);
+}
+
+TEST(RsaoYaml, EachReflectionCarriesItsImageSourceAndConfidence) {
+  Rsao r = awkwardRsao(9);
+  r.reflections[1].distance_m = 5.0;
+  r.reflections[1].azimuth_rad = M_PI / 2;  // +y, level
+  r.reflections[1].elevation_rad = 0.0;
+  r.reflections[1].confidence = 0.75;
+  const std::array<double, 3> image = imageSourcePosition(r.reflections[1]);
+  EXPECT_NEAR(image[0], 0.0, 1e-12);
+  EXPECT_NEAR(image[1], 5.0, 1e-12);
+  EXPECT_NEAR(image[2], 0.0, 1e-12);
+  r.reflections[1].azimuth_rad = 0.0;
+  r.reflections[1].elevation_rad = M_PI / 6;  // 30 degrees up, ahead
+  const std::string text = rsaoToYaml(r);
+  EXPECT_NE(text.find("    image_source_m: [4.330127018922194, 0, 2.4999999999999996]\n    confidence: 0.75\n"),
+            std::string::npos)
+      << text;
+  // An RSAO without confidences (another tool's, or an older file) writes none and reads back none.
+  const auto without = text.find("    confidence: 0.75\n");
+  const Rsao read = parseRsaoYaml(text.substr(0, without) + text.substr(without + 21));
+  EXPECT_FALSE(read.reflections[1].confidence.has_value());
+  EXPECT_FALSE(read.reflections[2].confidence.has_value());
+  expectInputError([&] { parseRsaoYaml(replaced(text, "confidence: 0.75", "confidence: 1.5")); },
+                   "reflections[1].confidence: must lie in 0..1");
+  expectInputError([&] { parseRsaoYaml(replaced(text, "confidence: 0.75", "confidence: high")); },
+                   "reflections[1].confidence");
 }
 
 TEST(RsaoYaml, DegreesInTheFileRoundTripForAnyAngle) {
@@ -214,6 +243,7 @@ TEST(RsaoVisrJson, ExportImportExportGivesIdenticalText) {
       EXPECT_NEAR(y.azimuth_rad, x.azimuth_rad, 1e-15);
       EXPECT_NEAR(y.elevation_rad, x.elevation_rad, 1e-15);
       EXPECT_EQ(y.distance_m, x.distance_m);
+      EXPECT_EQ(y.confidence, x.confidence);
       EXPECT_EQ(y.sos.size(), 1u);
       EXPECT_EQ(y.sos[0].a2, x.sos[0].a2);
     }

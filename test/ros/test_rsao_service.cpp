@@ -81,6 +81,29 @@ TEST_F(RsaoService, FileAndMessageGiveTheSameObjectAndItIsPublished) {
                                   direct.pose.position.y * direct.pose.position.y +
                                   direct.pose.position.z * direct.pose.position.z);
   EXPECT_NEAR(radius, from_message.rsao.reflections[0].distance_m, 1e-6);
+
+  // Each reflection: its image source at its distance along its direction, a confidence.
+  for (const auto& r : from_message.rsao.reflections) {
+    const auto& p = r.image_source;
+    EXPECT_NEAR(std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z), r.distance_m, 1e-9);
+    EXPECT_NEAR(std::atan2(p.y, p.x), r.azimuth_rad, 1e-9);
+    EXPECT_GE(r.confidence, 0.0);
+    EXPECT_LE(r.confidence, 1.0);
+  }
+  EXPECT_GT(from_message.rsao.reflections[0].confidence, 0.8);  // a direct sound alone in its window
+
+  // With the measurement's positions, the direct sound's distance is theirs (1 m here,
+  // whatever the file's pre-delay) and every image source moves with it.
+  auto positioned = fromMessage(room_reverb::core::readAudioFile(kRir), "fuma");
+  positioned.impulse_response.positions_known = true;
+  positioned.impulse_response.source_position.x = 1.0;
+  const auto placed = call(positioned);
+  ASSERT_TRUE(placed.success) << placed.message;
+  EXPECT_NEAR(placed.rsao.reflections[0].distance_m, 1.0, 1e-9);
+  for (std::size_t k = 1; k < placed.rsao.reflections.size(); ++k) {
+    EXPECT_NEAR(placed.rsao.reflections[k].distance_m - from_message.rsao.reflections[k].distance_m,
+                1.0 - from_message.rsao.reflections[0].distance_m, 1e-9);
+  }
 }
 
 TEST_F(RsaoService, AnImpulseResponseOnTheTopicIsEstimatedAndPublished) {

@@ -13,6 +13,7 @@ constexpr double kLevelFloorDb = -14.0;
 constexpr double kComparableDb = -6.0;
 constexpr double kIsolationS = 0.0003;
 constexpr double kMatchS = 0.0005;
+constexpr double kSpeedOfSound = 343.0;  // reflection_rooms.cpp's
 
 double db(double ratio) { return 20.0 * std::log10(ratio); }
 
@@ -45,6 +46,8 @@ void ReflectionScore::add(const ReflectionScore& o) {
   real += o.real;
   toa_error_ms.insert(toa_error_ms.end(), o.toa_error_ms.begin(), o.toa_error_ms.end());
   direction_error_deg.insert(direction_error_deg.end(), o.direction_error_deg.begin(), o.direction_error_deg.end());
+  image_source_error_m.insert(image_source_error_m.end(), o.image_source_error_m.begin(), o.image_source_error_m.end());
+  found_confidence.insert(found_confidence.end(), o.found_confidence.begin(), o.found_confidence.end());
   misses.insert(misses.end(), o.misses.begin(), o.misses.end());
 }
 
@@ -96,6 +99,10 @@ ReflectionScore scoreReflections(const ReflectionRoom& room, const std::vector<c
     score.toa_error_ms.push_back(1000.0 * p.error_s);
     const double cosine = std::clamp(unitFromAngles(r.azimuth_rad, r.elevation_rad).dot(truth.direction), -1.0, 1.0);
     score.direction_error_deg.push_back(std::acos(cosine) * 180.0 / 3.14159265358979323846);
+    const auto image = core::imageSourcePosition(r);
+    const Eigen::Vector3d true_image = kSpeedOfSound * truth.time_s * truth.direction;
+    score.image_source_error_m.push_back((Eigen::Vector3d(image[0], image[1], image[2]) - true_image).norm());
+    score.found_confidence.push_back(r.confidence.value_or(-1.0));
   }
   for (std::size_t t = 0; t < resolvable.size(); ++t) {
     if (truth_used[t]) continue;

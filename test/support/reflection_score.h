@@ -32,6 +32,11 @@ struct ReflectionScore {
   int real = 0;
   std::vector<double> toa_error_ms;    // of the found ones
   std::vector<double> direction_error_deg;
+  // Of the found ones, in the same order: the reported image source's distance from the
+  // true one [m] (the rooms' c, 343 m/s, from the direct sound's true distance), and the
+  // reported confidence (-1 where none).
+  std::vector<double> image_source_error_m;
+  std::vector<double> found_confidence;
   std::vector<ReflectionMiss> misses;
 
   void add(const ReflectionScore& other);

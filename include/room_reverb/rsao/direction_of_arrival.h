@@ -25,6 +25,12 @@ struct CardioidSteeringStatistics {
 
   // E(v) = 1/4 [Eww + 2 v.p + v^T R v]: the steered cardioid's energy towards v.
   double steeredEnergy(const Eigen::Vector3d& v) const;
+
+  // How much of the segment arrives as one plane wave: 1 minus the diffuseness of DirAC
+  // (Pulkki 2007), 2 |p| / (Eww + tr R) in SN3D. 1 for a single plane wave (X, Y, Z = u W,
+  // so |p| = tr R = Eww); 0 for an isotropic diffuse field (p = 0); in between for two
+  // arrivals from different directions, or one on a diffuse background. 0 for silence.
+  double directness() const;
 };
 
 // Statistics of the windowed segment (samples times weights) of a first-order AmbiX

@@ -64,6 +64,11 @@ struct EarlyReflectionOptions {
   double grid_step_rad = 3.14159265358979323846 / 180.0;  // 1 degree
   int lpc_order = kDefaultLpcOrder;
   double speed_of_sound_m_s = 343.0;
+  // The direct sound's distance [m] when the source's position is known (e.g. from the
+  // measurement's positions). Without it: c times the direct sound's time of arrival,
+  // which takes the RIR to start at the emission (a measurement system's latency or a
+  // trimmed RIR moves every image source by c times that offset).
+  std::optional<double> direct_distance_m;
   ReflectionSelection selection = ReflectionSelection::kStrongest;
   // Early reflections kept, not counting the direct sound (the result has at most
   // max_reflections + 1 entries).
@@ -77,8 +82,8 @@ void validateEarlyReflectionOptions(const EarlyReflectionOptions& options);
 
 // reflections[0] is the direct sound, the rest follow by time of arrival. Level A_k is
 // sqrt(E_k), E_k the energy of W times the Hamming window of length D centred on the
-// arrival; distance is speed_of_sound * time of arrival (the RIR is taken to start at the
-// emission). Throws InputError for fewer than 4 channels, a rate other than 48 kHz,
+// arrival; distance is the direct sound's distance plus speed_of_sound times the delay
+// after it; confidence the window's directness. Throws InputError for fewer than 4 channels, a rate other than 48 kHz,
 // NaN or infinite samples, a silent W channel, a response shorter than 10 ms or than
 // the analysis window, or bad options.
 std::vector<EarlyReflection> estimateEarlyReflections(const AudioBuffer& ambix_first_order_48k,

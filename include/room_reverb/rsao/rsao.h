@@ -2,9 +2,10 @@
 // The reverberant spatial audio object (RSAO) of Remaggi et al. / Coleman et al. (S3A):
 // a direct sound and early reflections, each a delayed, filtered, directional tap, and a
 // late reverb described per octave band by a level, an onset ramp and an exponential decay.
-// This header holds only the data; estimation, resynthesis and file formats live in their
-// own headers of the rsao module.
+// This header holds the data (and where a reflection's image source lies); estimation,
+// resynthesis and file formats live in their own headers of the rsao module.
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,13 +26,26 @@ struct EarlyReflection {
   double level = 0.0;              // A_k = sqrt(E_k) of the W channel over the analysis window (linear)
   double azimuth_rad = 0.0;        // DESIGN.md: counter-clockwise from +x, [-pi, pi)
   double elevation_rad = 0.0;      // up from the horizontal plane, [-pi/2, pi/2]
-  double distance_m = 0.0;         // c * time of flight, where the direct sound's flight is known; else c * toa
+  // Distance of the (image) source [m]: the direct sound's distance (given, or c times its
+  // time of arrival when the RIR starts at the emission) plus c times the delay after
+  // it. With the direction this places the image source: distance * (cos el cos az,
+  // cos el sin az, sin el) in the microphone's frame (imageSourcePosition).
+  double distance_m = 0.0;
+  // How far the estimate can be trusted, 0..1: the share of the analysis window's energy
+  // that arrives as one plane wave (CardioidSteeringStatistics::directness). Low where two
+  // arrivals from different directions share the window or the diffuse field dominates.
+  // Not set for an RSAO that was read from a file without it.
+  std::optional<double> confidence;
   // All-pole spectral shape 1 / A(z) of the reflection, A(z) = 1 + sum_{i>=1} lpc[i] z^-i
   // (lpc[0] == 1), fitted by Levinson-Durbin; lpc_gain is the prediction-error gain.
   std::vector<double> lpc;
   double lpc_gain = 1.0;
   std::vector<BiquadSection> sos;  // the same filter (gain included) as cascaded sections
 };
+
+// The reflection's (image) source in the microphone's frame [m]: distance_m along its
+// direction of arrival (DESIGN.md axes: x forward, y left, z up).
+std::array<double, 3> imageSourcePosition(const EarlyReflection& reflection);
 
 // Late reverberation in one octave band.
 struct LateReverbBand {

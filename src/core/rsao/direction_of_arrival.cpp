@@ -33,6 +33,12 @@ double CardioidSteeringStatistics::steeredEnergy(const Eigen::Vector3d& v) const
   return 0.25 * (energy_w + 2.0 * v.dot(w_cross) + v.dot(covariance * v));
 }
 
+double CardioidSteeringStatistics::directness() const {
+  const double total = energy_w + covariance.trace();
+  // |p| <= sqrt(Eww tr R) <= (Eww + tr R) / 2 (Cauchy-Schwarz, then the means): at most 1.
+  return total > 0.0 ? std::min(1.0, 2.0 * w_cross.norm() / total) : 0.0;
+}
+
 CardioidSteeringStatistics steeringStatistics(const AudioBuffer& ambix, const SampleWindow& window) {
   requireFirstOrder(ambix);
   CardioidSteeringStatistics stats;

@@ -70,7 +70,7 @@ EarlyReflection analyseArrival(const AudioBuffer& ambix, double time_s, const Ea
   r.level = std::sqrt(energy);  // A_k = sqrt(E_k)
   r.azimuth_rad = doa.azimuth_rad;
   r.elevation_rad = doa.elevation_rad;
-  r.distance_m = options.speed_of_sound_m_s * time_s;
+  r.confidence = stats.directness();
   r.lpc = lpc.a;
   r.lpc_gain = lpc.gain;
   r.sos = allPoleToSections(lpc.a, lpc.gain);
@@ -109,6 +109,15 @@ ArrivalCandidate findDirectArrival(const std::vector<ArrivalCandidate>& raw, con
     fallback.local_energy = gd.local_energy[onset - gd.first_centre];
   }
   return fallback;
+}
+
+// Distances along the reflections' paths (the image sources' distances): the direct
+// sound's, plus the extra path c * delay of each later arrival.
+void placeImageSources(std::vector<EarlyReflection>& result, const EarlyReflectionOptions& options) {
+  const double c = options.speed_of_sound_m_s;
+  const double direct_s = result.front().time_of_arrival_s;
+  const double direct_m = options.direct_distance_m.value_or(c * direct_s);
+  for (EarlyReflection& r : result) r.distance_m = direct_m + c * (r.time_of_arrival_s - direct_s);
 }
 
 std::vector<EarlyReflection> selectReflections(std::vector<EarlyReflection> later, double direct_level,
@@ -190,6 +199,8 @@ void validateEarlyReflectionOptions(const EarlyReflectionOptions& o) {
     os << "lpc_order = " << o.lpc_order << "; use 1 to 40 (the paper uses 9)";
   } else if (!(o.speed_of_sound_m_s > 0.0) || !std::isfinite(o.speed_of_sound_m_s)) {
     os << "speed_of_sound_m_s = " << o.speed_of_sound_m_s << "; use a positive speed, e.g. 343";
+  } else if (o.direct_distance_m && !(*o.direct_distance_m > 0.0 && std::isfinite(*o.direct_distance_m))) {
+    os << "direct_distance_m = " << *o.direct_distance_m << " m; give the source's positive distance, or none";
   } else if (!(o.level_threshold_db <= 0.0) || !std::isfinite(o.level_threshold_db)) {
     os << "level_threshold_db = " << o.level_threshold_db << "; use a finite level at or below 0 dB, e.g. -20";
   } else {
@@ -222,7 +233,9 @@ std::vector<EarlyReflection> estimateEarlyReflections(const AudioBuffer& ambix, 
   const ArrivalCandidate direct = findDirectArrival(raw, gd, onset, options);
   const double limit_s = options.mixing_time_s ? *options.mixing_time_s : direct.time_s + options.default_early_duration_s;
   if (options.onset_method == OnsetMethod::kMatchedPursuit) {
-    return matchedReflections(ambix, direct.time_s, limit_s, options);
+    std::vector<EarlyReflection> result = matchedReflections(ambix, direct.time_s, limit_s, options);
+    placeImageSources(result, options);
+    return result;
   }
   std::vector<ArrivalCandidate> later;
   for (const auto& c : raw) {
@@ -235,6 +248,7 @@ std::vector<EarlyReflection> estimateEarlyReflections(const AudioBuffer& ambix, 
   reflections.reserve(later.size());
   for (const auto& c : later) reflections.push_back(analyseArrival(ambix, c.time_s, options));
   for (auto& r : selectReflections(std::move(reflections), result.front().level, options)) result.push_back(std::move(r));
+  placeImageSources(result, options);
   return result;
 }
 

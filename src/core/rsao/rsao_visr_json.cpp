@@ -150,6 +150,29 @@ std::vector<BiquadSection> readSections(const json& node, const std::string& key
   return out;
 }
 
+// What the project adds to a VISR reflection under its own key (VISR ignores it): the
+// image source's position in the microphone's frame [m] and the estimate's confidence.
+ordered_json reflectionExtras(const EarlyReflection& r) {
+  // From the direction as the file gives it, so that a file read and written again holds
+  // the same text.
+  EarlyReflection as_read = r;
+  as_read.azimuth_rad = radiansFromFileDegrees(fileDegrees(r.azimuth_rad));
+  as_read.elevation_rad = radiansFromFileDegrees(fileDegrees(r.elevation_rad));
+  as_read.distance_m = fileDistance(r.distance_m);
+  const std::array<double, 3> image = imageSourcePosition(as_read);
+  ordered_json extras = {{"image_source_m", {image[0], image[1], image[2]}}};
+  if (r.confidence) extras["confidence"] = *r.confidence;
+  return extras;
+}
+
+// The confidence in a reflection's "room_reverb" key, when it holds one in 0..1 (other
+// programs' files may carry anything there: it is ignored then).
+void readConfidence(const json& extras, EarlyReflection& r) {
+  if (!extras.is_object() || !extras.contains("confidence") || !extras["confidence"].is_number()) return;
+  const double c = extras["confidence"].get<double>();
+  if (c >= 0.0 && c <= 1.0) r.confidence = c;
+}
+
 // Direction and distance from a VISR position: az, el (degrees) and radius (or refdist),
 // or Cartesian x, y, z.
 void readPosition(const json& parent, const std::string& key, EarlyReflection& r) {
@@ -194,6 +217,9 @@ VisrImport readObject(const json& object) {
   direct.level = 1.0;
   readPosition(object, "position", direct);
   if (object.contains("biquadsos")) direct.sos = readSections(object["biquadsos"], "biquadsos");
+  if (object.contains("room_reverb") && object["room_reverb"].is_object() && object["room_reverb"].contains("direct")) {
+    readConfidence(object["room_reverb"]["direct"], direct);
+  }
   rsao.reflections.push_back(direct);
 
   const json& room = require(object, "room", "room");
@@ -207,6 +233,7 @@ VisrImport readObject(const json& object) {
       r.level = number(early[k], "level", key + ".level");
       readPosition(early[k], key + ".position", r);
       if (early[k].contains("biquadsos")) r.sos = readSections(early[k]["biquadsos"], key + ".biquadsos");
+      if (early[k].contains("room_reverb")) readConfidence(early[k]["room_reverb"], r);
       rsao.reflections.push_back(r);
     }
   }
@@ -301,6 +328,7 @@ std::string rsaoToVisrJson(const Rsao& rsao, const VisrObjectFields& fields, int
                      {"el", fileDegrees(r.elevation_rad)},
                      {"refdist", fileDistance(r.distance_m)}};
     e["biquadsos"] = sections(r.sos, "reflection " + std::to_string(k));
+    e["room_reverb"] = reflectionExtras(r);
     early.push_back(e);
   }
 
@@ -325,7 +353,8 @@ std::string rsaoToVisrJson(const Rsao& rsao, const VisrObjectFields& fields, int
   late["decayconst"] = bandString(decays);
   object["room"] = {{"ereflect", early}, {"lreverb", late}};
   object["room_reverb"] = {{"band_reliable", reliable}, {"band_reason", reasons}, {"band_onset_level", onset_levels},
-                           {"course_end", rsao.late.course_end_s > 0.0 ? rsao.late.course_end_s - direct.time_of_arrival_s : 0.0}};
+                           {"course_end", rsao.late.course_end_s > 0.0 ? rsao.late.course_end_s - direct.time_of_arrival_s : 0.0},
+                           {"direct", reflectionExtras(direct)}};
 
   ordered_json scene;
   scene["objects"] = ordered_json::array({object});

@@ -66,7 +66,10 @@ void checkFinite(const Rsao& r) {
   for (std::size_t k = 0; k < r.reflections.size(); ++k) {
     const EarlyReflection& e = r.reflections[k];
     const std::string key = "reflections[" + std::to_string(k) + "]";
-    for (double v : {e.time_of_arrival_s, e.level, e.azimuth_rad, e.elevation_rad, e.distance_m, e.lpc_gain}) check(v, key);
+    for (double v : {e.time_of_arrival_s, e.level, e.azimuth_rad, e.elevation_rad, e.distance_m, e.lpc_gain,
+                     e.confidence.value_or(0.0)}) {
+      check(v, key);
+    }
     for (double v : e.lpc) check(v, key + ".lpc");
     for (const BiquadSection& s : e.sos) {
       for (double v : {s.b0, s.b1, s.b2, s.a1, s.a2}) check(v, key + ".sos");
@@ -136,6 +139,14 @@ class Reader {
     r.azimuth_rad = radiansFromFileDegrees(requiredNumber(node, "azimuth_deg", key + ".azimuth_deg"));
     r.elevation_rad = radiansFromFileDegrees(requiredNumber(node, "elevation_deg", key + ".elevation_deg"));
     r.distance_m = yaml_.numberOr(node, "distance_m", key + ".distance_m", 0.0);
+    if (node["confidence"]) {
+      r.confidence = yaml_.number(node["confidence"], key + ".confidence");
+      if (!(*r.confidence >= 0.0 && *r.confidence <= 1.0)) {
+        yaml_.fail(node["confidence"], key + ".confidence", "must lie in 0..1, got " + shortestDecimal(*r.confidence));
+      }
+    }
+    // image_source_m is written for readers of the file; it follows from distance and
+    // direction, which are what is read.
     const YAML::Node lpc = sequenceOr(node, "lpc", key + ".lpc");
     for (std::size_t i = 0; i < lpc.size(); ++i) r.lpc.push_back(yaml_.number(lpc[i], key + ".lpc[" + std::to_string(i) + "]"));
     if (!r.lpc.empty() && r.lpc.front() != 1.0) yaml_.fail(lpc, key + ".lpc", "the first coefficient of A(z) must be 1");
@@ -227,6 +238,14 @@ std::string rsaoToYaml(const Rsao& r) {
       out << "    azimuth_deg: " << shortestDecimal(fileDegrees(e.azimuth_rad)) << "\n";
       out << "    elevation_deg: " << shortestDecimal(fileDegrees(e.elevation_rad)) << "\n";
       out << "    distance_m: " << shortestDecimal(e.distance_m) << "\n";
+      // From the direction as the file gives it, so that a file read and written again
+      // holds the same text.
+      EarlyReflection as_read = e;
+      as_read.azimuth_rad = radiansFromFileDegrees(fileDegrees(e.azimuth_rad));
+      as_read.elevation_rad = radiansFromFileDegrees(fileDegrees(e.elevation_rad));
+      const std::array<double, 3> image = imageSourcePosition(as_read);
+      out << "    image_source_m: " << numberList({image[0], image[1], image[2]}) << "\n";
+      if (e.confidence) out << "    confidence: " << shortestDecimal(*e.confidence) << "\n";
       out << "    lpc: " << numberList(e.lpc) << "\n";
       out << "    lpc_gain: " << shortestDecimal(e.lpc_gain) << "\n";
       if (e.sos.empty()) {
