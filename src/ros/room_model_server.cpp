@@ -75,9 +75,11 @@ RoomModelServer::RoomModelServer(::ros::NodeHandle nh, ::ros::NodeHandle private
 
   room_pub_ = private_nh_.advertise<room_reverb::RoomModel>("room", 1, true);
   marker_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>("markers", 1, true);
-  cloud_sub_ = nh_.subscribe("points", 1, &RoomModelServer::onCloud, this);
+  // The image and the tilt before the cloud: the three are latched, and a room_model that
+  // starts after a capture should hold the capture's image and tilt when its cloud comes.
   image_sub_ = nh_.subscribe("top/image_equirect", 1, &RoomModelServer::onImage, this);
   tilt_sub_ = nh_.subscribe("rig_tilt", 1, &RoomModelServer::onTilt, this);
+  cloud_sub_ = nh_.subscribe("points", 1, &RoomModelServer::onCloud, this);
   service_ = private_nh_.advertiseService("build", &RoomModelServer::build, this);
 }
 
@@ -89,8 +91,14 @@ void RoomModelServer::onImage(const sensor_msgs::ImageConstPtr& image) {
     ROS_WARN("room_model: %s; ignored, the last good image stays", e.what());
     return;
   }
-  std::lock_guard<std::mutex> lock(latest_mutex_);
-  latest_image_ = image;
+  bool build = false;
+  {
+    std::lock_guard<std::mutex> lock(latest_mutex_);
+    latest_image_ = image;
+    build = build_waits_for_image_;
+    build_waits_for_image_ = false;
+  }
+  if (build) buildOnCloud();
 }
 
 void RoomModelServer::onTilt(const geometry_msgs::QuaternionStampedConstPtr& tilt) {
@@ -112,11 +120,22 @@ void RoomModelServer::onCloud(const sensor_msgs::PointCloud2ConstPtr& cloud) {
     ROS_WARN("room_model: %s; ignored, the last good cloud stays", e.what());
     return;
   }
+  bool waits = false;
   {
     std::lock_guard<std::mutex> lock(latest_mutex_);
     latest_cloud_ = cloud;
+    // Latched topics reach a node that starts after a capture in any order.
+    waits = build_waits_for_image_ = build_on_cloud_ && !latest_image_;
   }
-  if (!build_on_cloud_) return;
+  if (waits) {
+    ROS_INFO("room_model: a cloud and no image yet; the build waits for %s",
+             nh_.resolveName("top/image_equirect").c_str());
+  } else if (build_on_cloud_) {
+    buildOnCloud();
+  }
+}
+
+void RoomModelServer::buildOnCloud() {
   room_reverb::BuildRoomModel::Request request;
   room_reverb::BuildRoomModel::Response response;
   build(request, response);

@@ -46,8 +46,10 @@ SphericalDepthServer::SphericalDepthServer(::ros::NodeHandle nh, ::ros::NodeHand
     onReconfigure(config, level);
   });
 
-  range_pub_ = nh_.advertise<sensor_msgs::Image>("range_image", 1);
-  cloud_pub_ = nh_.advertise<sensor_msgs::PointCloud2>("points", 1);
+  // Latched, as capture_ingest's images: a room_model that starts (or respawns) after the
+  // capture builds from the last cloud instead of waiting for the next capture.
+  range_pub_ = nh_.advertise<sensor_msgs::Image>("range_image", 1, true);
+  cloud_pub_ = nh_.advertise<sensor_msgs::PointCloud2>("points", 1, true);
   publishCameraTransforms();
 
   top_sub_.subscribe(nh_, "top/image_equirect", static_cast<std::uint32_t>(queue));

@@ -35,6 +35,7 @@ class RoomModelServer {
 
  private:
   void onCloud(const sensor_msgs::PointCloud2ConstPtr& cloud);
+  void buildOnCloud();  // builds from the latest inputs and publishes the room
   void onImage(const sensor_msgs::ImageConstPtr& image);
   void onTilt(const geometry_msgs::QuaternionStampedConstPtr& tilt);
   // Fits, publishes and fills the response; throws InputError / cv::Exception.
@@ -58,6 +59,8 @@ class RoomModelServer {
   sensor_msgs::PointCloud2ConstPtr latest_cloud_;
   sensor_msgs::ImageConstPtr latest_image_;
   Eigen::Matrix3d tilt_ = Eigen::Matrix3d::Identity();
+  // With ~build_on_cloud, a cloud came before any image: built when the image comes.
+  bool build_waits_for_image_ = false;
   std::mutex build_mutex_;  // one build at a time; guards last_built_
   // The last build from the subscribed inputs, and what it was built from.
   struct LastBuild {

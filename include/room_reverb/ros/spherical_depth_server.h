@@ -4,7 +4,8 @@
 //
 // Subscribes top/image_equirect and bottom/image_equirect (sensor_msgs/Image, paired by
 // time stamp, approximately: two cameras are rarely triggered together), runs
-// core::computeSphericalDepth and publishes
+// core::computeSphericalDepth and publishes, latched (a node that starts after a capture,
+// room_model above all, gets the capture's cloud at once)
 //   range_image  sensor_msgs/Image 32FC1, range from the top camera [m], NaN where invalid,
 //                in the top camera's frame (~top_camera_frame)
 //   points       sensor_msgs/PointCloud2 XYZRGBL in ~rig_frame (label: SurfaceHint, 0)
