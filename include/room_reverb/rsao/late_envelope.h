@@ -26,4 +26,9 @@ enum class OnsetRamp { kLinear, kRaisedCosine };
 // level_b is 0).
 double lateEnvelopeGain(const LateReverb& late, std::size_t band, double t, OnsetRamp shape = OnsetRamp::kLinear);
 
+// sum over samples n in [from, to) of e_b(n / fs)^2 with the linear ramp: the energy of
+// unit-mean-square noise under the envelope. The exponential parts (the extended course,
+// the decay) are geometric series, summed in closed form; the ramp sample by sample.
+double lateEnvelopeEnergy(const LateReverb& late, std::size_t band, std::size_t from, std::size_t to, double fs);
+
 }  // namespace room_reverb::core

@@ -17,4 +17,50 @@ double lateEnvelopeGain(const LateReverb& late, std::size_t band, double t, Onse
   return (b.onset_level / b.level) * std::pow(end_gain * b.level / b.onset_level, u);
 }
 
+namespace {
+
+// The first sample n >= from with n / fs >= t (as lateEnvelopeGain compares times).
+std::size_t firstSampleAtOrAfter(double t, double fs, std::size_t from) {
+  if (!(t > 0.0)) return from;
+  auto n = static_cast<std::size_t>(std::ceil(t * fs));
+  while (n > 0 && static_cast<double>(n - 1) / fs >= t) --n;
+  while (static_cast<double>(n) / fs < t) ++n;
+  return std::max(n, from);
+}
+
+// sum_{k=0}^{count-1} exp(2 (log_first + log_step k)): a geometric series.
+double geometricEnergy(double log_first, double log_step, std::size_t count) {
+  if (count == 0) return 0.0;
+  const double head = std::exp(2.0 * log_first);
+  const double x = 2.0 * log_step;
+  return x == 0.0 ? head * static_cast<double>(count) : head * std::expm1(x * static_cast<double>(count)) / std::expm1(x);
+}
+
+}  // namespace
+
+double lateEnvelopeEnergy(const LateReverb& late, std::size_t band, std::size_t from, std::size_t to, double fs) {
+  const LateReverbBand& b = late.bands[band];
+  if (to <= from || !(b.level > 0.0)) return 0.0;
+  const bool extended = b.onset_level > 0.0;
+  const double join = extended ? std::max(late.mixing_time_s, late.course_end_s) : late.mixing_time_s;
+  const std::size_t onset_n = std::min(to, firstSampleAtOrAfter(late.onset_s, fs, from));
+  const std::size_t join_n = std::min(to, std::max(onset_n, firstSampleAtOrAfter(join, fs, from)));
+  double energy = 0.0;
+  if (extended && join_n > onset_n) {
+    // ln e(n) = ln onset_level + u(n) ln R, u linear in n, R the ratio over the course.
+    const double log_ratio = -b.decay_constant_per_s * (join - late.mixing_time_s) + std::log(b.level / b.onset_level);
+    const double span = join - late.onset_s;
+    const double u_first = (static_cast<double>(onset_n) / fs - late.onset_s) / span;
+    energy += geometricEnergy(std::log(b.onset_level) + u_first * log_ratio, log_ratio / (fs * span), join_n - onset_n);
+  } else {
+    for (std::size_t n = onset_n; n < join_n; ++n) {
+      const double e = b.level * lateEnvelopeGain(late, band, static_cast<double>(n) / fs);
+      energy += e * e;
+    }
+  }
+  const double log_first = std::log(b.level) - b.decay_constant_per_s * (static_cast<double>(join_n) / fs - late.mixing_time_s);
+  energy += geometricEnergy(log_first, -b.decay_constant_per_s / fs, to - join_n);
+  return energy;
+}
+
 }  // namespace room_reverb::core

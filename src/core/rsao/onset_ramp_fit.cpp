@@ -22,16 +22,6 @@ double energyBetween(const std::vector<float>& x, std::size_t from, std::size_t 
   return sum;
 }
 
-// Energy of band b's late envelope (unit-mean-square noise under it) over [from, to).
-double envelopeEnergy(const LateReverb& late, std::size_t b, std::size_t from, std::size_t to) {
-  double sum = 0.0;
-  for (std::size_t n = from; n < to; ++n) {
-    const double e = late.bands[b].level * lateEnvelopeGain(late, b, static_cast<double>(n) / kFs);
-    sum += e * e;
-  }
-  return sum;
-}
-
 }  // namespace
 
 void fitOnsetRamps(const std::vector<float>& w, Rsao& rsao, const OnsetRampFitOptions& options) {
@@ -63,16 +53,16 @@ void fitOnsetRamps(const std::vector<float>& w, Rsao& rsao, const OnsetRampFitOp
     LateReverbBand& band = late.bands[b];
     band.onset_level = 0.0;
     const double residual = energyBetween(measured[b], from, to) - energyBetween(played[b], from, to);
-    if (!(band.level > 0.0) || residual <= envelopeEnergy(late, b, from, to)) continue;
+    if (!(band.level > 0.0) || residual <= lateEnvelopeEnergy(late, b, from, to, kFs)) continue;
     // The energy grows with the onset level: bisect on its logarithm, from far below the
     // mixing-time level (a course rising from almost nothing) to max_onset_gain_db above.
     double low = std::log(band.level / max_gain), high = std::log(band.level * max_gain);
     band.onset_level = std::exp(high);
-    if (envelopeEnergy(late, b, from, to) <= residual) continue;
+    if (lateEnvelopeEnergy(late, b, from, to, kFs) <= residual) continue;
     for (int step = 0; step < kBisectionSteps; ++step) {
       const double mid = 0.5 * (low + high);
       band.onset_level = std::exp(mid);
-      (envelopeEnergy(late, b, from, to) < residual ? low : high) = mid;
+      (lateEnvelopeEnergy(late, b, from, to, kFs) < residual ? low : high) = mid;
     }
     band.onset_level = std::exp(0.5 * (low + high));
   }
