@@ -19,9 +19,9 @@ namespace room_reverb::ros_bridge {
 BinauralRendererServer::BinauralRendererServer(::ros::NodeHandle& nh, ::ros::NodeHandle& private_nh)
     : nh_(nh) {
   std::string hrtf_file, decoder_name, source_file, room_file, room_format;
-  private_nh.param<std::string>("frame_id", frame_id_, "head");
-  private_nh.param<std::string>("hrtf_file", hrtf_file, "");
-  private_nh.param<std::string>("decoder", decoder_name, "magls");
+  typedParam(private_nh, "frame_id", frame_id_, std::string("head"));
+  typedParam(private_nh, "hrtf_file", hrtf_file, std::string(""));
+  typedParam(private_nh, "decoder", decoder_name, std::string("magls"));
   const int order = positiveIntParam(private_nh, "order", 3);
   if (order > 3) throw core::InputError("parameter ~order must be 1 to 3");
   block_frames_ = static_cast<std::size_t>(positiveIntParam(private_nh, "block_frames", 256));
@@ -29,21 +29,21 @@ BinauralRendererServer::BinauralRendererServer(::ros::NodeHandle& nh, ::ros::Nod
   core::BinauralStreamOptions stream_options;
   stream_options.block_size = block_frames_;
   stream_options.crossfade_blocks = static_cast<std::size_t>(positiveIntParam(private_nh, "crossfade_blocks", 4));
-  private_nh.param("max_response_s", stream_options.max_response_s, 4.0);
+  typedParam(private_nh, "max_response_s", stream_options.max_response_s, 4.0);
   const double chunk_period_s = static_cast<double>(block_frames_ * chunk_blocks_) / core::kInternalSampleRateHz;
   pacer_options_.chunk_period_s = chunk_period_s;
-  private_nh.param("late_tolerance_s", pacer_options_.late_tolerance_s, chunk_period_s);
-  private_nh.param("max_lag_s", pacer_options_.max_lag_s, 0.25);
-  private_nh.param("status_period_s", status_period_s_, 1.0);
+  typedParam(private_nh, "late_tolerance_s", pacer_options_.late_tolerance_s, chunk_period_s);
+  typedParam(private_nh, "max_lag_s", pacer_options_.max_lag_s, 0.25);
+  typedParam(private_nh, "status_period_s", status_period_s_, 1.0);
   if (!(status_period_s_ > 0.0)) throw core::InputError("parameter ~status_period_s must be positive");
   rsao_seed_ = static_cast<std::uint32_t>(positiveIntParam(private_nh, "rsao_seed", 1));
-  private_nh.param<std::string>("simulator_service", simulator_service_, "room_simulator/simulate");
-  private_nh.param<std::string>("source_file", source_file, "");
+  typedParam(private_nh, "simulator_service", simulator_service_, std::string("room_simulator/simulate"));
+  typedParam(private_nh, "source_file", source_file, std::string(""));
   double prebuffer_s = 0.05, max_queued_s = 1.0;
-  private_nh.param("source_prebuffer_s", prebuffer_s, 0.05);
-  private_nh.param("source_max_queued_s", max_queued_s, 1.0);
-  private_nh.param<std::string>("room_file", room_file, "");
-  private_nh.param<std::string>("room_format", room_format, "fuma");
+  typedParam(private_nh, "source_prebuffer_s", prebuffer_s, 0.05);
+  typedParam(private_nh, "source_max_queued_s", max_queued_s, 1.0);
+  typedParam(private_nh, "room_file", room_file, std::string(""));
+  typedParam(private_nh, "room_format", room_format, std::string("fuma"));
 
   const core::HrtfSet hrtf =
       core::HrtfSet::loadSofa(hrtf_file.empty() ? core::HrtfSet::defaultSofaPath() : hrtf_file);

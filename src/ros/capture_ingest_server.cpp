@@ -37,15 +37,15 @@ cv::Mat readCameraFile(const std::string& path, const std::string& param) {
 CaptureIngestServer::CaptureIngestServer(::ros::NodeHandle nh, ::ros::NodeHandle private_nh)
     : nh_(nh), private_nh_(private_nh) {
   std::string format, leveling, calibration, top_file, bottom_file;
-  private_nh_.param<std::string>("input_format", format, "equirect");
-  private_nh_.param<std::string>("leveling", leveling, "image");
-  private_nh_.param<std::string>("calibration_file", calibration, "");
-  private_nh_.param<std::string>("rig_frame", rig_frame_, "rig");
-  private_nh_.param<std::string>("top_file", top_file, "");
-  private_nh_.param<std::string>("bottom_file", bottom_file, "");
+  typedParam(private_nh_, "input_format", format, std::string("equirect"));
+  typedParam(private_nh_, "leveling", leveling, std::string("image"));
+  typedParam(private_nh_, "calibration_file", calibration, std::string(""));
+  typedParam(private_nh_, "rig_frame", rig_frame_, std::string("rig"));
+  typedParam(private_nh_, "top_file", top_file, std::string(""));
+  typedParam(private_nh_, "bottom_file", bottom_file, std::string(""));
   options_.format = core::parseCaptureImageFormat(format, "parameter ~input_format");
   options_.leveling = core::parseLevelingSource(leveling, "parameter ~leveling");
-  private_nh_.param("width", options_.width, 0);
+  typedParam(private_nh_, "width", options_.width, 0);
   if (options_.width < 0 || options_.width % 2 != 0) {
     throw core::InputError("parameter ~width must be 0 (as the input) or an even number of pixels");
   }
@@ -54,7 +54,7 @@ CaptureIngestServer::CaptureIngestServer(::ros::NodeHandle nh, ::ros::NodeHandle
         core::loadDualFisheyeCalibration(calibration.empty() ? core::defaultDualFisheyeCalibrationPath() : calibration);
   }
   double file_period_s = 0.0;
-  private_nh_.param("file_period_s", file_period_s, 0.0);
+  typedParam(private_nh_, "file_period_s", file_period_s, 0.0);
 
   top_pub_ = nh_.advertise<sensor_msgs::Image>("top/image_equirect", 1, true);
   bottom_pub_ = nh_.advertise<sensor_msgs::Image>("bottom/image_equirect", 1, true);

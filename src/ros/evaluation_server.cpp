@@ -97,16 +97,16 @@ EvaluationServer::EvaluationServer(::ros::NodeHandle& private_nh) {
   } catch (const core::InputError& e) {
     throw core::InputError(std::string("parameter ~causes: ") + e.what());
   }
-  private_nh.param("threads", threads_, 0);
+  typedParam(private_nh, "threads", threads_, 0);
   if (threads_ < 0) throw core::InputError("parameter ~threads must not be negative");
-  private_nh.param<std::string>("out_root", out_root_, "/tmp/room_reverb_evaluation");
+  typedParam(private_nh, "out_root", out_root_, std::string("/tmp/room_reverb_evaluation"));
   std::string materials_file;
-  private_nh.param<std::string>("materials_file", materials_file, "");
+  typedParam(private_nh, "materials_file", materials_file, std::string(""));
   library_ = materials_file.empty() ? core::MaterialLibrary::loadDefault() : core::MaterialLibrary::load(materials_file);
   corrected_room_publisher_ = private_nh.advertise<room_reverb::RoomModel>("corrected_room", 1, true);
   corrected_scene_publisher_ = private_nh.advertise<room_reverb::RoomScene>("corrected_scene", 1, true);
   bool auto_diagnose = false;
-  private_nh.param("auto_diagnose", auto_diagnose, false);
+  typedParam(private_nh, "auto_diagnose", auto_diagnose, false);
   if (auto_diagnose) {
     room_subscriber_ = private_nh.subscribe("room", 1, &EvaluationServer::onRoom, this);
     rir_subscriber_ = private_nh.subscribe("impulse_response", 1, &EvaluationServer::onImpulseResponse, this);

@@ -1,3 +1,4 @@
+#include "room_reverb/ros/parameters.h"
 #include "room_reverb/ros/metrics_server.h"
 
 #include <limits>
@@ -34,7 +35,7 @@ room_reverb::BandMetrics toMessage(const core::AcousticParameters& p) {
 }  // namespace
 
 MetricsServer::MetricsServer(::ros::NodeHandle& private_nh) {
-  private_nh.param<std::string>("default_bands", default_bands_, "octave");
+  typedParam(private_nh, "default_bands", default_bands_, std::string("octave"));
   // Fail at start, loudly, rather than at the first call.
   core::parseBandResolution(default_bands_);
   server_ = private_nh.advertiseService("compute_metrics", &MetricsServer::compute, this);

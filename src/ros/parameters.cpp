@@ -11,12 +11,25 @@ namespace {
 // ~name into `value` when set; a value of another type (a string where a number belongs, a
 // number where a list does) stops the node rather than silently falling back.
 template <typename T>
-void readTyped(::ros::NodeHandle& nh, const std::string& name, T& value, const char* type) {
+void readTyped(const ::ros::NodeHandle& nh, const std::string& name, T& value, const char* type) {
   if (!nh.hasParam(name)) return;
   if (!nh.getParam(name, value)) throw core::InputError("parameter ~" + name + " must be " + type);
 }
 
 }  // namespace
+
+void readTypedParam(const ::ros::NodeHandle& nh, const std::string& name, bool& value) {
+  readTyped(nh, name, value, "true or false");
+}
+void readTypedParam(const ::ros::NodeHandle& nh, const std::string& name, int& value) {
+  readTyped(nh, name, value, "an integer");
+}
+void readTypedParam(const ::ros::NodeHandle& nh, const std::string& name, double& value) {
+  readTyped(nh, name, value, "a number");
+}
+void readTypedParam(const ::ros::NodeHandle& nh, const std::string& name, std::string& value) {
+  readTyped(nh, name, value, "a string");
+}
 
 int positiveIntParam(::ros::NodeHandle& nh, const std::string& name, int fallback) {
   int value = fallback;

@@ -39,14 +39,14 @@ geometry_msgs::TransformStamped roomToRig(const core::RoomLayout& layout, const 
 }
 
 void readLayoutParams(const ::ros::NodeHandle& nh, core::RoomLayoutOptions& o) {
-  nh.param("voxel_size_m", o.voxel_size_m, o.voxel_size_m);
+  typedParam(nh, "voxel_size_m", o.voxel_size_m, o.voxel_size_m);
   // Not max_range_m: the stereo's parameter of that name (config/spherical_depth.yaml) is
   // read from the same namespace for ~build requests that carry images.
-  nh.param("layout_max_range_m", o.max_range_m, o.max_range_m);
-  nh.param("range_noise_fraction", o.range_noise_fraction, o.range_noise_fraction);
-  nh.param("min_object_extent_m", o.min_object_extent_m, o.min_object_extent_m);
+  typedParam(nh, "layout_max_range_m", o.max_range_m, o.max_range_m);
+  typedParam(nh, "range_noise_fraction", o.range_noise_fraction, o.range_noise_fraction);
+  typedParam(nh, "min_object_extent_m", o.min_object_extent_m, o.min_object_extent_m);
   int min_points = static_cast<int>(o.min_points);
-  nh.param("min_points", min_points, min_points);
+  typedParam(nh, "min_points", min_points, min_points);
   if (min_points < 1) throw core::InputError("parameter ~min_points must be at least 1");
   o.min_points = static_cast<std::size_t>(min_points);
 }
@@ -55,19 +55,19 @@ void readLayoutParams(const ::ros::NodeHandle& nh, core::RoomLayoutOptions& o) {
 
 RoomModelServer::RoomModelServer(::ros::NodeHandle nh, ::ros::NodeHandle private_nh) : nh_(nh), private_nh_(private_nh) {
   baseline_m_ = positiveDoubleParam(private_nh_, "baseline_m", 0.2);
-  private_nh_.param<std::string>("rig_frame", rig_frame_, "rig");
-  private_nh_.param<std::string>("room_frame", room_frame_, "room");
-  private_nh_.param<std::string>("output_file", output_file_, "");
-  private_nh_.param<std::string>("cloud_file", cloud_file_, "");
-  private_nh_.param("build_on_cloud", build_on_cloud_, false);
-  private_nh_.param("level_from_cloud", options_.level_from_cloud, false);
+  typedParam(private_nh_, "rig_frame", rig_frame_, std::string("rig"));
+  typedParam(private_nh_, "room_frame", room_frame_, std::string("room"));
+  typedParam(private_nh_, "output_file", output_file_, std::string(""));
+  typedParam(private_nh_, "cloud_file", cloud_file_, std::string(""));
+  typedParam(private_nh_, "build_on_cloud", build_on_cloud_, false);
+  typedParam(private_nh_, "level_from_cloud", options_.level_from_cloud, false);
   options_.stereo = stereoOptionsFromConfig(stereoConfigFromParams(private_nh_));
   readLayoutParams(private_nh_, options_.layout);
   std::string classifier_file, families_file;
-  private_nh_.param<std::string>("material_classifier_file", classifier_file, "");
-  private_nh_.param<std::string>("material_families_file", families_file, "");
+  typedParam(private_nh_, "material_classifier_file", classifier_file, std::string(""));
+  typedParam(private_nh_, "material_families_file", families_file, std::string(""));
   // A path, read on every build (the user may correct it between builds).
-  private_nh_.param<std::string>("materials_override", options_.materials.override_file, "");
+  typedParam(private_nh_, "materials_override", options_.materials.override_file, std::string(""));
   options_.classifier = std::make_shared<const core::MaterialClassifier>(core::MaterialClassifier::load(
       classifier_file.empty() ? core::MaterialClassifier::defaultPath() : classifier_file));
   options_.families = std::make_shared<const core::MaterialFamilyTable>(core::loadMaterialFamilyTable(

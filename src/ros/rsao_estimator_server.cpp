@@ -1,3 +1,4 @@
+#include "room_reverb/ros/parameters.h"
 #include "room_reverb/ros/rsao_estimator_server.h"
 
 #include <algorithm>
@@ -96,18 +97,18 @@ visualization_msgs::MarkerArray rsaoMarkers(const core::Rsao& rsao, const std::s
 }
 
 RsaoEstimatorServer::RsaoEstimatorServer(::ros::NodeHandle& private_nh) {
-  private_nh.param<std::string>("frame_id", frame_id_, "rig");
-  private_nh.param<std::string>("room_frame", room_frame_, "room");
+  typedParam(private_nh, "frame_id", frame_id_, std::string("rig"));
+  typedParam(private_nh, "room_frame", room_frame_, std::string("room"));
   int max_reflections = 20;
-  private_nh.param("max_reflections", max_reflections, 20);
+  typedParam(private_nh, "max_reflections", max_reflections, 20);
   if (max_reflections < 0) throw core::InputError("parameter ~max_reflections must be 0 or more");
   defaults_.early.max_reflections = static_cast<std::size_t>(max_reflections);
-  private_nh.param("analysis_window_s", defaults_.early.analysis_window_s, 0.002);
-  private_nh.param("lpc_order", defaults_.early.lpc_order, 9);
-  private_nh.param("fit_onset_ramps", defaults_.fit_onset_ramps, true);
-  private_nh.param("min_direct_prominence_db", defaults_.min_direct_prominence_db, 15.0);
-  private_nh.param("marker_distance_scale", marker_distance_scale_, 1.0);
-  private_nh.param("marker_max_sphere_m", marker_max_sphere_m_, 0.5);
+  typedParam(private_nh, "analysis_window_s", defaults_.early.analysis_window_s, 0.002);
+  typedParam(private_nh, "lpc_order", defaults_.early.lpc_order, 9);
+  typedParam(private_nh, "fit_onset_ramps", defaults_.fit_onset_ramps, true);
+  typedParam(private_nh, "min_direct_prominence_db", defaults_.min_direct_prominence_db, 15.0);
+  typedParam(private_nh, "marker_distance_scale", marker_distance_scale_, 1.0);
+  typedParam(private_nh, "marker_max_sphere_m", marker_max_sphere_m_, 0.5);
   requirePositive(marker_distance_scale_ > 0.0, "marker_distance_scale");
   requirePositive(marker_max_sphere_m_ > 0.0, "marker_max_sphere_m");
   core::validateRsaoOptions(defaults_);

@@ -32,11 +32,11 @@ geometry_msgs::TransformStamped cameraTransform(const std::string& rig, const st
 SphericalDepthServer::SphericalDepthServer(::ros::NodeHandle nh, ::ros::NodeHandle private_nh)
     : nh_(nh), private_nh_(private_nh) {
   baseline_m_ = positiveDoubleParam(private_nh_, "baseline_m", 0.2);
-  private_nh_.param<std::string>("rig_frame", rig_frame_, "rig");
-  private_nh_.param<std::string>("top_camera_frame", top_frame_, "rig_top_camera");
-  private_nh_.param<std::string>("bottom_camera_frame", bottom_frame_, "rig_bottom_camera");
+  typedParam(private_nh_, "rig_frame", rig_frame_, std::string("rig"));
+  typedParam(private_nh_, "top_camera_frame", top_frame_, std::string("rig_top_camera"));
+  typedParam(private_nh_, "bottom_camera_frame", bottom_frame_, std::string("rig_bottom_camera"));
   cloud_options_.stride = positiveIntParam(private_nh_, "cloud_stride", 1);
-  private_nh_.param("include_filled", cloud_options_.include_filled, false);
+  typedParam(private_nh_, "include_filled", cloud_options_.include_filled, false);
   const int queue = positiveIntParam(private_nh_, "queue_size", 2);
 
   stereo_options_ = stereoOptionsFromConfig(stereoConfigFromParams(private_nh_));

@@ -293,6 +293,12 @@ TEST(EvaluationNode, AnUnknownOrMistypedCauseListStopsTheNodeWithOneLine) {
   output = runEvaluationNode("evaluation_rays_string");
   EXPECT_NE(output.find("parameter ~diagnosis_rays must be an integer"), std::string::npos) << output;
   EXPECT_NE(output.find("exit 2"), std::string::npos) << output;
+
+  // As is any parameter of another type than its own (typedParam): a flag given as text.
+  ros::param::set("/evaluation_flag_string/auto_diagnose", std::string("yes"));
+  output = runEvaluationNode("evaluation_flag_string");
+  EXPECT_NE(output.find("parameter ~auto_diagnose must be true or false"), std::string::npos) << output;
+  EXPECT_NE(output.find("exit 2"), std::string::npos) << output;
 }
 
 }  // namespace

@@ -158,6 +158,9 @@ TEST_F(SimulationService, BadInputAnswersWithAReason) {
   auto negative_rays = request();
   negative_rays.rays = -5;
   expectFailure(negative_rays, "negative");
+  auto too_many_rays = request();
+  too_many_rays.rays = 2000000000;
+  expectFailure(too_many_rays, "more than this node's ~max_rays (10000000)");
 
   auto flat = request();
   flat.room.size.z = 0.0;

@@ -20,6 +20,7 @@ class SimulationServer {
 
  private:
   core::SimulationSettings defaults_;
+  int max_rays_ = 0;  // a request for more rays is refused
   core::MaterialLibrary library_;
   ::ros::ServiceServer server_;
 };
