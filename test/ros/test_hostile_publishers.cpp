@@ -29,6 +29,7 @@
 #include <sensor_msgs/PointField.h>
 
 #include <array>
+#include <cstdio>
 #include <cstring>
 #include <functional>
 #include <limits>
@@ -596,6 +597,64 @@ TEST_F(HostilePublishers, BinauralRendererRefusesBadRoomsSourcesAndHeads) {
   ASSERT_TRUE(answers("/sim/room_simulator/simulate", simulate));
   EXPECT_FALSE(simulate.response.success);
   EXPECT_TRUE(answersSetLoggerLevel("/sim/room_simulator"));
+}
+
+// A publisher gone wild: head orientations as fast as the test can send them and source
+// audio at several times real time, for three seconds. The renderer keeps its own pace: it
+// streams about as much audio as time passes, discards (and counts) the source it cannot
+// play instead of queueing it without bound, takes every orientation, and still answers.
+TEST_F(HostilePublishers, BinauralRendererKeepsItsPaceUnderAFlood) {
+  room_reverb::StreamStatus status;
+  int statuses = 0;
+  std::size_t frames = 0;
+  ros::Subscriber status_sub = nh_->subscribe<room_reverb::StreamStatus>(
+      "/br/binaural_renderer/status", 10, [&](const room_reverb::StreamStatus::ConstPtr& m) {
+        status = *m;
+        ++statuses;
+      });
+  ros::Subscriber stream_sub = nh_->subscribe<room_reverb::AudioBuffer>(
+      "/br/binaural_renderer/binaural", 200, [&](const room_reverb::AudioBuffer::ConstPtr& m) {
+        if (m->channel_count > 0) frames += m->samples.size() / m->channel_count;
+      });
+  ros::Publisher head = nh_->advertise<geometry_msgs::QuaternionStamped>("/br/binaural_renderer/head_orientation", 1000);
+  ros::Publisher source = nh_->advertise<room_reverb::AudioBuffer>("/br/binaural_renderer/source", 1000);
+  ASSERT_TRUE(waitUntil([&] { return head.getNumSubscribers() > 0 && source.getNumSubscribers() > 0 && statuses > 0; },
+                        20.0));
+  ASSERT_TRUE(waitUntil([&] { return frames > 0; }, 10.0)) << "the renderer streams nothing";
+  const std::uint64_t overflow_before = status.source_overflow_samples;
+  const std::uint64_t rejected_before = status.orientations_rejected;
+  const std::size_t frames_before = frames;
+
+  const room_reverb::AudioBuffer chunk = audio(1, 1024, "mono", 48000.0, 0.1f);
+  const ros::WallTime start = ros::WallTime::now();
+  int orientations = 0, chunks = 0;
+  while ((ros::WallTime::now() - start).toSec() < 3.0) {
+    geometry_msgs::QuaternionStamped q;
+    q.header.stamp = ros::Time::now();
+    const double yaw = 0.001 * orientations;
+    q.quaternion = quaternion(0.0, 0.0, std::sin(0.5 * yaw), std::cos(0.5 * yaw));
+    head.publish(q);
+    if (++orientations % 5 == 0) {
+      source.publish(chunk);
+      ++chunks;
+    }
+    ros::spinOnce();
+    ros::WallDuration(0.0002).sleep();
+  }
+  const double flooded_s = (ros::WallTime::now() - start).toSec();
+  waitUntil([&] { return false; }, 0.5);  // what was sent in the last moments arrives
+  const double streamed_s = static_cast<double>(frames - frames_before) / 48000.0;
+  const double source_s = chunks * 1024 / 48000.0;
+  std::printf("[ stats    ] flood: %d orientations (%.0f per s), %.1f s of source in %.1f s; %.1f s streamed; "
+              "overflow %llu samples\n",
+              orientations, orientations / flooded_s, source_s, flooded_s, streamed_s,
+              static_cast<unsigned long long>(status.source_overflow_samples - overflow_before));
+  ASSERT_GT(source_s, 2.0 * flooded_s) << "the test could not flood: nothing is shown";
+  EXPECT_GT(streamed_s, 0.7 * flooded_s);
+  EXPECT_LT(streamed_s, flooded_s + 1.0);
+  EXPECT_GT(status.source_overflow_samples, overflow_before);
+  EXPECT_EQ(status.orientations_rejected, rejected_before);
+  EXPECT_TRUE(answersSetLoggerLevel("/br/binaural_renderer"));
 }
 
 TEST_F(HostilePublishers, EvaluationRefusesBadRoomsAndImpulseResponses) {
