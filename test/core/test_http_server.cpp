@@ -46,7 +46,7 @@ class EchoServer {
     options.max_body_bytes = 1000;
     options.max_header_bytes = 2000;
     options.timeout_s = 1;
-    options.max_connections = 4;
+    options.max_connections = 32;
     return options;
   }
 
@@ -167,7 +167,9 @@ TEST(HttpServer, ARequestNotWholeByTheDeadlineIsCutWithoutHoldingTheOthers) {
 }
 
 TEST(HttpServer, ConnectionsOverTheLimitAreAnswered503UntilOthersEnd) {
-  EchoServer server;  // at most 4 at once
+  HttpServerOptions four = EchoServer::smallLimits();
+  four.max_connections = 4;
+  EchoServer server(four);
   std::vector<int> idle;
   for (int i = 0; i < 4; ++i) idle.push_back(connectLoopback(server.port()));
   std::this_thread::sleep_for(std::chrono::milliseconds(200));  // all four accepted
@@ -200,4 +202,14 @@ TEST(HttpServer, APortInUseOrAnUnknownHostIsAnInputError) {
   HttpServerOptions bad_port;
   bad_port.port = 70000;
   EXPECT_THROW(HttpServer(bad_port, [](const HttpRequest&) { return HttpResponse{}; }), InputError);
+}
+
+// A server stopped the moment it starts (before its accept loop runs, as a test or a
+// Ctrl-C right after start may) ends at once instead of waiting in accept() for ever.
+TEST(HttpServer, StoppedRightAfterStartingItEnds) {
+  for (int i = 0; i < 200; ++i) {
+    std::atomic<bool> stop{true};
+    HttpServer server(EchoServer::smallLimits(), [](const HttpRequest&) { return HttpResponse{}; });
+    server.serve(stop);
+  }
 }

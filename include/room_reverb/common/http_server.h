@@ -2,7 +2,7 @@
 // The HTTP/1.1 server behind `room_reverb mushra serve`, on Debian's cpp-httplib (the
 // request parsing, chunked bodies, Expect: 100-continue, HEAD): enough for a listening
 // test on one machine or a lab's network. What this layer adds is what a server that
-// collects results must hold under load: a thread per connection, so that a slow or idle
+// collects results must hold under load: a thread per connection (up to a limit), so that a slow or idle
 // client never holds up the others; a deadline for the whole request, so that a client
 // trickling bytes cannot keep its thread; caps on the head and the body; one request per
 // connection (the answer says Connection: close). What a request means is up to a
@@ -45,7 +45,9 @@ struct HttpServerOptions {
   // The whole request (head and body) must arrive within this time after the connection
   // opens (else 408); each part of the answer must be taken by the client within it.
   int timeout_s = 10;
-  int max_connections = 64;        // at once; more are answered 503
+  // At once, counting those still closing; more are answered 503. A browser opens several
+  // connections to load a page, and a lab may have 50 listeners.
+  int max_connections = 512;
 };
 
 class HttpServer {

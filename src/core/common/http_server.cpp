@@ -369,9 +369,22 @@ void HttpServer::serve(const std::atomic<bool>& stop) {
   Implementation& server = *implementation_;
   // cpp-httplib's accept loop runs until stop() closes the listening socket; then its
   // task queue waits for the connections under way, whose deadlines bound the wait.
-  std::thread accepting([&server] { server.listen_after_bind(); });
+  std::atomic<bool> finished{false};
+  std::thread accepting([&server, &finished] {
+    server.listen_after_bind();
+    finished = true;
+  });
   while (!stop) std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  server.stop();
+  // stop() closes the listening socket only once the accept loop has started (it checks
+  // is_running()), and must not be called twice (it asserts the socket is open): a server
+  // told to stop right after it started would otherwise wait in accept() for ever.
+  while (!finished) {
+    if (server.is_running()) {
+      server.stop();
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
   accepting.join();
 }
 
