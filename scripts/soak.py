@@ -111,7 +111,7 @@ def main():
     start = time.monotonic()
     end = start + 60.0 * args.minutes
     next_swap, next_sample, swaps = start, start, 0
-    memory = []
+    memory, load = [], []
     rate = rospy.Rate(50)
     while not rospy.is_shutdown() and time.monotonic() < end:
         now = time.monotonic()
@@ -126,6 +126,7 @@ def main():
             next_swap += args.swap_s
         if now >= next_sample:
             memory.append((now - start, rss_mib(args.pid)))
+            load.append(os.getloadavg()[0])
             next_sample += 10.0
         yaw = 2.0 * math.pi * ((now - start) / 12.0 % 1.0)
         q = QuaternionStamped()
@@ -150,6 +151,8 @@ def main():
         f"| orientations refused | {last.orientations_rejected} |",
         f"| process CPU share, median / worst status period | {statistics.median(cpu):.3f} / {cpu[-1]:.3f} |",
         f"| longest chunk render | {1000.0 * status['worst_chunk']:.1f} ms |",
+        f"| audio thread scheduling | {last.audio_scheduling} |",
+        f"| machine load average (1 min), median / max of the samples | {statistics.median(load):.1f} / {max(load):.1f} |",
         f"| resident memory, first / last sample | {memory[0][1]:.1f} / {memory[-1][1]:.1f} MiB |",
         f"| resident memory slope after {WARM_UP_S / 60:g} min | {slope_per_hour(after_warm_up):+.2f} MiB per hour |",
     ]

@@ -36,6 +36,10 @@ BinauralRendererServer::BinauralRendererServer(::ros::NodeHandle& nh, ::ros::Nod
   typedParam(private_nh, "max_lag_s", pacer_options_.max_lag_s, 0.25);
   typedParam(private_nh, "status_period_s", status_period_s_, 1.0);
   if (!(status_period_s_ > 0.0)) throw core::InputError("parameter ~status_period_s must be positive");
+  typedParam(private_nh, "realtime_priority", realtime_priority_, 10);
+  if (realtime_priority_ < 0 || realtime_priority_ > 99) {
+    throw core::InputError("parameter ~realtime_priority must be 0 (normal scheduling) to 99");
+  }
   rsao_seed_ = static_cast<std::uint32_t>(positiveIntParam(private_nh, "rsao_seed", 1));
   typedParam(private_nh, "simulator_service", simulator_service_, std::string("room_simulator/simulate"));
   typedParam(private_nh, "source_file", source_file, std::string(""));

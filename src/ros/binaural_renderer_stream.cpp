@@ -12,6 +12,7 @@
 #include "room_reverb/audio/resample.h"
 #include "room_reverb/binaural/offline_render.h"
 #include "room_reverb/common/error.h"
+#include "room_reverb/common/realtime_thread.h"
 #include "room_reverb/ros/binaural_renderer_server.h"
 
 namespace room_reverb::ros_bridge {
@@ -28,6 +29,13 @@ double cpuSeconds(clockid_t clock) {
 void BinauralRendererServer::audioLoop() {
   const double chunk_period_s = pacer_options_.chunk_period_s;
   const auto status_period_chunks = std::max<std::uint64_t>(1, std::llround(status_period_s_ / chunk_period_s));
+  const core::ThreadScheduling scheduling = core::requestRealtimeScheduling(realtime_priority_);
+  audio_scheduling_ = scheduling.description;
+  if (realtime_priority_ > 0 && !scheduling.realtime) {
+    ROS_WARN("binaural_renderer: audio thread at %s; under load chunks may be dropped", scheduling.description.c_str());
+  } else {
+    ROS_INFO("binaural_renderer: audio thread at %s", scheduling.description.c_str());
+  }
   cpu_thread_mark_ = cpuSeconds(CLOCK_THREAD_CPUTIME_ID);
   cpu_process_mark_ = cpuSeconds(CLOCK_PROCESS_CPUTIME_ID);
   while (running_ && ::ros::ok()) {
@@ -128,6 +136,7 @@ void BinauralRendererServer::publishStatus() {
   status.chunks_dropped = pacing.dropped;
   status.clock_restarts = pacing.restarts;
   status.source = source_description_;
+  status.audio_scheduling = audio_scheduling_;
   status.non_finite_samples = stream_->nonFiniteSamples();
   {
     std::lock_guard<std::mutex> lock(mutex_);

@@ -124,7 +124,13 @@ TEST(BinauralRenderer, StreamsTenSecondsInRealTimeEqualToTheOfflineRender) {
   const double wall_s = arrivals.back() - arrivals.front();
   EXPECT_GT(stream_s, 10.0);
   EXPECT_NEAR(stream_s / wall_s, 1.0, 0.03) << "stream " << stream_s << " s in " << wall_s << " s";
+  // The audio thread asked for SCHED_FIFO 10 (the default ~realtime_priority); granted or
+  // refused, ~status says which.
+  EXPECT_TRUE(status.audio_scheduling == "SCHED_FIFO 10" ||
+              status.audio_scheduling.rfind("normal (SCHED_FIFO 10 refused", 0) == 0)
+      << status.audio_scheduling;
   // Recorded in the test's XML result (rostest keeps no console output of test nodes).
+  RecordProperty("audio_scheduling", status.audio_scheduling);
   RecordProperty("chunks", static_cast<int>(chunks.size()));
   RecordProperty("realtime_ratio", std::to_string(stream_s / wall_s));
   RecordProperty("chunks_late", static_cast<int>(status.chunks_late));

@@ -78,6 +78,7 @@ class BinauralRendererServer {
   std::size_t chunk_blocks_ = 2;
   std::uint32_t rsao_seed_ = 1;
   double status_period_s_ = 1.0;
+  int realtime_priority_ = 10;
   std::string simulator_service_;
   core::StreamPacerOptions pacer_options_;
 
@@ -93,6 +94,7 @@ class BinauralRendererServer {
   // At the last status: processor times and chunks published; the longest chunk since.
   double cpu_thread_mark_ = 0.0, cpu_process_mark_ = 0.0, worst_chunk_s_ = 0.0;
   std::uint64_t chunks_at_mark_ = 0;
+  std::string audio_scheduling_;
 
   // Shared, under mutex_.
   std::mutex mutex_;
