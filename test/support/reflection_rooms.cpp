@@ -296,6 +296,10 @@ bool holdsItsKind(const std::vector<ImageArrival>& images, Kind kind) {
 std::size_t reflectionRoomCount(ReflectionRoomSet set) { return recipes(set).size(); }
 
 ReflectionRoom reflectionRoom(ReflectionRoomSet set, std::size_t index) {
+  return reflectionRoom(set, index, Eigen::Vector3d::Zero());
+}
+
+ReflectionRoom reflectionRoom(ReflectionRoomSet set, std::size_t index, const Eigen::Vector3d& receiver_offset_m) {
   const Recipe& recipe = recipes(set).at(index);
   std::mt19937 rng(recipe.seed);
   Geometry g = drawGeometry(recipe, rng);
@@ -307,8 +311,22 @@ ReflectionRoom reflectionRoom(ReflectionRoomSet set, std::size_t index) {
     }
   }
 
+  if (!receiver_offset_m.isZero()) {
+    g.receiver += receiver_offset_m;
+    const Eigen::Vector3d clearance = (g.receiver.array().min((g.size - g.receiver).array())).matrix();
+    if (clearance.minCoeff() < 0.3 || (g.receiver - g.source).norm() < 0.5 ||
+        (g.panel && g.receiver.x() > g.panel->x_m - 0.1)) {
+      throw std::invalid_argument("reflectionRoom: the moved receiver is too close to a wall, the source or the panel");
+    }
+    images = arrivals(g, recipe);
+  }
+
   ReflectionRoom room;
   room.name = std::string(kindName(recipe.kind)) + " " + std::to_string(recipe.seed);
+  room.geometry.size_m = g.size;
+  room.geometry.source_m = g.source;
+  room.geometry.receiver_m = g.receiver;
+  if (g.panel) room.geometry.panel = ReflectorPanel{g.panel->x_m, g.panel->y0, g.panel->y1, g.panel->z0, g.panel->z1};
   room.ambix = core::makeSilentBuffer(4, static_cast<std::size_t>(kDurationS * kFs), kFs);
   for (const ImageSource& image : shoeboxImages(g)) {
     const Eigen::Vector3d path = image.position - g.receiver;

@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,10 +30,24 @@ struct ImageArrival {
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();  // unit, towards where it comes from
 };
 
+// A free-hanging reflector panel parallel to the x walls at x = x_m, spanning
+// [y0, y1] x [z0, z1], lit from the -x side.
+struct ReflectorPanel {
+  double x_m = 0.0, y0 = 0.0, y1 = 0.0, z0 = 0.0, z1 = 0.0;
+};
+
+struct ReflectionRoomGeometry {
+  Eigen::Vector3d size_m = Eigen::Vector3d::Zero();  // the shoebox [0, size]
+  Eigen::Vector3d source_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d receiver_m = Eigen::Vector3d::Zero();
+  std::optional<ReflectorPanel> panel;
+};
+
 struct ReflectionRoom {
   std::string name;                  // kind and seed, e.g. "dull 3"
   core::AudioBuffer ambix;           // first-order AmbiX (SN3D), 48 kHz
   std::vector<ImageArrival> images;  // every rendered image source, orders 0..3, by time
+  ReflectionRoomGeometry geometry;
 };
 
 std::size_t reflectionRoomCount(ReflectionRoomSet set);
@@ -40,5 +55,12 @@ std::size_t reflectionRoomCount(ReflectionRoomSet set);
 // The index-th room of a set (deterministic); an index past the count
 // throws std::out_of_range.
 ReflectionRoom reflectionRoom(ReflectionRoomSet set, std::size_t index);
+
+// The same room (walls, source, diffuse tail and noise drawn alike) heard with the
+// receiver moved by `receiver_offset_m` (room frame). The tail stands for the room's
+// diffuse field, which is alike everywhere in it. Throws std::invalid_argument where the
+// moved receiver is within 0.3 m of a wall or 0.5 m of the source, or not on the source's
+// side of the panel.
+ReflectionRoom reflectionRoom(ReflectionRoomSet set, std::size_t index, const Eigen::Vector3d& receiver_offset_m);
 
 }  // namespace room_reverb::test

@@ -1,0 +1,130 @@
+#pragma once
+// Six degrees of freedom from one measured RIR: the RSAO of the capture point moved to
+// another listener position in the same room.
+//
+// The direct sound comes from the source, placed at the direct sound's distance along its
+// direction from the rig. Each early reflection is an image source (imageSourcePosition)
+// that does not depend on where the listener stands: for a listener elsewhere its time of
+// arrival is the path from the image source, its direction the image source's, its level
+// scaled by 1/r. With a room model the image source is matched to the model's image of
+// the source in one or two of its planes (the box's faces, the objects' faces): a matched
+// reflection keeps the measured path length at the rig and takes the model's direction
+// (a single reflection's direction estimate is the least certain part of the RSAO), and
+// it is heard only where its image is valid, each reflection point on a face of its plane
+// and no leg blocked (the image-source method's test, image_sources.h; where two
+// perpendicular planes give the same image, either order of reflection counts). A reflection that
+// no plane explains keeps its measured time and direction and fades with the listener's
+// distance from the capture point. Without a room model every image source moves
+// unchecked, as published extrapolation from one spatial RIR does (Mueller & Zotter
+// 2020). The late reverb is a diffuse field and stays as measured.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "room_reverb/acoustics/room_model.h"
+#include "room_reverb/rsao/rsao.h"
+
+namespace room_reverb::core {
+
+class AcousticScene;
+struct SpecularPath;
+
+struct ListenerTranslationOptions {
+  // As the estimate's (EarlyReflectionOptions::speed_of_sound_m_s).
+  double speed_of_sound_m_s = 343.0;
+  // Orders of the room model's images a measured reflection may be matched to.
+  int max_order = 3;
+  // Matching is by time first: a reflection's time of arrival is the RSAO's most certain
+  // part (p95 error 0.007 ms on the synthetic rooms, docs/rsao.md), its direction the least
+  // (where arrivals overlap, tens of degrees). A model image is a candidate when its path
+  // length at the rig is within match_path_m of the measured one (0.12 m: a wall of the
+  // room model 5 cm off moves a first-order path by up to 10 cm) and its direction within
+  // match_angle_deg of the measured direction; the candidate minimising
+  // (path difference / match_path_m)^2 + (angle / match_angle_deg)^2 is taken, one image
+  // per reflection, best pairs first.
+  double match_path_m = 0.12;
+  double match_angle_deg = 30.0;
+  // Complete the RSAO from the room model: an image of order 2 to complete_order whose
+  // planes all have a matched first-order reflection, valid at the rig but not measured
+  // (missed by the estimator: close to another arrival or to the direct sound) and
+  // arriving before the mixing time, is added, its level from the measured reflection
+  // factors of its planes (level * distance of each plane's first-order reflection over
+  // the direct sound's) and its spectral shape that of its dullest plane's reflection.
+  // 0 or 1: no completion.
+  int complete_order = 2;
+  // An unmatched reflection's gain at distance d from the capture point:
+  // exp(-(d / unmatched_fade_m)^2).
+  double unmatched_fade_m = 1.0;
+};
+
+// Throws InputError naming the bad field.
+void validateListenerTranslationOptions(const ListenerTranslationOptions& options);
+
+// What a measured reflection rests on.
+enum class ReflectionAnchor {
+  kSource,     // the direct sound
+  kSurface,    // matched to planes of the room model: moved, heard while its path is valid
+  kUnchecked,  // no room model: moved as its measured image source, always heard
+  kUnmatched,  // a room model, but no plane explains it: kept, fading with distance
+  kModelled,   // not measured: added from the room model's planes that were (complete_order)
+};
+const char* anchorName(ReflectionAnchor anchor);
+
+struct AnchoredReflection {
+  ReflectionAnchor anchor = ReflectionAnchor::kUnchecked;
+  Eigen::Vector3d image_source_m = Eigen::Vector3d::Zero();  // room frame
+  double rig_distance_m = 0.0;       // from the image source to the rig
+  std::vector<std::size_t> planes;   // kSurface: the scene planes, source side first
+  std::string surfaces;              // kSurface: their names, e.g. "wall_x_max, ceiling"
+  Eigen::Vector3d model_image_m = Eigen::Vector3d::Zero();  // kSurface: the model's image
+  double path_error_m = 0.0;         // kSurface: measured path length minus the model's
+  double angle_error_deg = 0.0;      // kSurface: measured direction to the model image's
+};
+
+class ListenerTranslation {
+ public:
+  // `measured`: the RSAO at the capture point, reflections[0] the direct sound, each with
+  // its distance_m (the estimator sets it). `rig_position_m`, `rig_rotation`: the
+  // microphone in the room frame (its axes turned by rig_rotation). `room`: the room
+  // model, or none; only its geometry is used. Throws InputError for an RSAO without a
+  // direct sound or distances, a rig outside the room model or inside an object, or a
+  // source the direct sound places outside it.
+  ListenerTranslation(Rsao measured, const Eigen::Vector3d& rig_position_m, const Eigen::Quaterniond& rig_rotation,
+                      const std::optional<RoomModel>& room, const ListenerTranslationOptions& options = {});
+  ~ListenerTranslation();
+  ListenerTranslation(ListenerTranslation&&) noexcept;
+  ListenerTranslation& operator=(ListenerTranslation&&) noexcept;
+
+  // The RSAO heard at `listener_m` (room frame), its directions in the rig's axes (the head
+  // orientation is the renderer's), reflections sorted by time of arrival after the direct
+  // sound; those not heard there are left out. Throws InputError for a non-finite position,
+  // one outside the room model or inside an object.
+  Rsao at(const Eigen::Vector3d& listener_m) const;
+
+  const Eigen::Vector3d& sourcePosition() const { return source_m_; }
+  // One per reflection at the rig: the measured ones in the RSAO's order ([0] the direct
+  // sound), then those the room model completes (kModelled).
+  const std::vector<AnchoredReflection>& anchors() const { return anchors_; }
+  // The reflections at the rig, as anchors(): measured, then modelled.
+  const std::vector<EarlyReflection>& reflectionsAtRig() const { return reflections_; }
+  const Rsao& measured() const { return measured_; }
+
+ private:
+  Rsao measured_;
+  Eigen::Vector3d rig_m_;
+  Eigen::Quaterniond rig_rotation_;
+  ListenerTranslationOptions options_;
+  std::unique_ptr<AcousticScene> scene_;  // null without a room model
+  Eigen::Vector3d source_m_;
+  double time_offset_s_ = 0.0;  // the RSAO's time zero before the emission (0 when it starts at it)
+  std::vector<AnchoredReflection> anchors_;
+  std::vector<EarlyReflection> reflections_;
+
+  void completeFromModel(const std::vector<SpecularPath>& paths, const std::vector<bool>& path_taken,
+                         const RoomModel& room);
+};
+
+}  // namespace room_reverb::core

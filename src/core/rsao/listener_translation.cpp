@@ -1,0 +1,326 @@
+#include "room_reverb/rsao/listener_translation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "room_reverb/acoustics/acoustic_scene.h"
+#include "room_reverb/acoustics/image_sources.h"
+#include "room_reverb/acoustics/room_shape.h"
+#include "room_reverb/common/error.h"
+
+namespace room_reverb::core {
+namespace {
+
+// Below this an unmatched reflection is left out (-60 dB).
+constexpr double kInaudibleGain = 1e-3;
+
+std::string formatPoint(const Eigen::Vector3d& p) {
+  std::ostringstream os;
+  os.precision(3);
+  os << "(" << p.x() << ", " << p.y() << ", " << p.z() << ") m";
+  return os.str();
+}
+
+Eigen::Vector3d unitDirection(const EarlyReflection& r) {
+  return {std::cos(r.elevation_rad) * std::cos(r.azimuth_rad), std::cos(r.elevation_rad) * std::sin(r.azimuth_rad),
+          std::sin(r.elevation_rad)};
+}
+
+void setDirection(EarlyReflection& r, const Eigen::Vector3d& direction) {
+  const Eigen::Vector3d u = direction.normalized();
+  r.azimuth_rad = std::atan2(u.y(), u.x());
+  r.elevation_rad = std::asin(std::clamp(u.z(), -1.0, 1.0));
+}
+
+// Only the geometry of the room model matters here: every material it names becomes a
+// placeholder, so that a model whose materials the library lacks still moves a listener.
+AcousticScene geometryScene(const RoomModel& model) {
+  TriangleMesh mesh = roomModelToMesh(model);
+  MaterialLibrary placeholders;
+  for (const std::string& name : mesh.material_names) {
+    AcousticMaterial m;
+    m.name = name;
+    m.source = "placeholder: geometry only";
+    placeholders.add(m);
+  }
+  RoomShape shape;
+  shape.size_m = model.size_m;
+  shape.has_ceiling = model.has_ceiling;
+  shape.objects = model.objects;
+  return AcousticScene(std::move(mesh), placeholders, {}, std::move(shape));
+}
+
+void requireFreeAir(const AcousticScene& scene, const Eigen::Vector3d& p, const std::string& what,
+                    const std::vector<CuboidObject>& objects) {
+  if (!p.allFinite()) throw InputError(what + " position is not finite");
+  const RoomShape* shape = scene.roomShape();
+  if (!shape->inBox(p)) throw InputError(what + " " + formatPoint(p) + " is outside the room model's box");
+  if (const auto object = shape->objectContaining(p)) {
+    throw InputError(what + " " + formatPoint(p) + " is inside object " + std::to_string(*object) + " (" +
+                     objects[*object].label + ") of the room model");
+  }
+}
+
+// A plane's name: the box face it lies in, or the object whose face it is.
+std::string planeName(const AcousticScene& scene, std::size_t plane_index, const RoomModel& model) {
+  const ScenePlane& plane = scene.planes()[plane_index];
+  for (int axis = 0; axis < 3; ++axis) {
+    if (std::abs(std::abs(plane.normal[axis]) - 1.0) > 1e-6) continue;
+    const double at = plane.offset * plane.normal[axis];  // the coordinate the plane lies at
+    if (std::abs(at) < 1e-6) return kRoomSurfaceNames[axis == 2 ? 0 : 2 + 2 * axis];
+    if (std::abs(at - model.size_m[axis]) < 1e-6) return kRoomSurfaceNames[axis == 2 ? 1 : 3 + 2 * axis];
+  }
+  const TriangleMesh& mesh = scene.mesh();
+  const auto& t = mesh.triangles[plane.triangles.front()];
+  const Eigen::Vector3d centroid = (mesh.vertices[t[0]] + mesh.vertices[t[1]] + mesh.vertices[t[2]]) / 3.0;
+  for (std::size_t i = 0; i < model.objects.size(); ++i) {
+    if (distanceToCuboid(model.objects[i], centroid) < 1e-6) {
+      return "object " + std::to_string(i) + " (" + model.objects[i].label + ")";
+    }
+  }
+  return "plane " + std::to_string(plane_index);
+}
+
+std::vector<std::size_t> planesOf(const AcousticScene& scene, const SpecularPath& path) {
+  std::vector<std::size_t> planes;
+  for (std::size_t t : path.triangles) planes.push_back(scene.planeOf(t));
+  return planes;
+}
+
+}  // namespace
+
+void validateListenerTranslationOptions(const ListenerTranslationOptions& o) {
+  if (!(o.speed_of_sound_m_s > 0.0) || !std::isfinite(o.speed_of_sound_m_s)) {
+    throw InputError("speed_of_sound_m_s must be a positive speed, e.g. 343");
+  }
+  if (o.max_order < 1 || o.max_order > 4) throw InputError("max_order must be 1 to 4");
+  if (o.complete_order < 0 || o.complete_order > o.max_order) {
+    throw InputError("complete_order must be 0 to max_order (" + std::to_string(o.max_order) + ")");
+  }
+  if (!(o.match_path_m > 0.0) || !std::isfinite(o.match_path_m)) throw InputError("match_path_m must be positive");
+  if (!(o.match_angle_deg > 0.0) || !(o.match_angle_deg <= 180.0)) {
+    throw InputError("match_angle_deg must be in (0, 180]");
+  }
+  if (!(o.unmatched_fade_m > 0.0) || !std::isfinite(o.unmatched_fade_m)) {
+    throw InputError("unmatched_fade_m must be a positive distance in m");
+  }
+}
+
+const char* anchorName(ReflectionAnchor anchor) {
+  switch (anchor) {
+    case ReflectionAnchor::kSource: return "source";
+    case ReflectionAnchor::kSurface: return "surface";
+    case ReflectionAnchor::kUnchecked: return "unchecked";
+    case ReflectionAnchor::kUnmatched: return "unmatched";
+    case ReflectionAnchor::kModelled: return "modelled";
+  }
+  return "?";
+}
+
+ListenerTranslation::~ListenerTranslation() = default;
+ListenerTranslation::ListenerTranslation(ListenerTranslation&&) noexcept = default;
+ListenerTranslation& ListenerTranslation::operator=(ListenerTranslation&&) noexcept = default;
+
+ListenerTranslation::ListenerTranslation(Rsao measured, const Eigen::Vector3d& rig_position_m,
+                                         const Eigen::Quaterniond& rig_rotation, const std::optional<RoomModel>& room,
+                                         const ListenerTranslationOptions& options)
+    : measured_(std::move(measured)), rig_m_(rig_position_m), rig_rotation_(rig_rotation.normalized()),
+      options_(options) {
+  validateListenerTranslationOptions(options_);
+  if (measured_.reflections.empty()) throw InputError("the RSAO has no direct sound to place the source by");
+  for (const EarlyReflection& r : measured_.reflections) {
+    if (!(r.distance_m > 0.0) || !std::isfinite(r.distance_m)) {
+      throw InputError("an RSAO reflection has no image-source distance (distance_m); estimate it again, or give "
+                       "the source's distance");
+    }
+  }
+  if (!rig_m_.allFinite()) throw InputError("the rig position is not finite");
+  if (!rig_rotation.coeffs().allFinite() || rig_rotation.norm() < 1e-6) throw InputError("the rig rotation is not a rotation");
+
+  const double c = options_.speed_of_sound_m_s;
+  const EarlyReflection& direct = measured_.reflections.front();
+  source_m_ = rig_m_ + rig_rotation_ * (direct.distance_m * unitDirection(direct));
+  time_offset_s_ = direct.time_of_arrival_s - direct.distance_m / c;
+
+  reflections_ = measured_.reflections;
+  anchors_.resize(measured_.reflections.size());
+  for (std::size_t k = 0; k < measured_.reflections.size(); ++k) {
+    const EarlyReflection& r = measured_.reflections[k];
+    AnchoredReflection& a = anchors_[k];
+    a.anchor = k == 0 ? ReflectionAnchor::kSource : ReflectionAnchor::kUnchecked;
+    a.image_source_m = rig_m_ + rig_rotation_ * (r.distance_m * unitDirection(r));
+    a.rig_distance_m = r.distance_m;
+  }
+  if (!room) return;
+
+  scene_ = std::make_unique<AcousticScene>(geometryScene(*room));
+  requireFreeAir(*scene_, rig_m_, "the rig", room->objects);
+  try {
+    requireFreeAir(*scene_, source_m_, "the source", room->objects);
+  } catch (const InputError& e) {
+    throw InputError(std::string(e.what()) + ", where the direct sound's distance (" +
+                     std::to_string(direct.distance_m) + " m) and direction place it; check the rig position and "
+                     "the source distance");
+  }
+
+  // Every image of the source up to max_order valid at the rig, matched one to one to the
+  // measured reflections, by path length first and direction second (the options).
+  ImageSourceOptions search;
+  search.max_order = options_.max_order;
+  const std::vector<SpecularPath> paths = computeImageSources(*scene_, source_m_, rig_m_, PropagationModel{}, search);
+  struct Candidate {
+    double cost;
+    std::size_t reflection, path;
+    double path_error_m, angle_deg;
+  };
+  std::vector<Candidate> candidates;
+  for (std::size_t k = 1; k < anchors_.size(); ++k) {
+    const Eigen::Vector3d measured_direction = anchors_[k].image_source_m - rig_m_;
+    for (std::size_t p = 0; p < paths.size(); ++p) {
+      if (paths[p].order == 0) continue;
+      const Eigen::Vector3d model_path = paths[p].image_position - rig_m_;
+      const double path_error = anchors_[k].rig_distance_m - model_path.norm();
+      const double angle = std::acos(std::clamp(model_path.normalized().dot(measured_direction.normalized()), -1.0, 1.0)) *
+                           180.0 / 3.14159265358979323846;
+      if (std::abs(path_error) > options_.match_path_m || angle > options_.match_angle_deg) continue;
+      const double cost = std::pow(path_error / options_.match_path_m, 2) + std::pow(angle / options_.match_angle_deg, 2);
+      candidates.push_back({cost, k, p, path_error, angle});
+    }
+  }
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& x, const Candidate& y) { return x.cost < y.cost; });
+  std::vector<bool> path_taken(paths.size(), false);
+  for (std::size_t k = 1; k < anchors_.size(); ++k) anchors_[k].anchor = ReflectionAnchor::kUnmatched;
+  for (const Candidate& m : candidates) {
+    AnchoredReflection& a = anchors_[m.reflection];
+    if (a.anchor == ReflectionAnchor::kSurface || path_taken[m.path]) continue;
+    path_taken[m.path] = true;
+    a.anchor = ReflectionAnchor::kSurface;
+    a.model_image_m = paths[m.path].image_position;
+    a.path_error_m = m.path_error_m;
+    a.angle_error_deg = m.angle_deg;
+    a.planes = planesOf(*scene_, paths[m.path]);
+    // The measured path length (a time, exact to a few microseconds) along the model's
+    // direction.
+    a.image_source_m = rig_m_ + a.rig_distance_m * (a.model_image_m - rig_m_).normalized();
+    for (std::size_t i = 0; i < a.planes.size(); ++i) {
+      a.surfaces += (i ? ", " : "") + planeName(*scene_, a.planes[i], *room);
+    }
+  }
+  completeFromModel(paths, path_taken, *room);
+}
+
+void ListenerTranslation::completeFromModel(const std::vector<SpecularPath>& paths, const std::vector<bool>& path_taken,
+                                            const RoomModel& room) {
+  if (options_.complete_order < 2) return;
+  // Each plane with a matched first-order reflection: its pressure reflection factor as
+  // measured (the reflection's level times its path length over the direct sound's), and
+  // that reflection.
+  struct MeasuredPlane {
+    double factor;
+    std::size_t reflection;
+  };
+  std::map<std::size_t, MeasuredPlane> measured_planes;
+  const double direct_reach = reflections_[0].level * anchors_[0].rig_distance_m;
+  if (!(direct_reach > 0.0)) return;
+  for (std::size_t k = 1; k < anchors_.size(); ++k) {
+    if (anchors_[k].anchor != ReflectionAnchor::kSurface || anchors_[k].planes.size() != 1) continue;
+    measured_planes[anchors_[k].planes[0]] = {reflections_[k].level * anchors_[k].rig_distance_m / direct_reach, k};
+  }
+  const double c = options_.speed_of_sound_m_s;
+  const double end_s = measured_.late.mixing_time_s > 0.0 ? measured_.late.mixing_time_s : 0.0;
+  for (std::size_t p = 0; p < paths.size(); ++p) {
+    const SpecularPath& path = paths[p];
+    if (path_taken[p] || path.order < 2 || path.order > options_.complete_order) continue;
+    const double distance = (path.image_position - rig_m_).norm();
+    const double time = time_offset_s_ + distance / c;
+    if (end_s > 0.0 && time >= end_s) continue;
+    const std::vector<std::size_t> planes = planesOf(*scene_, path);
+    double factor = 1.0;
+    const MeasuredPlane* dullest = nullptr;
+    for (std::size_t plane : planes) {
+      const auto it = measured_planes.find(plane);
+      if (it == measured_planes.end()) {
+        dullest = nullptr;
+        break;
+      }
+      factor *= it->second.factor;
+      if (!dullest || it->second.factor < dullest->factor) dullest = &it->second;
+    }
+    if (!dullest) continue;
+    EarlyReflection r = reflections_[dullest->reflection];
+    r.time_of_arrival_s = time;
+    r.level = factor * direct_reach / distance;
+    r.distance_m = distance;
+    r.confidence.reset();
+    setDirection(r, rig_rotation_.conjugate() * (path.image_position - rig_m_));
+    AnchoredReflection a;
+    a.anchor = ReflectionAnchor::kModelled;
+    a.image_source_m = path.image_position;
+    a.model_image_m = path.image_position;
+    a.rig_distance_m = distance;
+    a.planes = planes;
+    for (std::size_t i = 0; i < planes.size(); ++i) a.surfaces += (i ? ", " : "") + planeName(*scene_, planes[i], room);
+    anchors_.push_back(std::move(a));
+    reflections_.push_back(std::move(r));
+  }
+}
+
+Rsao ListenerTranslation::at(const Eigen::Vector3d& listener_m) const {
+  if (!listener_m.allFinite()) throw InputError("the listener position is not finite");
+  const double c = options_.speed_of_sound_m_s;
+  std::vector<Eigen::Vector3d> valid_images;
+  if (scene_) {
+    requireFreeAir(*scene_, listener_m, "the listener", scene_->roomShape()->objects);
+    ImageSourceOptions search;
+    search.max_order = options_.max_order;
+    for (const SpecularPath& path : computeImageSources(*scene_, source_m_, listener_m, PropagationModel{}, search)) {
+      if (path.order > 0) valid_images.push_back(path.image_position);
+    }
+  }
+  // A matched image is heard where the model has a valid path to it: the same image, by
+  // this order of planes or another (two perpendicular planes give one image either way,
+  // and which order is real changes as the listener moves).
+  const auto heard = [&](const AnchoredReflection& a) {
+    return std::any_of(valid_images.begin(), valid_images.end(),
+                       [&](const Eigen::Vector3d& image) { return (image - a.model_image_m).norm() < 1e-6; });
+  };
+  const Eigen::Quaterniond to_rig = rig_rotation_.conjugate();
+  const double moved_m = (listener_m - rig_m_).norm();
+
+  Rsao out = measured_;
+  out.reflections.clear();
+  for (std::size_t k = 0; k < anchors_.size(); ++k) {
+    const AnchoredReflection& a = anchors_[k];
+    EarlyReflection r = reflections_[k];
+    if (a.anchor == ReflectionAnchor::kUnmatched) {
+      const double gain = std::exp(-std::pow(moved_m / options_.unmatched_fade_m, 2));
+      if (gain < kInaudibleGain) continue;
+      r.level *= gain;
+      out.reflections.push_back(r);
+      continue;
+    }
+    if ((a.anchor == ReflectionAnchor::kSurface || a.anchor == ReflectionAnchor::kModelled) && !heard(a)) {
+      continue;  // its reflection point has left its face, or a leg is blocked
+    }
+    const Eigen::Vector3d path = a.image_source_m - listener_m;
+    const double distance = std::max(path.norm(), 0.01);
+    r.time_of_arrival_s = time_offset_s_ + distance / c;
+    r.level *= a.rig_distance_m / distance;
+    r.distance_m = distance;
+    setDirection(r, to_rig * path);
+    out.reflections.push_back(r);
+  }
+  std::sort(out.reflections.begin() + 1, out.reflections.end(),
+            [](const EarlyReflection& x, const EarlyReflection& y) { return x.time_of_arrival_s < y.time_of_arrival_s; });
+  // An unmatched reflection keeps its time: where the listener has moved away from the
+  // source, one that would now arrive with or before the direct sound is left out.
+  const double direct_s = out.reflections.front().time_of_arrival_s;
+  out.reflections.erase(std::remove_if(out.reflections.begin() + 1, out.reflections.end(),
+                                       [&](const EarlyReflection& r) { return r.time_of_arrival_s <= direct_s; }),
+                        out.reflections.end());
+  return out;
+}
+
+}  // namespace room_reverb::core
