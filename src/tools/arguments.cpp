@@ -1,6 +1,7 @@
 #include "arguments.h"
 
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 #include <limits>
 #include <sstream>
@@ -66,6 +67,30 @@ double Arguments::doubleValue(const std::string& name, double fallback) const {
   const double parsed = std::strtod(text.c_str(), &end);
   if (text.empty() || *end != '\0') throw UsageError("--" + name + " needs a number, got '" + text + "'");
   return parsed;
+}
+
+std::optional<Eigen::Vector3d> takeVector(std::vector<std::string>& args, const std::string& name) {
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    if (args[i] != "--" + name) continue;
+    if (i + 3 >= args.size()) throw UsageError("--" + name + " needs three numbers X Y Z");
+    Eigen::Vector3d v;
+    for (int k = 0; k < 3; ++k) {
+      const std::string& text = args[i + 1 + static_cast<std::size_t>(k)];
+      char* end = nullptr;
+      v[k] = std::strtod(text.c_str(), &end);
+      if (text.empty() || *end != '\0') throw UsageError("--" + name + " needs three numbers, got '" + text + "'");
+      if (!std::isfinite(v[k])) throw UsageError("--" + name + " needs finite numbers, got '" + text + "'");
+    }
+    args.erase(args.begin() + static_cast<long>(i), args.begin() + static_cast<long>(i) + 4);
+    return v;
+  }
+  return std::nullopt;
+}
+
+Eigen::Vector3d takeRequiredVector(std::vector<std::string>& args, const std::string& name) {
+  const std::optional<Eigen::Vector3d> v = takeVector(args, name);
+  if (!v) throw UsageError("--" + name + " X Y Z is required");
+  return *v;
 }
 
 std::vector<std::string> commaSeparated(const std::string& text) {

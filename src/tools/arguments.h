@@ -1,6 +1,8 @@
 #pragma once
 // A small command-line parser: positional arguments and --options with or without values.
+#include <Eigen/Core>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -24,6 +26,12 @@ class Arguments {
   std::map<std::string, std::string> values_;
   std::vector<std::string> positional_;
 };
+
+// Takes "--name X Y Z" out of `args` and returns the three numbers; none when the option
+// is absent. UsageError unless three finite numbers follow it.
+std::optional<Eigen::Vector3d> takeVector(std::vector<std::string>& args, const std::string& name);
+// The same, for an option that must be there.
+Eigen::Vector3d takeRequiredVector(std::vector<std::string>& args, const std::string& name);
 
 // The items of a comma-separated option value ("a,b,c"), empty items left out.
 std::vector<std::string> commaSeparated(const std::string& text);

@@ -9,6 +9,8 @@
 #include "room_reverb/audio/audio_file.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/text_file.h"
+#include "room_reverb/acoustics/room_model.h"
+#include "room_reverb/rsao/listener_translation.h"
 #include "room_reverb/rsao/rsao_estimator.h"
 #include "room_reverb/rsao/rsao_resynthesis.h"
 #include "room_reverb/rsao/rsao_visr_json.h"
@@ -23,6 +25,7 @@ const char* kHelp = R"(usage: room_reverb rsao RIR.wav --format fuma|ambix [--ya
                         [--resynthesis OUT.wav] [--max-reflections N] [--window-ms D]
                         [--lpc-order P] [--mixing-time S] [--grid] [--paper-ramp]
                         [--matched-onsets] [--source-distance M]
+                        [--move-to X Y Z [--room ROOM.yaml] [--rig X Y Z]]
 
 Parameterises a measured first-order B-format room impulse response into a reverberant
 spatial audio object (RSAO, Remaggi et al.): the direct sound and early reflections (time
@@ -50,6 +53,14 @@ of arrival, level, direction, LPC filter) and the late reverb per octave band 63
                       the file to start at the emission)
   --paper-ramp        keep the paper's linear onset ramp in every band instead of fitting
                       each band's early course to the measured early energy (docs/rsao.md)
+  --move-to X Y Z     the RSAO as heard at this listener position (m, room frame) instead
+                      of at the microphone: the source and every reflection's image source
+                      stay where they are, the listener moves (docs/six_dof.md)
+  --room ROOM.yaml    with --move-to: the room model; reflections are matched to its planes,
+                      heard only where their reflection points lie on them, and missing
+                      second-order ones are added from the measured walls
+  --rig X Y Z         with --move-to: the microphone's position in the room frame, its axes
+                      the room's (default: the room model's rig pose)
 
 Prints a summary table. Files at other rates than 48 kHz are resampled to 48 kHz.
 Exit status: 0 on success (warnings on stderr), 2 with one line on stderr for bad input.
@@ -80,10 +91,42 @@ void printSummary(const Rsao& rsao, std::ostream& out) {
   }
 }
 
+// The RSAO at another listener position (--move-to), with or without a room model.
+Rsao movedRsao(const Rsao& measured, const Eigen::Vector3d& listener, const std::optional<Eigen::Vector3d>& rig,
+               const Arguments& args) {
+  std::optional<RoomModel> room;
+  if (args.has("room")) room = loadRoomModel(args.value("room", ""));
+  if (!rig && !room) throw UsageError("--move-to needs the microphone's position: --rig X Y Z or --room ROOM.yaml");
+  const Eigen::Vector3d rig_position = rig ? *rig : room->rig_position_m;
+  const Eigen::Quaterniond rig_rotation = room && !rig ? room->rig_rotation : Eigen::Quaterniond::Identity();
+  const ListenerTranslation translation(measured, rig_position, rig_rotation, room);
+  const Rsao moved = translation.at(listener);
+  std::size_t counts[5] = {0, 0, 0, 0, 0};
+  for (const AnchoredReflection& a : translation.anchors()) ++counts[static_cast<int>(a.anchor)];
+  std::cout << std::fixed << std::setprecision(3) << "moved from (" << rig_position.x() << ", " << rig_position.y()
+            << ", " << rig_position.z() << ") to (" << listener.x() << ", " << listener.y() << ", " << listener.z()
+            << ") m; source at (" << translation.sourcePosition().x() << ", " << translation.sourcePosition().y()
+            << ", " << translation.sourcePosition().z() << ") m\n";
+  if (room) {
+    std::cout << "reflections: " << counts[static_cast<int>(ReflectionAnchor::kSurface)] << " matched to the room model, "
+              << counts[static_cast<int>(ReflectionAnchor::kUnmatched)] << " unmatched (fading), "
+              << counts[static_cast<int>(ReflectionAnchor::kModelled)] << " added from it; "
+              << moved.reflections.size() - 1 << " heard at the new position\n";
+  } else {
+    std::cout << "reflections: " << measured.reflections.size() - 1
+              << " moved as measured image sources (no room model to check them against)\n";
+  }
+  return moved;
+}
+
 int runRsao(const std::vector<std::string>& raw) {
-  const Arguments args(raw, {"format", "yaml", "visr-json", "resynthesis", "max-reflections", "window-ms", "lpc-order",
-                             "mixing-time", "source-distance"},
+  std::vector<std::string> rest = raw;
+  const std::optional<Eigen::Vector3d> move_to = takeVector(rest, "move-to");
+  const std::optional<Eigen::Vector3d> rig = takeVector(rest, "rig");
+  const Arguments args(rest, {"format", "yaml", "visr-json", "resynthesis", "max-reflections", "window-ms", "lpc-order",
+                              "mixing-time", "source-distance", "room"},
                        {"grid", "paper-ramp", "matched-onsets"});
+  if (!move_to && (rig || args.has("room"))) throw UsageError("--rig and --room go with --move-to X Y Z");
   if (args.positional().size() != 1) throw UsageError("give exactly one B-format RIR file");
   if (!args.has("format")) throw UsageError("--format fuma|ambix is required: the file's convention is never guessed");
   const AmbisonicFormat format = parseAmbisonicFormat(args.value("format", ""));
@@ -104,7 +147,8 @@ int runRsao(const std::vector<std::string>& raw) {
   options.fit_onset_ramps = !args.has("paper-ramp");
 
   const AudioBuffer rir = readAudioFile(args.positional().front());
-  const Rsao rsao = estimateRsao(rir, format, options);
+  const Rsao estimated = estimateRsao(rir, format, options);
+  const Rsao rsao = move_to ? movedRsao(estimated, *move_to, rig, args) : estimated;
   // Everything is computed before anything is written, so bad input leaves no partial files.
   const std::string visr = args.has("visr-json") ? rsaoToVisrJson(rsao) : "";
   AudioBuffer resynthesis;

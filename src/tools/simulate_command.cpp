@@ -32,28 +32,10 @@ writes it as AmbiX (ACN/SN3D) at 48 kHz, 32-bit float; --ambisonic-order 0 write
 )";
 const char* kHelpTail = "Prints a summary (paths, rays, leaks, Eyring T60 per band). Exit 2 for bad input.\n";
 
-// Takes "--name X Y Z" out of `args` and returns the three numbers.
-Eigen::Vector3d takeVector(std::vector<std::string>& args, const std::string& name) {
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    if (args[i] != "--" + name) continue;
-    if (i + 3 >= args.size()) throw UsageError("--" + name + " needs three numbers X Y Z");
-    Eigen::Vector3d v;
-    for (int k = 0; k < 3; ++k) {
-      const std::string& text = args[i + 1 + static_cast<std::size_t>(k)];
-      char* end = nullptr;
-      v[k] = std::strtod(text.c_str(), &end);
-      if (text.empty() || *end != '\0') throw UsageError("--" + name + " needs three numbers, got '" + text + "'");
-    }
-    args.erase(args.begin() + static_cast<long>(i), args.begin() + static_cast<long>(i) + 4);
-    return v;
-  }
-  throw UsageError("--" + name + " X Y Z is required");
-}
-
 int runSimulate(const std::vector<std::string>& raw) {
   std::vector<std::string> rest = raw;
-  const Eigen::Vector3d source = takeVector(rest, "source");
-  const Eigen::Vector3d listener = takeVector(rest, "listener");
+  const Eigen::Vector3d source = takeRequiredVector(rest, "source");
+  const Eigen::Vector3d listener = takeRequiredVector(rest, "listener");
   std::set<std::string> valued = simulationValueOptions();
   valued.insert({"room", "mesh", "out"});
   std::set<std::string> flags = simulationFlags();

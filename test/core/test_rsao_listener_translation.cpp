@@ -34,22 +34,7 @@ namespace {
 constexpr double kC = 343.0;  // the rooms' speed of sound, and the estimator's default
 constexpr double kPi = 3.14159265358979323846;
 
-RoomModel modelOf(const ReflectionRoomGeometry& g) {
-  RoomModel model;
-  model.size_m = g.size_m;
-  for (const char* name : kRoomSurfaceNames) model.surfaces[name] = SurfaceAssignment{"plaster", 1.0};
-  model.rig_position_m = g.receiver_m;
-  if (g.panel) {
-    CuboidObject panel;
-    panel.label = "reflector panel";
-    panel.material = "wood";
-    // 2 cm thick, its lit face at x_m.
-    panel.size_m = {0.02, g.panel->y1 - g.panel->y0, g.panel->z1 - g.panel->z0};
-    panel.center_m = {g.panel->x_m + 0.01, 0.5 * (g.panel->y0 + g.panel->y1), 0.5 * (g.panel->z0 + g.panel->z1)};
-    model.objects.push_back(panel);
-  }
-  return model;
-}
+RoomModel modelOf(const ReflectionRoomGeometry& g) { return room_reverb::test::roomModelOf(g); }
 
 EarlyReflection reflectionOf(const ImageArrival& a) {
   EarlyReflection r;

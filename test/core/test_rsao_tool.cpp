@@ -5,6 +5,8 @@
 #include <cmath>
 #include <string>
 
+#include "reflection_rooms.h"
+#include "room_reverb/acoustics/room_model.h"
 #include "room_reverb/audio/audio_file.h"
 #include "room_reverb/rsao/rsao_visr_json.h"
 #include "room_reverb/rsao/rsao_yaml.h"
@@ -91,3 +93,96 @@ TEST(RsaoTool, BadInput) {
   expectOneLineError(runTool("rsao " + writeBuffer("silent2.wav", silent) + " --format fuma --yaml " + yaml), "silent");
   EXPECT_FALSE(std::filesystem::exists(yaml));
 }
+
+namespace {
+
+// A synthetic room's RIR and room model as files, its truth at a listener 1.2 m away.
+struct MovedCase {
+  std::string rir, room;
+  Eigen::Vector3d listener;
+  room_reverb::test::ReflectionRoom there;
+};
+
+MovedCase movedCase() {
+  using room_reverb::test::ReflectionRoomSet;
+  const auto capture = room_reverb::test::reflectionRoom(ReflectionRoomSet::kDevelopment, 2);
+  MovedCase c;
+  c.rir = writeBuffer("moved_capture.wav", capture.ambix);
+  c.room = tempPath("moved_room.yaml").string();
+  saveRoomModel(c.room, room_reverb::test::roomModelOf(capture.geometry));
+  // Towards the middle of the room, 1.2 m.
+  Eigen::Vector3d inwards = 0.5 * capture.geometry.size_m - capture.geometry.receiver_m;
+  inwards.z() = 0.0;
+  const Eigen::Vector3d offset = 1.2 * inwards.normalized();
+  c.listener = capture.geometry.receiver_m + offset;
+  c.there = room_reverb::test::reflectionRoom(ReflectionRoomSet::kDevelopment, 2, offset);
+  return c;
+}
+
+// The RSAO of an AmbiX file as the tool writes it, without moving.
+std::string writeRsao(const std::string& rir) {
+  const std::string yaml = tempPath("at_capture.yaml").string();
+  const auto run = runTool("rsao " + rir + " --format ambix --yaml " + yaml);
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  return yaml;
+}
+
+std::string point(const Eigen::Vector3d& p) {
+  return std::to_string(p.x()) + " " + std::to_string(p.y()) + " " + std::to_string(p.z());
+}
+
+TEST(RsaoTool, MovedToAnotherListenerPositionWithTheRoomModel) {
+  const MovedCase c = movedCase();
+  const std::string yaml = tempPath("moved.yaml").string();
+  const auto run = runTool("rsao " + c.rir + " --format ambix --room " + c.room + " --move-to " + point(c.listener) +
+                           " --yaml " + yaml);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("matched to the room model"), std::string::npos) << run.out;
+  const Rsao moved = loadRsaoYaml(yaml);
+  // The direct sound and the first reflection where the truth puts them at the new position.
+  const auto& direct = c.there.images.front();
+  EXPECT_NEAR(moved.reflections[0].time_of_arrival_s, direct.time_s, 2e-5);
+  const Eigen::Vector3d heard(std::cos(moved.reflections[0].elevation_rad) * std::cos(moved.reflections[0].azimuth_rad),
+                              std::cos(moved.reflections[0].elevation_rad) * std::sin(moved.reflections[0].azimuth_rad),
+                              std::sin(moved.reflections[0].elevation_rad));
+  EXPECT_GT(heard.dot(direct.direction), std::cos(2.0 * 3.14159265358979323846 / 180.0));
+  EXPECT_NEAR(moved.reflections[0].distance_m, 343.0 * direct.time_s, 0.01);
+  // The first-order reflections the estimator finds at the capture point are heard at
+  // their true times at the new position; one that it times 0.06 ms off (it overlaps
+  // another arrival) may land beyond the 0.1 ms allowed.
+  const auto firstOrderFound = [](const room_reverb::test::ReflectionRoom& room, const Rsao& rsao) {
+    int found = 0;
+    for (const auto& image : room.images) {
+      if (image.order != 1) continue;
+      for (const EarlyReflection& r : rsao.reflections) found += std::abs(r.time_of_arrival_s - image.time_s) < 1e-4;
+    }
+    return found;
+  };
+  const auto capture = room_reverb::test::reflectionRoom(room_reverb::test::ReflectionRoomSet::kDevelopment, 2);
+  const int at_capture = firstOrderFound(capture, loadRsaoYaml(writeRsao(c.rir)));
+  EXPECT_GE(at_capture, 3);
+  EXPECT_GE(firstOrderFound(c.there, moved), at_capture - 1);
+}
+
+TEST(RsaoTool, MovedWithoutARoomModelFromTheRigPosition) {
+  const MovedCase c = movedCase();
+  const std::string rig = point(room_reverb::test::reflectionRoom(room_reverb::test::ReflectionRoomSet::kDevelopment, 2)
+                                    .geometry.receiver_m);
+  const auto run = runTool("rsao " + c.rir + " --format ambix --rig " + rig + " --move-to " + point(c.listener));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("no room model to check them against"), std::string::npos) << run.out;
+}
+
+TEST(RsaoTool, MovingRefusesBadPositionsInOneLine) {
+  const MovedCase c = movedCase();
+  const std::string base = "rsao " + c.rir + " --format ambix";
+  expectOneLineError(runTool(base + " --move-to 1 2"), "--move-to needs three numbers");
+  expectOneLineError(runTool(base + " --room " + c.room + " --move-to nan 1 1"), "finite");
+  expectOneLineError(runTool(base + " --move-to 1 1 1"), "--rig X Y Z or --room");
+  expectOneLineError(runTool(base + " --rig 1 1 1"), "go with --move-to");
+  expectOneLineError(runTool(base + " --room " + c.room + " --move-to 1 1 40"), "the listener");
+  expectOneLineError(runTool(base + " --room " + c.room + " --rig -3 1 1 --move-to 1 1 1"), "the rig");
+  expectOneLineError(runTool(base + " --room /nonexistent/room.yaml --move-to 1 1 1"), "room.yaml");
+}
+
+}  // namespace

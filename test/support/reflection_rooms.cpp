@@ -293,6 +293,22 @@ bool holdsItsKind(const std::vector<ImageArrival>& images, Kind kind) {
 
 }  // namespace
 
+core::RoomModel roomModelOf(const ReflectionRoomGeometry& g) {
+  core::RoomModel model;
+  model.size_m = g.size_m;
+  for (const char* name : core::kRoomSurfaceNames) model.surfaces[name] = core::SurfaceAssignment{"plaster_smooth", 1.0};
+  model.rig_position_m = g.receiver_m;
+  if (g.panel) {
+    core::CuboidObject panel;
+    panel.label = "reflector panel";
+    panel.material = "plywood_panel";
+    panel.size_m = {0.02, g.panel->y1 - g.panel->y0, g.panel->z1 - g.panel->z0};
+    panel.center_m = {g.panel->x_m + 0.01, 0.5 * (g.panel->y0 + g.panel->y1), 0.5 * (g.panel->z0 + g.panel->z1)};
+    model.objects.push_back(panel);
+  }
+  return model;
+}
+
 std::size_t reflectionRoomCount(ReflectionRoomSet set) { return recipes(set).size(); }
 
 ReflectionRoom reflectionRoom(ReflectionRoomSet set, std::size_t index) {

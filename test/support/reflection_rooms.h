@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "room_reverb/acoustics/room_model.h"
 #include "room_reverb/audio/audio_buffer.h"
 
 namespace room_reverb::test {
@@ -49,6 +50,10 @@ struct ReflectionRoom {
   std::vector<ImageArrival> images;  // every rendered image source, orders 0..3, by time
   ReflectionRoomGeometry geometry;
 };
+
+// The room model of a room's geometry: its box (every surface "plaster_smooth") with the panel as
+// a 2 cm cuboid whose lit face is the panel's plane, the rig at the receiver.
+core::RoomModel roomModelOf(const ReflectionRoomGeometry& geometry);
 
 std::size_t reflectionRoomCount(ReflectionRoomSet set);
 
