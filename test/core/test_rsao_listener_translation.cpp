@@ -269,6 +269,27 @@ TEST(ListenerTranslation, AReflectionIsGoneWhereItsPointLeavesThePanel) {
   EXPECT_GE(leaves, 2);
 }
 
+TEST(ListenerTranslation, EveryReflectionKeepsItsPlaceHeardOrNot) {
+  // A renderer keeps one tap per reflection: reflectionsAt lists them all, in the anchors'
+  // order, and at() is its heard part.
+  const ReflectionRoom capture = reflectionRoom(ReflectionRoomSet::kHeldOut, 9);
+  const ListenerTranslation translation(exactRsao(capture), capture.geometry.receiver_m, Eigen::Quaterniond::Identity(),
+                                        modelOf(capture.geometry));
+  for (double dy = -2.0; dy <= 2.0; dy += 0.5) {
+    const Eigen::Vector3d listener = capture.geometry.receiver_m + Eigen::Vector3d(-0.2, dy, 0.0);
+    if ((listener.array() < 0.3).any() || ((capture.geometry.size_m - listener).array() < 0.3).any()) continue;
+    const std::vector<HeardReflection> all = translation.reflectionsAt(listener);
+    ASSERT_EQ(all.size(), translation.anchors().size());
+    std::size_t heard = 0;
+    for (const HeardReflection& h : all) {
+      heard += h.heard;
+      if (!h.heard) EXPECT_EQ(h.reflection.level, 0.0);
+    }
+    EXPECT_TRUE(all.front().heard);
+    EXPECT_EQ(translation.at(listener).reflections.size(), heard);
+  }
+}
+
 TEST(ListenerTranslation, AnUnmatchedReflectionKeepsItsDirectionAndFades) {
   const ReflectionRoom capture = reflectionRoom(ReflectionRoomSet::kDevelopment, 1);
   Rsao rsao = exactRsao(capture, 1);

@@ -40,6 +40,14 @@ struct SpecularPath {
   std::vector<std::size_t> triangles;   // hit triangle of each reflection, source side first
 };
 
+// Whether the specular path from `source` by reflections in `planes` (indices into
+// scene.planes(), source side first) to `listener` is real, by the test
+// computeImageSources applies: each (image) source and the listener on the same side of
+// the next plane, each reflection point on a triangle of its plane, no leg blocked. For a
+// listener that moves along known paths, without searching every image again.
+bool specularPathValid(const AcousticScene& scene, const Eigen::Vector3d& source, const Eigen::Vector3d& listener,
+                       const std::vector<std::size_t>& planes);
+
 // Pressure gains are relative to the direct sound of an omni source at 1 m (gain 1).
 std::vector<SpecularPath> computeImageSources(const AcousticScene& scene, const Eigen::Vector3d& source,
                                               const Eigen::Vector3d& listener, const PropagationModel& model,

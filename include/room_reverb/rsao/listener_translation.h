@@ -84,6 +84,14 @@ struct AnchoredReflection {
   double angle_error_deg = 0.0;      // kSurface: measured direction to the model image's
 };
 
+// One reflection of the capture point, as heard at a listener position: `reflection` with
+// its time, level, distance and direction moved; `heard` false (and the level 0) where it
+// is not heard there.
+struct HeardReflection {
+  EarlyReflection reflection;
+  bool heard = false;
+};
+
 class ListenerTranslation {
  public:
   // `measured`: the RSAO at the capture point, reflections[0] the direct sound, each with
@@ -103,6 +111,9 @@ class ListenerTranslation {
   // sound; those not heard there are left out. Throws InputError for a non-finite position,
   // one outside the room model or inside an object.
   Rsao at(const Eigen::Vector3d& listener_m) const;
+  // Every reflection of anchors() at `listener_m`, in the same order, heard or not (a
+  // renderer keeps one tap per reflection and fades those that go); the same checks.
+  std::vector<HeardReflection> reflectionsAt(const Eigen::Vector3d& listener_m) const;
 
   const Eigen::Vector3d& sourcePosition() const { return source_m_; }
   // One per reflection at the rig: the measured ones in the RSAO's order ([0] the direct
@@ -122,6 +133,9 @@ class ListenerTranslation {
   double time_offset_s_ = 0.0;  // the RSAO's time zero before the emission (0 when it starts at it)
   std::vector<AnchoredReflection> anchors_;
   std::vector<EarlyReflection> reflections_;
+  // Per anchor: the orders of its planes that give its image (two perpendicular planes give
+  // one image in either order; which is real changes as the listener moves).
+  std::vector<std::vector<std::vector<std::size_t>>> plane_orders_;
 
   void completeFromModel(const std::vector<SpecularPath>& paths, const std::vector<bool>& path_taken,
                          const RoomModel& room);

@@ -117,6 +117,25 @@ void countCandidates(const std::vector<ScenePlane>& planes, const Eigen::Vector3
 
 }  // namespace
 
+bool specularPathValid(const AcousticScene& scene, const Eigen::Vector3d& source, const Eigen::Vector3d& listener,
+                       const std::vector<std::size_t>& planes) {
+  const PropagationModel model;
+  const ImageSourceOptions options;
+  Search s{scene, source, listener, model, options, {}, {}, {}};
+  Eigen::Vector3d current = source;
+  for (std::size_t p : planes) {
+    if (p >= scene.planes().size()) return false;
+    const ScenePlane& plane = scene.planes()[p];
+    if (signedDistance(current, plane) * signedDistance(listener, plane) <= 0.0) return false;
+    current = mirror(current, plane);
+    s.images.push_back(current);
+    s.planes.push_back(p);
+  }
+  std::vector<std::size_t> triangles;
+  Eigen::Vector3d leaving;
+  return validatePath(s, triangles, leaving);
+}
+
 double estimatedImageCandidates(const AcousticScene& scene, const Eigen::Vector3d& source,
                                 const Eigen::Vector3d& listener, int order) {
   constexpr int kCounted = 3;

@@ -83,6 +83,16 @@ std::string planeName(const AcousticScene& scene, std::size_t plane_index, const
   return "plane " + std::to_string(plane_index);
 }
 
+// The source mirrored in `planes`, source side first.
+Eigen::Vector3d imageIn(const AcousticScene& scene, const Eigen::Vector3d& source, const std::vector<std::size_t>& planes) {
+  Eigen::Vector3d image = source;
+  for (std::size_t p : planes) {
+    const ScenePlane& plane = scene.planes()[p];
+    image -= 2.0 * (plane.normal.dot(image) - plane.offset) * plane.normal;
+  }
+  return image;
+}
+
 std::vector<std::size_t> planesOf(const AcousticScene& scene, const SpecularPath& path) {
   std::vector<std::size_t> planes;
   for (std::size_t t : path.triangles) planes.push_back(scene.planeOf(t));
@@ -209,6 +219,15 @@ ListenerTranslation::ListenerTranslation(Rsao measured, const Eigen::Vector3d& r
     }
   }
   completeFromModel(paths, path_taken, *room);
+  plane_orders_.resize(anchors_.size());
+  for (std::size_t k = 0; k < anchors_.size(); ++k) {
+    if (anchors_[k].planes.empty()) continue;
+    std::vector<std::size_t> order = anchors_[k].planes;
+    std::sort(order.begin(), order.end());
+    do {
+      if ((imageIn(*scene_, source_m_, order) - anchors_[k].model_image_m).norm() < 1e-6) plane_orders_[k].push_back(order);
+    } while (std::next_permutation(order.begin(), order.end()));
+  }
 }
 
 void ListenerTranslation::completeFromModel(const std::vector<SpecularPath>& paths, const std::vector<bool>& path_taken,
@@ -267,59 +286,59 @@ void ListenerTranslation::completeFromModel(const std::vector<SpecularPath>& pat
   }
 }
 
-Rsao ListenerTranslation::at(const Eigen::Vector3d& listener_m) const {
+std::vector<HeardReflection> ListenerTranslation::reflectionsAt(const Eigen::Vector3d& listener_m) const {
   if (!listener_m.allFinite()) throw InputError("the listener position is not finite");
+  if (scene_) requireFreeAir(*scene_, listener_m, "the listener", scene_->roomShape()->objects);
   const double c = options_.speed_of_sound_m_s;
-  std::vector<Eigen::Vector3d> valid_images;
-  if (scene_) {
-    requireFreeAir(*scene_, listener_m, "the listener", scene_->roomShape()->objects);
-    ImageSourceOptions search;
-    search.max_order = options_.max_order;
-    for (const SpecularPath& path : computeImageSources(*scene_, source_m_, listener_m, PropagationModel{}, search)) {
-      if (path.order > 0) valid_images.push_back(path.image_position);
-    }
-  }
-  // A matched image is heard where the model has a valid path to it: the same image, by
-  // this order of planes or another (two perpendicular planes give one image either way,
-  // and which order is real changes as the listener moves).
-  const auto heard = [&](const AnchoredReflection& a) {
-    return std::any_of(valid_images.begin(), valid_images.end(),
-                       [&](const Eigen::Vector3d& image) { return (image - a.model_image_m).norm() < 1e-6; });
-  };
   const Eigen::Quaterniond to_rig = rig_rotation_.conjugate();
   const double moved_m = (listener_m - rig_m_).norm();
-
-  Rsao out = measured_;
-  out.reflections.clear();
+  std::vector<HeardReflection> out(anchors_.size());
   for (std::size_t k = 0; k < anchors_.size(); ++k) {
     const AnchoredReflection& a = anchors_[k];
-    EarlyReflection r = reflections_[k];
+    HeardReflection& h = out[k];
+    h.reflection = reflections_[k];
     if (a.anchor == ReflectionAnchor::kUnmatched) {
       const double gain = std::exp(-std::pow(moved_m / options_.unmatched_fade_m, 2));
-      if (gain < kInaudibleGain) continue;
-      r.level *= gain;
-      out.reflections.push_back(r);
+      h.heard = gain >= kInaudibleGain;
+      h.reflection.level *= h.heard ? gain : 0.0;
       continue;
-    }
-    if ((a.anchor == ReflectionAnchor::kSurface || a.anchor == ReflectionAnchor::kModelled) && !heard(a)) {
-      continue;  // its reflection point has left its face, or a leg is blocked
     }
     const Eigen::Vector3d path = a.image_source_m - listener_m;
     const double distance = std::max(path.norm(), 0.01);
-    r.time_of_arrival_s = time_offset_s_ + distance / c;
-    r.level *= a.rig_distance_m / distance;
-    r.distance_m = distance;
-    setDirection(r, to_rig * path);
-    out.reflections.push_back(r);
+    h.reflection.time_of_arrival_s = time_offset_s_ + distance / c;
+    h.reflection.level *= a.rig_distance_m / distance;
+    h.reflection.distance_m = distance;
+    setDirection(h.reflection, to_rig * path);
+    h.heard = true;
+    if (a.anchor == ReflectionAnchor::kSurface || a.anchor == ReflectionAnchor::kModelled) {
+      // Heard while the model has a valid path to its image: each reflection point on a
+      // face of its plane, no leg blocked.
+      h.heard = std::any_of(plane_orders_[k].begin(), plane_orders_[k].end(), [&](const std::vector<std::size_t>& planes) {
+        return specularPathValid(*scene_, source_m_, listener_m, planes);
+      });
+      if (!h.heard) h.reflection.level = 0.0;
+    }
+  }
+  // An unmatched reflection keeps its time: where the listener has moved away from the
+  // source, one that would now arrive with or before the direct sound is not heard.
+  const double direct_s = out.front().reflection.time_of_arrival_s;
+  for (std::size_t k = 1; k < out.size(); ++k) {
+    if (out[k].heard && out[k].reflection.time_of_arrival_s <= direct_s) {
+      out[k].heard = false;
+      out[k].reflection.level = 0.0;
+    }
+  }
+  return out;
+}
+
+Rsao ListenerTranslation::at(const Eigen::Vector3d& listener_m) const {
+  Rsao out = measured_;
+  out.reflections.clear();
+  for (HeardReflection& h : reflectionsAt(listener_m)) {
+    if (h.heard || out.reflections.empty()) out.reflections.push_back(std::move(h.reflection));
   }
   std::sort(out.reflections.begin() + 1, out.reflections.end(),
             [](const EarlyReflection& x, const EarlyReflection& y) { return x.time_of_arrival_s < y.time_of_arrival_s; });
-  // An unmatched reflection keeps its time: where the listener has moved away from the
-  // source, one that would now arrive with or before the direct sound is left out.
-  const double direct_s = out.reflections.front().time_of_arrival_s;
-  out.reflections.erase(std::remove_if(out.reflections.begin() + 1, out.reflections.end(),
-                                       [&](const EarlyReflection& r) { return r.time_of_arrival_s <= direct_s; }),
-                        out.reflections.end());
   return out;
 }
 
