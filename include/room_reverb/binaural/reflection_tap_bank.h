@@ -1,0 +1,79 @@
+#pragma once
+// The direct sound and early reflections of an RSAO for a listener who moves, as taps on
+// one delay line of the source: each tap reads the source at its time of arrival (cubic
+// Lagrange interpolation between samples), shapes it with its reflection's filter (the
+// RSAO's second-order sections, their state kept from block to block), scales it and
+// encodes it into the ambisonic field in its direction. Delay, amplitude and encoding
+// gains move linearly, sample by sample, from the previous block's values to the new
+// ones, so a walking listener hears no steps, clicks or zipper noise: a delay that glides
+// is a small Doppler shift, as it is in the room. A reflection that stops being heard
+// fades out over one block and one that starts fades in.
+//
+// The scale matches the RSAO: a tap's energy under the estimator's window is its level
+// squared, as resynthesizeRsao places it (reflection_tap.h).
+#include <Eigen/Core>
+#include <cstddef>
+#include <vector>
+
+#include "room_reverb/rsao/rsao.h"
+
+namespace room_reverb::core {
+
+struct ReflectionTapBankOptions {
+  int order = 3;                    // ambisonic order of the field the taps are added to
+  std::size_t block_size = 256;     // frames per process() call
+  double max_delay_s = 0.5;         // longest time of arrival a tap can read (longer: clamped)
+  double analysis_window_s = 0.002; // the estimator's level window (EarlyReflectionOptions)
+};
+
+// One tap's target for the next block.
+struct TapTarget {
+  double delay_s = 0.0;                                  // time of arrival
+  double level = 0.0;                                    // EarlyReflection::level; 0: silent
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitX();  // unit, in the field's frame
+};
+
+class ReflectionTapBank {
+ public:
+  // One tap per reflection, its filter and level scale from `reflections` (their times,
+  // levels and directions are the targets'). Taps start silent. Throws InputError for
+  // bad options or an unstable reflection filter.
+  ReflectionTapBank(const std::vector<EarlyReflection>& reflections, const ReflectionTapBankOptions& options);
+
+  std::size_t size() const { return taps_.size(); }
+  std::size_t channels() const { return channels_; }
+
+  // The targets for the next block, one per tap in the constructor's order; a non-finite
+  // target keeps the tap's previous one. Throws InputError for a count that differs.
+  void setTargets(const std::vector<TapTarget>& targets);
+
+  // Adds one block of the taps, fed by `source` (block_size samples), into `field`
+  // (channels() pointers to block_size samples each).
+  void process(const float* source, float* const* field);
+
+  // Taps whose delay was clamped to max_delay_s, since construction.
+  std::size_t clampedTargets() const { return clamped_targets_; }
+
+ private:
+  struct Section {
+    double b0, b1, b2, a1, a2;
+    double s1 = 0.0, s2 = 0.0;  // transposed direct form II state
+  };
+  struct Tap {
+    std::vector<Section> sections;
+    double unit_gain = 0.0;  // the shape's scale per unit level
+    double delay_from = 0.0, delay_to = 0.0;  // samples
+    double amplitude_from = 0.0, amplitude_to = 0.0;
+    std::vector<double> gains_from, gains_to;  // encoding gains, channels_
+  };
+
+  ReflectionTapBankOptions options_;
+  std::size_t channels_ = 0;
+  std::vector<Tap> taps_;
+  std::vector<float> history_;  // the source, a ring of history_.size() samples
+  std::size_t write_ = 0;       // where the next source sample goes
+  std::vector<double> tap_signal_;
+  std::size_t clamped_targets_ = 0;
+};
+
+}  // namespace room_reverb::core
