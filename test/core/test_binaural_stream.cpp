@@ -9,6 +9,9 @@
 #include "room_reverb/audio/convolution.h"
 #include "room_reverb/binaural/binaural_cues.h"
 #include "room_reverb/binaural/binaural_stream.h"
+#include "room_reverb/binaural/reflection_tap_bank.h"
+#include "room_reverb/common/error.h"
+#include "room_reverb/rsao/reflection_tap.h"
 #include "spherical_head.h"
 #include "synthetic_rir.h"
 #include "test_files.h"
@@ -166,4 +169,44 @@ TEST(BinauralStream, BadInput) {
   BinauralStreamOptions zero;
   zero.block_size = 0;
   expectInputError([&] { BinauralStream bad(decoder(), zero); }, {"block_size"});
+}
+
+TEST(BinauralStream, EarlyTapsAddToTheRoomAsTheirResponseWould) {
+  // A reflection from 40 degrees at 7 ms as a tap beside a room holding only the tail,
+  // against the same reflection written into the room's response.
+  EarlyReflection reflection;
+  reflection.time_of_arrival_s = 336.0 / 48000.0;
+  reflection.level = 0.7;
+  reflection.azimuth_rad = 40.0 * kPi / 180.0;
+  const ReflectionTap shaped = shapeReflectionTap(reflection, 1, 0.002, 0.02, "test");
+  AudioBuffer tail = room(unit(0.0), 5);
+  for (auto& channel : tail.channels) channel[240] = 0.0f;  // the tail alone
+  AudioBuffer whole = tail;
+  const std::vector<double> y = sn3dHarmonics(3, unit(40.0));
+  for (std::size_t c = 0; c < 16; ++c) whole.channels[c][336] += static_cast<float>(shaped.gain * y[c]);
+
+  const std::vector<float> source = room_reverb::test::whiteNoise(256 * 40, 4);
+  BinauralStream with_taps(decoder());
+  with_taps.setRoom(tail);
+  ReflectionTapBankOptions options;
+  options.order = 3;
+  auto bank = std::make_unique<ReflectionTapBank>(std::vector<EarlyReflection>{reflection}, options);
+  bank->setTargets({{reflection.time_of_arrival_s, reflection.level, unit(40.0)}});
+  with_taps.setEarlyTaps(std::move(bank));
+  BinauralStream in_room(decoder());
+  in_room.setRoom(whole);
+  const auto [left, right] = stream(with_taps, source);
+  const auto [left_expected, right_expected] = stream(in_room, source);
+  double error = 0.0, energy = 0.0;
+  // From the second block: the taps fade in over the first.
+  for (std::size_t n = 256; n < source.size(); ++n) {
+    error += std::pow(left[n] - left_expected[n], 2) + std::pow(right[n] - right_expected[n], 2);
+    energy += std::pow(left_expected[n], 2) + std::pow(right_expected[n], 2);
+  }
+  EXPECT_LT(10.0 * std::log10(error / energy), -80.0);
+
+  ReflectionTapBankOptions first_order;
+  first_order.order = 1;
+  EXPECT_THROW(with_taps.setEarlyTaps(std::make_unique<ReflectionTapBank>(std::vector<EarlyReflection>{reflection}, first_order)),
+               InputError);
 }

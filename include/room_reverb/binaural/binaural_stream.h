@@ -25,6 +25,7 @@
 #include "room_reverb/audio/audio_buffer.h"
 #include "room_reverb/audio/partitioned_convolver.h"
 #include "room_reverb/binaural/binaural_decoder.h"
+#include "room_reverb/binaural/reflection_tap_bank.h"
 
 namespace room_reverb::core {
 
@@ -50,6 +51,15 @@ class BinauralStream {
   // order, or non-finite samples (the stream keeps its previous room then).
   std::string setRoom(const AudioBuffer& ambix_response);
 
+  // Early reflections that move with the listener (reflection_tap_bank.h), of the stream's
+  // order, added to the room's field before the head rotation; the response setRoom holds
+  // is then what the taps leave out (an RSAO's late part). Null removes them. The previous
+  // taps fade out over one block while the new ones fade in. Throws InputError for taps of
+  // another order (the stream keeps its taps then).
+  void setEarlyTaps(std::unique_ptr<ReflectionTapBank> taps);
+  // The taps, to set their targets before a block; null when there are none.
+  ReflectionTapBank* earlyTaps() { return taps_.get(); }
+
   // The listener's head orientation in the room frame (rotation.h). Throws InputError for a
   // malformed quaternion (the stream keeps the previous orientation then).
   void setHeadOrientation(const Eigen::Quaterniond& head_in_room);
@@ -68,6 +78,7 @@ class BinauralStream {
   std::size_t channels_;
   std::unique_ptr<PartitionedConvolver> room_;
   std::unique_ptr<PartitionedConvolver> decoder_convolver_;
+  std::unique_ptr<ReflectionTapBank> taps_, retiring_taps_;
   Eigen::MatrixXd rotation_from_, rotation_to_;
   std::vector<float> source_block_;
   std::vector<std::vector<float>> field_, rotated_;

@@ -47,6 +47,9 @@ class ReflectionTapBank {
   // target keeps the tap's previous one. Throws InputError for a count that differs.
   void setTargets(const std::vector<TapTarget>& targets);
 
+  // Every tap fades out over the next block (a bank being replaced).
+  void fadeOut();
+
   // Adds one block of the taps, fed by `source` (block_size samples), into `field`
   // (channels() pointers to block_size samples each).
   void process(const float* source, float* const* field);

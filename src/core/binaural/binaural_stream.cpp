@@ -79,6 +79,18 @@ void BinauralStream::setHeadOrientation(const Eigen::Quaterniond& head_in_room) 
   rotation_to_ = headTrackingRotation(head_in_room, decoder_.order);
 }
 
+void BinauralStream::setEarlyTaps(std::unique_ptr<ReflectionTapBank> taps) {
+  if (taps && taps->channels() != channels_) {
+    throw InputError("binaural stream: early taps of " + std::to_string(taps->channels()) + " channels for a stream of " +
+                     std::to_string(channels_));
+  }
+  if (taps_) {
+    taps_->fadeOut();
+    retiring_taps_ = std::move(taps_);
+  }
+  taps_ = std::move(taps);
+}
+
 void BinauralStream::process(const float* source, float* left, float* right) {
   const std::size_t frames = options_.block_size;
   for (std::size_t n = 0; n < frames; ++n) {
@@ -93,6 +105,11 @@ void BinauralStream::process(const float* source, float* left, float* right) {
   }
   const float* input = source_block_.data();
   room_->process(&input, field_out_.data());
+  if (retiring_taps_) {
+    retiring_taps_->process(input, field_out_.data());
+    retiring_taps_.reset();
+  }
+  if (taps_) taps_->process(input, field_out_.data());
   // Rotation, moving linearly from last block's matrix to this one's across the block.
   const bool turning = rotation_from_ != rotation_to_;
   const auto k = static_cast<Eigen::Index>(channels_);

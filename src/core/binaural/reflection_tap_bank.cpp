@@ -85,6 +85,10 @@ void ReflectionTapBank::setTargets(const std::vector<TapTarget>& targets) {
   }
 }
 
+void ReflectionTapBank::fadeOut() {
+  for (Tap& tap : taps_) tap.amplitude_to = 0.0;
+}
+
 void ReflectionTapBank::process(const float* source, float* const* field) {
   const std::size_t frames = options_.block_size;
   const std::size_t size = history_.size();
