@@ -13,6 +13,7 @@
 #include "room_reverb/common/error.h"
 #include "room_reverb/ros/parameters.h"
 #include "room_reverb/ros/audio_conversions.h"
+#include "room_reverb/ros/rsao_conversions.h"
 
 namespace room_reverb::ros_bridge {
 
@@ -48,6 +49,11 @@ BinauralRendererServer::BinauralRendererServer(::ros::NodeHandle& nh, ::ros::Nod
   typedParam(private_nh, "source_max_queued_s", max_queued_s, 1.0);
   typedParam(private_nh, "room_file", room_file, std::string(""));
   typedParam(private_nh, "room_format", room_format, std::string("fuma"));
+  std::string room_model_file;
+  typedParam(private_nh, "room_model_file", room_model_file, std::string(""));
+  typedParam(private_nh, "room_frame", room_frame_, std::string("room"));
+  typedParam(private_nh, "rig_frame", rig_frame_, std::string("rig"));
+  if (!room_model_file.empty()) walkable_room_ = std::make_shared<const core::RoomModel>(core::loadRoomModel(room_model_file));
 
   const core::HrtfSet hrtf =
       core::HrtfSet::loadSofa(hrtf_file.empty() ? core::HrtfSet::defaultSofaPath() : hrtf_file);
@@ -67,11 +73,12 @@ BinauralRendererServer::BinauralRendererServer(::ros::NodeHandle& nh, ::ros::Nod
     source_description_ = "topic";
   }
   if (!room_file.empty()) {
-    StreamRoom room = roomFromFile(room_file, room_format, rsao_seed_);
+    StreamRoom room = roomFromFile(room_file, room_format, rsao_seed_, room_format == "rsao" ? walkable_room_ : nullptr);
     for (const std::string& n : room.notes) ROS_INFO("binaural_renderer: %s", n.c_str());
     // Set before the audio thread starts, so the first chunk is not late for it.
     const std::string warning = stream_->setRoom(room.ambix);
     if (!warning.empty()) note(warning, true);
+    takeRoomTaps(room);
     current_room_ = std::make_shared<const StreamRoom>(std::move(room));
     counters_.room_changes = 1;
   }
@@ -83,6 +90,10 @@ BinauralRendererServer::BinauralRendererServer(::ros::NodeHandle& nh, ::ros::Nod
   impulse_response_sub_ = private_nh.subscribe("impulse_response", 1, &BinauralRendererServer::onImpulseResponse, this);
   room_scene_sub_ = private_nh.subscribe("room_scene", 1, &BinauralRendererServer::onRoomScene, this);
   head_sub_ = private_nh.subscribe("head_orientation", 10, &BinauralRendererServer::onHeadOrientation, this);
+  listener_pose_sub_ = private_nh.subscribe("listener_pose", 10, &BinauralRendererServer::onListenerPose, this);
+  tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
+  tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_);
+  room_model_sub_ = private_nh.subscribe("room_model", 1, &BinauralRendererServer::onRoomModel, this);
   render_server_ = private_nh.advertiseService("render_to_file", &BinauralRendererServer::renderToFile, this);
   simulator_ = nh_.serviceClient<room_reverb::SimulateRoom>(simulator_service_);
 }
@@ -111,12 +122,15 @@ void BinauralRendererServer::note(const std::string& message, bool warning) {
   }
 }
 
-void BinauralRendererServer::offerRoom(StreamRoom room) {
+void BinauralRendererServer::offerRoom(StreamRoom room, std::optional<std::uint64_t> rsao_generation) {
   // Its order is checked when the audio thread sets it (BinauralStream::setRoom).
-  for (const std::string& n : room.notes) note(n, false);
   auto shared = std::make_shared<const StreamRoom>(std::move(room));
-  std::lock_guard<std::mutex> lock(mutex_);
-  pending_room_ = std::move(shared);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (rsao_generation && *rsao_generation != rsao_generation_) return;
+    pending_room_ = shared;
+  }
+  for (const std::string& n : shared->notes) note(n, false);
 }
 
 void BinauralRendererServer::rejectRoom(const std::string& why) {
@@ -143,7 +157,7 @@ void BinauralRendererServer::onSource(const room_reverb::AudioBuffer::ConstPtr& 
 
 void BinauralRendererServer::onRsao(const room_reverb::Rsao::ConstPtr& message) {
   try {
-    offerRoom(roomFromRsao(*message, rsao_seed_));
+    offerRsao(fromMessage(*message), "rsao");
   } catch (const std::exception& e) {
     rejectRoom(std::string("~rsao: ") + e.what());
   }

@@ -83,14 +83,22 @@ void BinauralRendererServer::audioLoop() {
 void BinauralRendererServer::renderChunk() {
   std::shared_ptr<const StreamRoom> room;
   std::optional<Eigen::Quaterniond> head;
+  std::optional<Eigen::Vector3d> position;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     room.swap(pending_room_);
     head.swap(pending_head_);
+    position.swap(pending_position_);
+  }
+  if (position) {
+    listener_to_ = *position;
+    if (!listener_known_) listener_from_ = listener_to_;
+    listener_known_ = true;
   }
   if (room) {
     try {
       const std::string warning = stream_->setRoom(room->ambix);
+      takeRoomTaps(*room);
       {
         std::lock_guard<std::mutex> lock(mutex_);
         current_room_ = room;
@@ -110,8 +118,15 @@ void BinauralRendererServer::renderChunk() {
       std::lock_guard<std::mutex> lock(mutex_);
       source_queue_->read(source_block_.data(), block_frames_);
     }
+    // A walking listener: the taps move to where the listener is at the end of this block,
+    // on the way from the last chunk's position to the newest.
+    if (translation_ && listener_from_ != listener_to_) {
+      const double u = static_cast<double>(b + 1) / static_cast<double>(chunk_blocks_);
+      moveTaps(listener_from_ + u * (listener_to_ - listener_from_));
+    }
     stream_->process(source_block_.data(), left_.data() + b * block_frames_, right_.data() + b * block_frames_);
   }
+  listener_from_ = listener_to_;
   chunk_message_.header.frame_id = frame_id_;
   chunk_message_.sample_rate_hz = core::kInternalSampleRateHz;
   chunk_message_.channel_count = 2;
@@ -137,6 +152,10 @@ void BinauralRendererServer::publishStatus() {
   status.clock_restarts = pacing.restarts;
   status.source = source_description_;
   status.audio_scheduling = audio_scheduling_;
+  status.walkable = translation_ != nullptr;
+  status.listener_position.x = listener_to_.x();
+  status.listener_position.y = listener_to_.y();
+  status.listener_position.z = listener_to_.z();
   status.non_finite_samples = stream_->nonFiniteSamples();
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -152,6 +171,7 @@ void BinauralRendererServer::publishStatus() {
     status.room_changes = counters_.room_changes;
     status.rooms_rejected = counters_.rooms_rejected;
     status.orientations_rejected = counters_.orientations_rejected;
+    status.listener_positions_clamped = counters_.listener_positions_clamped;
     status.last_message = counters_.last_message;
   }
   // Processor time over stream time since the last status.

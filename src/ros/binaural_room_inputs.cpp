@@ -19,16 +19,25 @@ std::string describe(const std::string& what, const core::AudioBuffer& ambix) {
   return text;
 }
 
-StreamRoom resynthesized(const core::Rsao& rsao, std::uint32_t seed, const std::string& what) {
+}  // namespace
+
+StreamRoom roomFromRsao(const core::Rsao& rsao, std::uint32_t seed, const std::string& what,
+                        const std::shared_ptr<const core::RoomModel>& walkable) {
   core::ResynthesisOptions options;
   options.seed = seed;
   StreamRoom room;
+  std::string kind = what + ", " + std::to_string(rsao.reflections.size()) + " reflections";
+  if (walkable) {
+    room.translation = std::make_shared<const core::ListenerTranslation>(rsao, walkable->rig_position_m,
+                                                                         walkable->rig_rotation, *walkable);
+    room.room_model = walkable;
+    options.include_early = false;
+    kind += ", walkable";
+  }
   room.ambix = core::resynthesizeRsao(rsao, options);
-  room.description = describe(what + ", " + std::to_string(rsao.reflections.size()) + " reflections", room.ambix);
+  room.description = describe(kind, room.ambix);
   return room;
 }
-
-}  // namespace
 
 StreamRoom roomFromImpulseResponse(const room_reverb::ImpulseResponse& message) {
   StreamRoom room;
@@ -38,12 +47,14 @@ StreamRoom roomFromImpulseResponse(const room_reverb::ImpulseResponse& message) 
   return room;
 }
 
-StreamRoom roomFromRsao(const room_reverb::Rsao& message, std::uint32_t seed) {
-  return resynthesized(fromMessage(message), seed, "rsao");
+StreamRoom roomFromRsao(const room_reverb::Rsao& message, std::uint32_t seed,
+                        const std::shared_ptr<const core::RoomModel>& walkable) {
+  return roomFromRsao(fromMessage(message), seed, "rsao", walkable);
 }
 
-StreamRoom roomFromFile(const std::string& path, const std::string& format, std::uint32_t seed) {
-  if (format == "rsao") return resynthesized(core::loadRsaoYaml(path), seed, "rsao " + path);
+StreamRoom roomFromFile(const std::string& path, const std::string& format, std::uint32_t seed,
+                        const std::shared_ptr<const core::RoomModel>& walkable) {
+  if (format == "rsao") return roomFromRsao(core::loadRsaoYaml(path), seed, "rsao " + path, walkable);
   StreamRoom room;
   room.ambix = core::ambixRoomResponse(core::readAudioFile(path), format, room.notes);
   room.description = describe(format + " " + path, room.ambix);

@@ -283,7 +283,9 @@ TEST(ListenerTranslation, EveryReflectionKeepsItsPlaceHeardOrNot) {
     std::size_t heard = 0;
     for (const HeardReflection& h : all) {
       heard += h.heard;
-      if (!h.heard) EXPECT_EQ(h.reflection.level, 0.0);
+      if (!h.heard) {
+        EXPECT_EQ(h.reflection.level, 0.0);
+      }
     }
     EXPECT_TRUE(all.front().heard);
     EXPECT_EQ(translation.at(listener).reflections.size(), heard);

@@ -6,6 +6,7 @@
 // own with an invalid request, or dynamic_reconfigure's, which a callback that hangs would
 // block; and roscpp's ~set_logger_level), and must have said what it refused: a warning or
 // an error on /rosout, or a counter on the renderer's ~status.
+#include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/QuaternionStamped.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
@@ -201,6 +202,31 @@ std::vector<geometry_msgs::Quaternion> hostileQuaternions() {
   const double inf = std::numeric_limits<double>::infinity();
   return {quaternion(nan, 0, 0, 1), quaternion(0, 0, 0, inf), quaternion(0, 0, 0, 0), quaternion(2, 0, 0, 0),
           quaternion(1e308, 1e308, 1e308, 1e308), quaternion(0, 0, 0, -inf)};
+}
+
+// Listener poses: every hostile orientation at a sound position, and positions that are
+// not numbers at a sound orientation.
+std::vector<geometry_msgs::PoseStamped> hostilePoses() {
+  std::vector<geometry_msgs::PoseStamped> out;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  double t = 400.0;
+  for (const auto& q : hostileQuaternions()) {
+    geometry_msgs::PoseStamped m;
+    m.header = stampedAt(t -= 1.0);
+    m.pose.position.x = m.pose.position.y = m.pose.position.z = 1.0;
+    m.pose.orientation = q;
+    out.push_back(m);
+  }
+  for (const double bad : {nan, inf, -inf}) {
+    geometry_msgs::PoseStamped m;
+    m.header = stampedAt(t -= 1.0);
+    m.pose.position.x = 1.0;
+    m.pose.position.y = bad;
+    m.pose.orientation.w = 1.0;
+    out.push_back(m);
+  }
+  return out;
 }
 
 std::vector<geometry_msgs::QuaternionStamped> hostileStampedQuaternions() {
@@ -563,6 +589,9 @@ TEST_F(HostilePublishers, BinauralRendererRefusesBadRoomsSourcesAndHeads) {
       });
   publishAll(*nh_, "/br/binaural_renderer/source", hostileAudio("mono", 1));
   publishAll(*nh_, "/br/binaural_renderer/head_orientation", hostileStampedQuaternions());
+  publishAll(*nh_, "/br/binaural_renderer/listener_pose", hostilePoses());
+  // Room models to walk in: refused with a warning each (its queue holds the latest one).
+  publishAll(*nh_, "/br/binaural_renderer/room_model", hostileRooms(), 0.3);
   // Rooms: each one taken or refused (~status counts both) before the next.
   ASSERT_TRUE(waitUntil([&] { return statuses > 0; }, 10.0)) << "no ~status";
   const auto rooms_handled = [&] { return status.room_changes + status.rooms_rejected; };
@@ -578,7 +607,7 @@ TEST_F(HostilePublishers, BinauralRendererRefusesBadRoomsSourcesAndHeads) {
   // resynthesis works at its own rate).
   const std::size_t rooms_sound_enough = 2;
   const std::size_t rooms = rirs.size() + rsaos.size() + scenes.size() - rooms_sound_enough;
-  const std::size_t orientations = hostileQuaternions().size();
+  const std::size_t orientations = hostileQuaternions().size() + hostilePoses().size();
   const bool counted = waitUntil(
       [&] {
         return statuses > 0 && status.rooms_rejected >= rooms && status.orientations_rejected >= orientations &&

@@ -12,16 +12,22 @@
 //
 // Topics (private namespace): ~source (AudioBuffer in; unless ~source_file is set),
 // ~rsao (Rsao), ~impulse_response (ImpulseResponse), ~room_scene (RoomScene, simulated by
-// the room_simulator's service), ~head_orientation (geometry_msgs/QuaternionStamped);
+// the room_simulator's service), ~head_orientation (geometry_msgs/QuaternionStamped),
+// ~listener_pose (geometry_msgs/PoseStamped: position and orientation in the room frame),
+// ~room_model (RoomModel, with TF ~room_frame -> ~rig_frame: the room an RSAO is walked in);
 // ~binaural (AudioBuffer out, "binaural", 48 kHz), ~status (StreamStatus, latched).
 // Service: ~render_to_file (RenderToFile). Parameters: config/binaural_renderer.yaml.
+#include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/QuaternionStamped.h>
 #include <ros/ros.h>
 #include <room_reverb/AudioBuffer.h>
 #include <room_reverb/ImpulseResponse.h>
 #include <room_reverb/RenderToFile.h>
+#include <room_reverb/RoomModel.h>
 #include <room_reverb/RoomScene.h>
 #include <room_reverb/Rsao.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
 
 #include <atomic>
 #include <memory>
@@ -55,20 +61,33 @@ class BinauralRendererServer {
   void onImpulseResponse(const room_reverb::ImpulseResponse::ConstPtr& message);
   void onRoomScene(const room_reverb::RoomScene::ConstPtr& message);
   void onHeadOrientation(const geometry_msgs::QuaternionStamped::ConstPtr& message);
+  void onListenerPose(const geometry_msgs::PoseStamped::ConstPtr& message);
+  void onRoomModel(const room_reverb::RoomModel::ConstPtr& message);
 
  private:
   struct Counters {
     std::uint64_t room_changes = 0;
     std::uint64_t rooms_rejected = 0;
     std::uint64_t orientations_rejected = 0;
+    std::uint64_t listener_positions_clamped = 0;
     std::string last_message;
   };
 
-  void offerRoom(StreamRoom room);                // a new room for the audio thread
+  // A new room for the audio thread; with `rsao_generation`, only if no later RSAO has
+  // been offered meanwhile (callbacks run on two threads: an RSAO prepared without the
+  // room model must not replace one prepared with it).
+  void offerRoom(StreamRoom room, std::optional<std::uint64_t> rsao_generation = std::nullopt);
   void rejectRoom(const std::string& why);
   void note(const std::string& message, bool warning);  // last_message and the log
   void audioLoop();
   void renderChunk();
+  // Six degrees of freedom (binaural_renderer_listener.cpp): an RSAO offered as a room a
+  // listener walks in when a room model is known (the last RSAO is offered again when the
+  // model changes).
+  void offerRsao(const core::Rsao& rsao, const std::string& what);
+  // Audio thread: a new room's taps, and the taps' targets for a listener position.
+  void takeRoomTaps(const StreamRoom& room);
+  void moveTaps(const Eigen::Vector3d& listener);
   void publishStatus();
 
   // Configuration.
@@ -95,6 +114,10 @@ class BinauralRendererServer {
   double cpu_thread_mark_ = 0.0, cpu_process_mark_ = 0.0, worst_chunk_s_ = 0.0;
   std::uint64_t chunks_at_mark_ = 0;
   std::string audio_scheduling_;
+  std::shared_ptr<const core::ListenerTranslation> translation_;  // of the room playing
+  std::shared_ptr<const core::RoomModel> taps_room_model_;
+  Eigen::Vector3d listener_from_ = Eigen::Vector3d::Zero(), listener_to_ = Eigen::Vector3d::Zero();
+  bool listener_known_ = false;
 
   // Shared, under mutex_.
   std::mutex mutex_;
@@ -102,6 +125,10 @@ class BinauralRendererServer {
   std::shared_ptr<const StreamRoom> pending_room_;
   std::shared_ptr<const StreamRoom> current_room_;
   std::optional<Eigen::Quaterniond> pending_head_;
+  std::optional<Eigen::Vector3d> pending_position_;
+  std::shared_ptr<const core::RoomModel> walkable_room_;
+  std::optional<std::pair<core::Rsao, std::string>> last_rsao_;
+  std::uint64_t rsao_generation_ = 0;
   Counters counters_;
 
   std::atomic<bool> running_{false};
@@ -110,6 +137,10 @@ class BinauralRendererServer {
   ::ros::NodeHandle nh_;
   ::ros::Publisher binaural_publisher_, status_publisher_;
   ::ros::Subscriber source_sub_, rsao_sub_, impulse_response_sub_, room_scene_sub_, head_sub_;
+  ::ros::Subscriber listener_pose_sub_, room_model_sub_;
+  std::string room_frame_, rig_frame_;
+  std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   ::ros::ServiceServer render_server_;
   ::ros::ServiceClient simulator_;
 };

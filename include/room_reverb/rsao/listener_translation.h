@@ -116,6 +116,7 @@ class ListenerTranslation {
   std::vector<HeardReflection> reflectionsAt(const Eigen::Vector3d& listener_m) const;
 
   const Eigen::Vector3d& sourcePosition() const { return source_m_; }
+  const Eigen::Vector3d& rigPosition() const { return rig_m_; }
   // One per reflection at the rig: the measured ones in the RSAO's order ([0] the direct
   // sound), then those the room model completes (kModelled).
   const std::vector<AnchoredReflection>& anchors() const { return anchors_; }

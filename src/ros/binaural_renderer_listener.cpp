@@ -1,0 +1,140 @@
+// The binaural_renderer's six degrees of freedom: the room model an RSAO is walked in
+// (~room_model with TF room -> rig, or ~room_model_file), the listener's pose
+// (~listener_pose), and on the audio thread the early reflections as taps moved to the
+// listener block by block (listener_translation.h, reflection_tap_bank.h).
+#include <algorithm>
+
+#include "room_reverb/ambisonics/rotation.h"
+#include "room_reverb/binaural/reflection_tap_bank.h"
+#include "room_reverb/common/error.h"
+#include "room_reverb/ros/binaural_renderer_server.h"
+#include "room_reverb/ros/room_conversions.h"
+#include "room_reverb/rsao/reflection_tap.h"
+
+namespace room_reverb::ros_bridge {
+namespace {
+
+// A listener outside the room model's box is moved this far inside it.
+constexpr double kClampMarginM = 0.05;
+// Taps read up to this far back: the early part ends at the mixing time (tens of ms), and
+// a listener may walk a few metres further from the source than the microphone stood.
+constexpr double kMaxTapDelayS = 1.0;
+
+}  // namespace
+
+void BinauralRendererServer::offerRsao(const core::Rsao& rsao, const std::string& what) {
+  std::shared_ptr<const core::RoomModel> walkable;
+  std::uint64_t generation = 0;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    last_rsao_ = std::make_pair(rsao, what);
+    walkable = walkable_room_;
+    generation = ++rsao_generation_;
+  }
+  try {
+    offerRoom(roomFromRsao(rsao, rsao_seed_, what, walkable), generation);
+  } catch (const core::InputError& e) {
+    if (!walkable) throw;
+    // An RSAO the room model cannot place (its source outside the box, say) still plays,
+    // at the capture point.
+    note(what + " cannot be walked in the room model (" + e.what() + "); it plays as measured", true);
+    offerRoom(roomFromRsao(rsao, rsao_seed_, what), generation);
+  }
+}
+
+void BinauralRendererServer::onRoomModel(const room_reverb::RoomModel::ConstPtr& message) {
+  try {
+    core::RoomModel model = fromMessage(*message);
+    const geometry_msgs::TransformStamped rig =
+        tf_buffer_->lookupTransform(room_frame_, rig_frame_, ::ros::Time(0), ::ros::Duration(2.0));
+    const auto& t = rig.transform.translation;
+    const auto& r = rig.transform.rotation;
+    model.rig_position_m = Eigen::Vector3d(t.x, t.y, t.z);
+    model.rig_rotation = core::validatedRotation(Eigen::Quaterniond(r.w, r.x, r.y, r.z));
+    std::optional<std::pair<core::Rsao, std::string>> rsao;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      walkable_room_ = std::make_shared<const core::RoomModel>(std::move(model));
+      rsao = last_rsao_;
+    }
+    note("~room_model: RSAO rooms are walkable in a " + std::to_string(message->size.x) + " x " +
+             std::to_string(message->size.y) + " x " + std::to_string(message->size.z) + " m room",
+         false);
+    if (rsao) offerRsao(rsao->first, rsao->second);
+  } catch (const std::exception& e) {
+    note(std::string("~room_model ignored: ") + e.what(), true);
+  }
+}
+
+void BinauralRendererServer::onListenerPose(const geometry_msgs::PoseStamped::ConstPtr& message) {
+  const auto& p = message->pose.position;
+  const auto& q = message->pose.orientation;
+  try {
+    const Eigen::Vector3d position(p.x, p.y, p.z);
+    if (!position.allFinite()) throw core::InputError("the position is not finite");
+    const Eigen::Quaterniond head = core::validatedRotation(Eigen::Quaterniond(q.w, q.x, q.y, q.z));
+    std::lock_guard<std::mutex> lock(mutex_);
+    pending_head_ = head;
+    pending_position_ = position;
+  } catch (const std::exception& e) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      ++counters_.orientations_rejected;
+    }
+    ROS_WARN_THROTTLE(5.0, "binaural_renderer: a listener pose was ignored: %s", e.what());
+  }
+}
+
+void BinauralRendererServer::takeRoomTaps(const StreamRoom& room) {
+  translation_ = room.translation;
+  taps_room_model_ = room.room_model;
+  if (!translation_) {
+    stream_->setEarlyTaps(nullptr);
+    return;
+  }
+  core::ReflectionTapBankOptions options;
+  options.order = decoder_.order;
+  options.block_size = block_frames_;
+  options.max_delay_s = kMaxTapDelayS;
+  stream_->setEarlyTaps(std::make_unique<core::ReflectionTapBank>(translation_->reflectionsAtRig(), options));
+  // Until a pose arrives the listener stands at the microphone.
+  if (!listener_known_) listener_from_ = listener_to_ = translation_->rigPosition();
+  moveTaps(listener_to_);
+}
+
+void BinauralRendererServer::moveTaps(const Eigen::Vector3d& wanted) {
+  core::ReflectionTapBank* taps = stream_->earlyTaps();
+  if (!translation_ || !taps) return;
+  Eigen::Vector3d listener = wanted;
+  if (taps_room_model_) {
+    const Eigen::Vector3d low = Eigen::Vector3d::Constant(kClampMarginM);
+    const Eigen::Vector3d high = taps_room_model_->size_m - low;
+    listener = wanted.cwiseMax(low).cwiseMin(high);
+  }
+  bool clamped = listener != wanted;
+  std::vector<core::HeardReflection> heard;
+  try {
+    heard = translation_->reflectionsAt(listener);
+  } catch (const core::InputError& e) {
+    // Inside an object: the taps stay where they were.
+    ROS_WARN_THROTTLE(5.0, "binaural_renderer: listener kept where it was: %s", e.what());
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++counters_.listener_positions_clamped;
+    return;
+  }
+  if (clamped) {
+    ROS_WARN_THROTTLE(5.0, "binaural_renderer: the listener (%.2f, %.2f, %.2f) m is outside the room model; heard at "
+                      "its edge", wanted.x(), wanted.y(), wanted.z());
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++counters_.listener_positions_clamped;
+  }
+  std::vector<core::TapTarget> targets;
+  targets.reserve(heard.size());
+  for (const core::HeardReflection& h : heard) {
+    targets.push_back({h.reflection.time_of_arrival_s, h.heard ? h.reflection.level : 0.0,
+                       core::reflectionDirection(h.reflection)});
+  }
+  taps->setTargets(targets);
+}
+
+}  // namespace room_reverb::ros_bridge
