@@ -4,17 +4,27 @@
 // interleaving into the published message's layout), over the chunk's 10.7 ms. The ROS
 // side (serialising 1024 floats, the spinner) is measured live by the rostest
 // (test/ros/test_binaural_renderer.cpp records render_cpu_share and process_cpu_share).
+// BM_WalkingRendererChunk is the same with the listener walking (docs/six_dof.md): a
+// room's direct sound and 24 early reflections as taps, moved for every block
+// (ListenerTranslation::reflectionsAt in a room model, then the taps' targets), its late
+// part as the 2 s room response. BM_ReflectionsAtPose is one pose's move alone.
 // Run: scripts/bench (all benchmarks) or .ws/devel/lib/room_reverb/bench_binaural_renderer
 //   cpu_share  thread CPU time per chunk / chunk duration: the share of one core.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
 
+#include "room_reverb/acoustics/image_sources.h"
+#include "room_reverb/acoustics/room_model.h"
 #include "room_reverb/binaural/binaural_stream.h"
 #include "room_reverb/binaural/hrtf_set.h"
+#include "room_reverb/binaural/reflection_tap_bank.h"
 #include "room_reverb/binaural/source_feed.h"
+#include "room_reverb/rsao/listener_translation.h"
+#include "room_reverb/rsao/reflection_tap.h"
 #include "bench_clock.h"
 
 namespace {
@@ -64,6 +74,100 @@ void BM_RendererChunk(benchmark::State& state) {
   state.counters["cpu_share"] = spent / (static_cast<double>(state.iterations()) * chunk_s);
 }
 BENCHMARK(BM_RendererChunk)->Unit(benchmark::kMicrosecond)->Repetitions(3)->ReportAggregatesOnly(true);
+
+// A 9 x 7 x 3 m room with a table, its source 3 m from the microphone: the RSAO is the
+// room's own image sources to second order (25 arrivals, each matched to its walls, so
+// every pose checks every path), as an estimate with a room model gives.
+ListenerTranslation walkableRoom() {
+  RoomModel model;
+  model.size_m = {9.0, 7.0, 3.0};
+  for (const char* name : kRoomSurfaceNames) model.surfaces[name] = SurfaceAssignment{"plaster_smooth", 1.0};
+  model.rig_position_m = {4.0, 3.5, 1.5};
+  CuboidObject table;
+  table.label = "table";
+  table.material = "wood";
+  table.center_m = {6.0, 1.5, 0.4};
+  table.size_m = {1.6, 0.9, 0.8};
+  model.objects.push_back(table);
+  const Eigen::Vector3d source(6.5, 5.0, 1.6);
+  const AcousticScene scene = roomModelToScene(model, MaterialLibrary::loadDefault());
+  ImageSourceOptions search;
+  search.max_order = 2;
+  Rsao rsao;
+  for (const SpecularPath& path : computeImageSources(scene, source, model.rig_position_m, PropagationModel{}, search)) {
+    EarlyReflection r;
+    r.time_of_arrival_s = path.delay_s;
+    r.level = std::abs(path.pressure_gain[4]);
+    r.azimuth_rad = std::atan2(path.arrival_direction.y(), path.arrival_direction.x());
+    r.elevation_rad = std::asin(path.arrival_direction.z());
+    r.distance_m = 343.2 * path.delay_s;
+    rsao.reflections.push_back(r);
+  }
+  std::sort(rsao.reflections.begin(), rsao.reflections.end(),
+            [](const EarlyReflection& x, const EarlyReflection& y) { return x.time_of_arrival_s < y.time_of_arrival_s; });
+  ListenerTranslationOptions options;
+  options.speed_of_sound_m_s = 343.2;  // the image sources'
+  return ListenerTranslation(rsao, model.rig_position_m, model.rig_rotation, model, options);
+}
+
+Eigen::Vector3d walking(double t_s) {  // 1 m/s around a circle of 1.5 m about the microphone
+  return Eigen::Vector3d(4.0 + 1.5 * std::cos(t_s / 1.5), 3.5 + 1.5 * std::sin(t_s / 1.5), 1.6);
+}
+
+void moveTaps(const ListenerTranslation& translation, ReflectionTapBank& taps, const Eigen::Vector3d& listener) {
+  std::vector<TapTarget> targets;
+  for (const HeardReflection& h : translation.reflectionsAt(listener)) {
+    targets.push_back({h.reflection.time_of_arrival_s, h.heard ? h.reflection.level : 0.0,
+                       reflectionDirection(h.reflection)});
+  }
+  taps.setTargets(targets);
+}
+
+void BM_WalkingRendererChunk(benchmark::State& state) {
+  const HrtfSet hrtf = HrtfSet::loadSofa(HrtfSet::defaultSofaPath());
+  BinauralStream stream(makeBinauralDecoder(hrtf, 3));
+  stream.setRoom(decayingNoise(16, 2.0, 1));
+  const ListenerTranslation translation = walkableRoom();
+  ReflectionTapBankOptions options;
+  options.order = 3;
+  options.block_size = kBlock;
+  stream.setEarlyTaps(std::make_unique<ReflectionTapBank>(translation.reflectionsAtRig(), options));
+  LoopedSource source(decayingNoise(1, 3.0, 2));
+  std::vector<float> block(kBlock), left(kBlock * kChunkBlocks), right(kBlock * kChunkBlocks);
+  std::vector<float> message(2 * kBlock * kChunkBlocks);
+  double yaw = 0.0, spent = 0.0, t = 0.0;
+  for (auto _ : state) {
+    const double start = threadCpuSeconds();
+    yaw += 0.002;
+    stream.setHeadOrientation(Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ())));
+    for (std::size_t b = 0; b < kChunkBlocks; ++b) {
+      t += static_cast<double>(kBlock) / kInternalSampleRateHz;
+      moveTaps(translation, *stream.earlyTaps(), walking(t));
+      source.read(block.data(), kBlock);
+      stream.process(block.data(), left.data() + b * kBlock, right.data() + b * kBlock);
+    }
+    for (std::size_t n = 0; n < left.size(); ++n) {
+      message[2 * n] = left[n];
+      message[2 * n + 1] = right[n];
+    }
+    benchmark::DoNotOptimize(message.data());
+    spent += threadCpuSeconds() - start;
+  }
+  const double chunk_s = static_cast<double>(kBlock * kChunkBlocks) / kInternalSampleRateHz;
+  state.counters["cpu_share"] = spent / (static_cast<double>(state.iterations()) * chunk_s);
+  state.counters["taps"] = static_cast<double>(translation.anchors().size());
+}
+BENCHMARK(BM_WalkingRendererChunk)->Unit(benchmark::kMicrosecond)->Repetitions(3)->ReportAggregatesOnly(true);
+
+void BM_ReflectionsAtPose(benchmark::State& state) {
+  const ListenerTranslation translation = walkableRoom();
+  double t = 0.0;
+  for (auto _ : state) {
+    t += 0.01;
+    benchmark::DoNotOptimize(translation.reflectionsAt(walking(t)).data());
+  }
+}
+BENCHMARK(BM_ReflectionsAtPose)->Unit(benchmark::kMicrosecond)->Repetitions(3)->ReportAggregatesOnly(true);
 
 }  // namespace
 

@@ -73,7 +73,8 @@ class ReflectionTapBank {
   ReflectionTapBankOptions options_;
   std::size_t channels_ = 0;
   std::vector<Tap> taps_;
-  std::vector<float> history_;  // the source, a ring of history_.size() samples
+  std::vector<float> history_;  // the source, a ring of history_size_ samples, stored twice
+  std::size_t history_size_ = 0;
   std::size_t write_ = 0;       // where the next source sample goes
   std::vector<double> tap_signal_;
   std::size_t clamped_targets_ = 0;

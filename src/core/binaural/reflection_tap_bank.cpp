@@ -30,7 +30,10 @@ ReflectionTapBank::ReflectionTapBank(const std::vector<EarlyReflection>& reflect
   if (!(options_.analysis_window_s > 0.0)) throw InputError("reflection taps: analysis_window_s must be positive");
   channels_ = static_cast<std::size_t>(ambisonicChannelCount(options_.order));
   const auto capacity = static_cast<std::size_t>(std::ceil(options_.max_delay_s * kInternalSampleRateHz));
-  history_.assign(capacity + options_.block_size + 8, 0.0f);
+  // Each sample is written twice, at i and i + size, so that the four samples an
+  // interpolation reads are always contiguous and need no wrap test per sample.
+  history_size_ = capacity + options_.block_size + 8;
+  history_.assign(2 * history_size_, 0.0f);
   tap_signal_.assign(options_.block_size, 0.0);
   taps_.resize(reflections.size());
   for (std::size_t k = 0; k < reflections.size(); ++k) {
@@ -91,12 +94,15 @@ void ReflectionTapBank::fadeOut() {
 
 void ReflectionTapBank::process(const float* source, float* const* field) {
   const std::size_t frames = options_.block_size;
-  const std::size_t size = history_.size();
+  const std::size_t size = history_size_;
   const std::size_t block_start = write_;
   for (std::size_t n = 0; n < frames; ++n) {
-    history_[write_] = std::isfinite(source[n]) ? source[n] : 0.0f;
-    write_ = (write_ + 1) % size;
+    const float v = std::isfinite(source[n]) ? source[n] : 0.0f;
+    history_[write_] = v;
+    history_[write_ + size] = v;
+    write_ = write_ + 1 == size ? 0 : write_ + 1;
   }
+  const float* history = history_.data();
   const double inverse_frames = 1.0 / static_cast<double>(frames);
   for (Tap& tap : taps_) {
     if (tap.amplitude_from == 0.0 && tap.amplitude_to == 0.0) continue;
@@ -107,13 +113,13 @@ void ReflectionTapBank::process(const float* source, float* const* field) {
       const double position = static_cast<double>(n) - delay;
       const double whole = std::floor(position);
       const double t = position - whole;
-      const auto at = [&](long offset) {
-        const long relative = static_cast<long>(whole) + offset;
-        const long index = (static_cast<long>(block_start) + relative) % static_cast<long>(size);
-        return static_cast<double>(history_[static_cast<std::size_t>(index < 0 ? index + static_cast<long>(size) : index)]);
-      };
-      double y = -t * (t - 1.0) * (t - 2.0) / 6.0 * at(-1) + (t + 1.0) * (t - 1.0) * (t - 2.0) / 2.0 * at(0) -
-                 (t + 1.0) * t * (t - 2.0) / 2.0 * at(1) + (t + 1.0) * t * (t - 1.0) / 6.0 * at(2);
+      // The sample at `whole` in the doubled ring: at least one sample in, and its three
+      // neighbours inside.
+      long index = static_cast<long>(block_start) + static_cast<long>(size) + static_cast<long>(whole);
+      if (index + 2 >= static_cast<long>(2 * size)) index -= static_cast<long>(size);
+      const float* x = history + index;
+      double y = -t * (t - 1.0) * (t - 2.0) / 6.0 * x[-1] + (t + 1.0) * (t - 1.0) * (t - 2.0) / 2.0 * x[0] -
+                 (t + 1.0) * t * (t - 2.0) / 2.0 * x[1] + (t + 1.0) * t * (t - 1.0) / 6.0 * x[2];
       for (Section& s : tap.sections) {
         const double out = s.b0 * y + s.s1;
         s.s1 = s.b1 * y - s.a1 * out + s.s2;
