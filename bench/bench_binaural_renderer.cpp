@@ -1,7 +1,8 @@
 // CPU share of the binaural_renderer node's audio thread at 48 kHz: what one chunk of the
 // node's default configuration costs (2 blocks of 256: a looped source, a 2 s third-order
 // room response, a head orientation changing every chunk, the bundled KU100 MagLS decoder,
-// interleaving into the published message's layout), over the chunk's 10.7 ms. The ROS
+// interleaving into the published message's layout), over the chunk's 10.7 ms; and the
+// same with a first-order room response, whose twelve missing channels cost nothing. The ROS
 // side (serialising 1024 floats, the spinner) is measured live by the rostest
 // (test/ros/test_binaural_renderer.cpp records render_cpu_share and process_cpu_share).
 // BM_WalkingRendererChunk is the same with the listener walking (docs/six_dof.md): a
@@ -50,7 +51,7 @@ AudioBuffer decayingNoise(std::size_t channels, double seconds, std::uint32_t se
 void BM_RendererChunk(benchmark::State& state) {
   const HrtfSet hrtf = HrtfSet::loadSofa(HrtfSet::defaultSofaPath());
   BinauralStream stream(makeBinauralDecoder(hrtf, 3));
-  stream.setRoom(decayingNoise(16, 2.0, 1));
+  stream.setRoom(decayingNoise(static_cast<std::size_t>(state.range(0)), 2.0, 1));
   LoopedSource source(decayingNoise(1, 3.0, 2));
   std::vector<float> block(kBlock), left(kBlock * kChunkBlocks), right(kBlock * kChunkBlocks);
   std::vector<float> message(2 * kBlock * kChunkBlocks);
@@ -73,7 +74,8 @@ void BM_RendererChunk(benchmark::State& state) {
   const double chunk_s = static_cast<double>(kBlock * kChunkBlocks) / kInternalSampleRateHz;
   state.counters["cpu_share"] = spent / (static_cast<double>(state.iterations()) * chunk_s);
 }
-BENCHMARK(BM_RendererChunk)->Unit(benchmark::kMicrosecond)->Repetitions(3)->ReportAggregatesOnly(true);
+// Arg: the room response's channels, 16 (third order) or 4 (a measured first-order RIR).
+BENCHMARK(BM_RendererChunk)->Arg(16)->Arg(4)->Unit(benchmark::kMicrosecond)->Repetitions(3)->ReportAggregatesOnly(true);
 
 // A 9 x 7 x 3 m room with a table, its source 3 m from the microphone: the RSAO is the
 // room's own image sources to second order (25 arrivals, each matched to its walls, so
@@ -126,7 +128,7 @@ void moveTaps(const ListenerTranslation& translation, ReflectionTapBank& taps, c
 void BM_WalkingRendererChunk(benchmark::State& state) {
   const HrtfSet hrtf = HrtfSet::loadSofa(HrtfSet::defaultSofaPath());
   BinauralStream stream(makeBinauralDecoder(hrtf, 3));
-  stream.setRoom(decayingNoise(16, 2.0, 1));
+  stream.setRoom(decayingNoise(static_cast<std::size_t>(state.range(0)), 2.0, 1));
   const ListenerTranslation translation = walkableRoom();
   ReflectionTapBankOptions options;
   options.order = 3;
@@ -157,7 +159,8 @@ void BM_WalkingRendererChunk(benchmark::State& state) {
   state.counters["cpu_share"] = spent / (static_cast<double>(state.iterations()) * chunk_s);
   state.counters["taps"] = static_cast<double>(translation.anchors().size());
 }
-BENCHMARK(BM_WalkingRendererChunk)->Unit(benchmark::kMicrosecond)->Repetitions(3)->ReportAggregatesOnly(true);
+// Arg as above; the node's walkable RSAO rooms have a first-order late part (4).
+BENCHMARK(BM_WalkingRendererChunk)->Arg(16)->Arg(4)->Unit(benchmark::kMicrosecond)->Repetitions(3)->ReportAggregatesOnly(true);
 
 void BM_ReflectionsAtPose(benchmark::State& state) {
   const ListenerTranslation translation = walkableRoom();

@@ -76,7 +76,7 @@ class ReflectionTapBank {
   std::vector<float> history_;  // the source, a ring of history_size_ samples, stored twice
   std::size_t history_size_ = 0;
   std::size_t write_ = 0;       // where the next source sample goes
-  std::vector<double> tap_signal_;
+  std::vector<float> tap_signal_;
   std::size_t clamped_targets_ = 0;
 };
 

@@ -35,10 +35,17 @@ LevelSpectra ConvolverLevel::transform(const FilterMatrix& filters, std::size_t 
   spectra.rows.assign(outputs_ * inputs_ * spectra.partitions * 2 * stride_, 0.0f);
   // Partition q holds taps [D + qP, D + (q+1)P), zero-padded to 2P: against the 2P input
   // window the last P samples of the circular convolution are then the linear convolution.
+  spectra.used.assign(outputs_ * inputs_, 0);
+  spectra.output_used.assign(outputs_, 0);
   float* row = spectra.rows.data();
   for (std::size_t o = 0; o < outputs_; ++o) {
     for (std::size_t i = 0; i < inputs_; ++i) {
       const auto& taps = filters[i][o];
+      std::size_t length = taps.size();
+      while (length > 0 && taps[length - 1] == 0.0f) --length;
+      const std::size_t used = length > plan_.first_tap ? (length - plan_.first_tap + p - 1) / p : 0;
+      spectra.used[o * inputs_ + i] = std::min(used, spectra.partitions);
+      spectra.output_used[o] = std::max(spectra.output_used[o], spectra.used[o * inputs_ + i]);
       for (std::size_t q = 0; q < spectra.partitions; ++q, row += 2 * stride_) {
         const std::size_t begin = std::min(taps.size(), plan_.first_tap + q * p);
         const std::size_t end = std::min(taps.size(), begin + p);
@@ -165,20 +172,22 @@ void ConvolverLevel::transformInput(std::int64_t block, std::size_t input, const
 void ConvolverLevel::multiplyAdd(std::int64_t block, std::size_t output, std::size_t input,
                                  const LevelTarget& target) const {
   const std::size_t partitions = target.spectra->partitions;
+  const std::size_t used = target.spectra->used[output * inputs_ + input];
   float* y = target.accumulator;
   if (input == 0) std::fill_n(y, 2 * stride_, 0.0f);
   // Partition q of the filter meets the input block q blocks older.
   const float* h = &target.spectra->rows[(output * inputs_ + input) * partitions * 2 * stride_];
   std::size_t q = 0;
-  for (; q + 1 < partitions; q += 2, h += 4 * stride_) {
+  for (; q + 1 < used; q += 2, h += 4 * stride_) {
     const auto older = block - static_cast<std::int64_t>(q);
     multiplyAccumulatePair(slotRow(older, input), h, slotRow(older - 1, input), h + 2 * stride_, y, stride_, stride_);
   }
-  if (q < partitions) multiplyAccumulate(slotRow(block - static_cast<std::int64_t>(q), input), h, y, stride_, stride_);
+  if (q < used) multiplyAccumulate(slotRow(block - static_cast<std::int64_t>(q), input), h, y, stride_, stride_);
 }
 
 void ConvolverLevel::finishOutput(std::int64_t block, std::size_t output, const LevelTarget& target,
                                   std::int64_t from_frame) {
+  if (target.spectra->output_used[output] == 0) return;  // every filter of this output is zero here
   joinSpectrum(target.accumulator, stride_, bins_, spectrum_.data());
   fft_.inverse(spectrum_.data(), time_.data());
   // The second half of the 2P-point result is the linear convolution (overlap-save).

@@ -31,6 +31,12 @@ namespace room_reverb::core {
 struct LevelSpectra {
   std::size_t partitions = 0;
   std::vector<float> rows;
+  // Per output o and input i (o * inputs + i): the partitions up to the filter's last
+  // non-zero tap; those after it are zero and skipped. Per output: the most of its inputs;
+  // an output with none here is silent and its inverse transform skipped. A first-order
+  // room in a third-order stream has twelve all-zero filters: they cost nothing.
+  std::vector<std::size_t> used;
+  std::vector<std::size_t> output_used;
 };
 
 // Where a level's work for one filter set goes.

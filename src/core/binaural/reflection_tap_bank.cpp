@@ -126,14 +126,16 @@ void ReflectionTapBank::process(const float* source, float* const* field) {
         s.s2 = s.b2 * y - s.a2 * out;
         y = out;
       }
-      tap_signal_[n] = y * (tap.amplitude_from + u * (tap.amplitude_to - tap.amplitude_from));
+      tap_signal_[n] = static_cast<float>(y * (tap.amplitude_from + u * (tap.amplitude_to - tap.amplitude_from)));
     }
+    // In single precision, as the field is: this loop is most of the taps' cost and
+    // vectorises so.
+    const float* signal = tap_signal_.data();
     for (std::size_t c = 0; c < channels_; ++c) {
-      const double from = tap.gains_from[c], step = (tap.gains_to[c] - from) * inverse_frames;
+      const auto from = static_cast<float>(tap.gains_from[c]);
+      const auto step = static_cast<float>((tap.gains_to[c] - tap.gains_from[c]) * inverse_frames);
       float* out = field[c];
-      for (std::size_t n = 0; n < frames; ++n) {
-        out[n] += static_cast<float>((from + step * static_cast<double>(n + 1)) * tap_signal_[n]);
-      }
+      for (std::size_t n = 0; n < frames; ++n) out[n] += (from + step * static_cast<float>(n + 1)) * signal[n];
     }
     tap.delay_from = tap.delay_to;
     tap.amplitude_from = tap.amplitude_to;
