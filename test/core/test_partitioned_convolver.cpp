@@ -362,6 +362,24 @@ TEST(PartitionedConvolver, NonUniformStreamingEqualsOfflineConvolution) {
   std::cout << "worst non-uniform streaming-vs-offline error: " << worst_db << " dB\n";
 }
 
+TEST(PartitionedConvolver, ZeroFiltersAndZeroTailsAreSkippedExactly) {
+  // A first-order room padded to third order: outputs 4-15 all zero; outputs 1-3 end in
+  // long runs of zeros (skipped partitions), one output zero but for its last tap. Then a
+  // swap to the full matrix, which must bring every output in.
+  auto filters = randomFilters(1, 16, 40000, 40000, 21);
+  auto padded = filters;
+  for (std::size_t o = 4; o < 16; ++o) padded[0][o] = {0.0f};
+  for (std::size_t o = 1; o < 4; ++o) std::fill(padded[0][o].begin() + 3000 * static_cast<long>(o), padded[0][o].end(), 0.0f);
+  std::fill(padded[0][0].begin(), padded[0][0].end() - 1, 0.0f);
+  PartitionedConvolver convolver(padded, 256, 1, 16384);
+  const auto inputs = noiseInputs(1, 100, 256, 160);
+  EXPECT_LT(errorDb(stream(convolver, inputs), offline(padded, inputs), 0, inputs.front().size()), -100.0);
+  // After the one-block crossfade the full matrix plays, its tail complete.
+  PartitionedConvolver swapped(padded, 256, 1, 16384);
+  swapped.setFilters(filters);
+  EXPECT_LT(errorDb(stream(swapped, inputs), offline(filters, inputs), 512, inputs.front().size()), -100.0);
+}
+
 TEST(PartitionedConvolver, NonUniformImpulseComesOutAsTheFilterWithNoAddedDelay) {
   // Two impulses at frames that fall mid-block and mid-period of every level: the output
   // is the filter from exactly those frames on, so no level adds or loses a sample.
