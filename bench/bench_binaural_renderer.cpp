@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <random>
 #include <vector>
 
@@ -48,19 +49,21 @@ AudioBuffer decayingNoise(std::size_t channels, double seconds, std::uint32_t se
   return b;
 }
 
-void BM_RendererChunk(benchmark::State& state) {
-  const HrtfSet hrtf = HrtfSet::loadSofa(HrtfSet::defaultSofaPath());
-  BinauralStream stream(makeBinauralDecoder(hrtf, 3));
-  stream.setRoom(decayingNoise(static_cast<std::size_t>(state.range(0)), 2.0, 1));
+// Streams chunks of the node's layout for the benchmark's iterations, the head turning a
+// little each chunk; `before_block(t)` runs before each block at stream time t (s).
+// Records the audio thread's share of one core.
+void streamChunks(benchmark::State& state, BinauralStream& stream, const std::function<void(double)>& before_block) {
   LoopedSource source(decayingNoise(1, 3.0, 2));
   std::vector<float> block(kBlock), left(kBlock * kChunkBlocks), right(kBlock * kChunkBlocks);
   std::vector<float> message(2 * kBlock * kChunkBlocks);
-  double yaw = 0.0, spent = 0.0;
+  double yaw = 0.0, spent = 0.0, t = 0.0;
   for (auto _ : state) {
     const double start = threadCpuSeconds();
     yaw += 0.002;
     stream.setHeadOrientation(Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ())));
     for (std::size_t b = 0; b < kChunkBlocks; ++b) {
+      t += static_cast<double>(kBlock) / kInternalSampleRateHz;
+      if (before_block) before_block(t);
       source.read(block.data(), kBlock);
       stream.process(block.data(), left.data() + b * kBlock, right.data() + b * kBlock);
     }
@@ -73,6 +76,13 @@ void BM_RendererChunk(benchmark::State& state) {
   }
   const double chunk_s = static_cast<double>(kBlock * kChunkBlocks) / kInternalSampleRateHz;
   state.counters["cpu_share"] = spent / (static_cast<double>(state.iterations()) * chunk_s);
+}
+
+void BM_RendererChunk(benchmark::State& state) {
+  const HrtfSet hrtf = HrtfSet::loadSofa(HrtfSet::defaultSofaPath());
+  BinauralStream stream(makeBinauralDecoder(hrtf, 3));
+  stream.setRoom(decayingNoise(static_cast<std::size_t>(state.range(0)), 2.0, 1));
+  streamChunks(state, stream, {});
 }
 // Arg: the room response's channels, 16 (third order) or 4 (a measured first-order RIR).
 BENCHMARK(BM_RendererChunk)->Arg(16)->Arg(4)->Unit(benchmark::kMicrosecond)->Repetitions(3)->ReportAggregatesOnly(true);
@@ -134,29 +144,7 @@ void BM_WalkingRendererChunk(benchmark::State& state) {
   options.order = 3;
   options.block_size = kBlock;
   stream.setEarlyTaps(std::make_unique<ReflectionTapBank>(translation.reflectionsAtRig(), options));
-  LoopedSource source(decayingNoise(1, 3.0, 2));
-  std::vector<float> block(kBlock), left(kBlock * kChunkBlocks), right(kBlock * kChunkBlocks);
-  std::vector<float> message(2 * kBlock * kChunkBlocks);
-  double yaw = 0.0, spent = 0.0, t = 0.0;
-  for (auto _ : state) {
-    const double start = threadCpuSeconds();
-    yaw += 0.002;
-    stream.setHeadOrientation(Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ())));
-    for (std::size_t b = 0; b < kChunkBlocks; ++b) {
-      t += static_cast<double>(kBlock) / kInternalSampleRateHz;
-      moveTaps(translation, *stream.earlyTaps(), walking(t));
-      source.read(block.data(), kBlock);
-      stream.process(block.data(), left.data() + b * kBlock, right.data() + b * kBlock);
-    }
-    for (std::size_t n = 0; n < left.size(); ++n) {
-      message[2 * n] = left[n];
-      message[2 * n + 1] = right[n];
-    }
-    benchmark::DoNotOptimize(message.data());
-    spent += threadCpuSeconds() - start;
-  }
-  const double chunk_s = static_cast<double>(kBlock * kChunkBlocks) / kInternalSampleRateHz;
-  state.counters["cpu_share"] = spent / (static_cast<double>(state.iterations()) * chunk_s);
+  streamChunks(state, stream, [&](double t) { moveTaps(translation, *stream.earlyTaps(), walking(t)); });
   state.counters["taps"] = static_cast<double>(translation.anchors().size());
 }
 // Arg as above; the node's walkable RSAO rooms have a first-order late part (4).
