@@ -25,8 +25,8 @@
 #include "room_reverb/binaural/hrtf_set.h"
 #include "room_reverb/binaural/reflection_tap_bank.h"
 #include "room_reverb/binaural/source_feed.h"
+#include "room_reverb/binaural/walk_render.h"
 #include "room_reverb/rsao/listener_translation.h"
-#include "room_reverb/rsao/reflection_tap.h"
 #include "bench_clock.h"
 
 namespace {
@@ -126,15 +126,6 @@ Eigen::Vector3d walking(double t_s) {  // 1 m/s around a circle of 1.5 m about t
   return Eigen::Vector3d(4.0 + 1.5 * std::cos(t_s / 1.5), 3.5 + 1.5 * std::sin(t_s / 1.5), 1.6);
 }
 
-void moveTaps(const ListenerTranslation& translation, ReflectionTapBank& taps, const Eigen::Vector3d& listener) {
-  std::vector<TapTarget> targets;
-  for (const HeardReflection& h : translation.reflectionsAt(listener)) {
-    targets.push_back({h.reflection.time_of_arrival_s, h.heard ? h.reflection.level : 0.0,
-                       reflectionDirection(h.reflection)});
-  }
-  taps.setTargets(targets);
-}
-
 void BM_WalkingRendererChunk(benchmark::State& state) {
   const HrtfSet hrtf = HrtfSet::loadSofa(HrtfSet::defaultSofaPath());
   BinauralStream stream(makeBinauralDecoder(hrtf, 3));
@@ -144,7 +135,7 @@ void BM_WalkingRendererChunk(benchmark::State& state) {
   options.order = 3;
   options.block_size = kBlock;
   stream.setEarlyTaps(std::make_unique<ReflectionTapBank>(translation.reflectionsAtRig(), options));
-  streamChunks(state, stream, [&](double t) { moveTaps(translation, *stream.earlyTaps(), walking(t)); });
+  streamChunks(state, stream, [&](double t) { stream.earlyTaps()->setTargets(tapTargetsAt(translation, walking(t))); });
   state.counters["taps"] = static_cast<double>(translation.anchors().size());
 }
 // Arg as above; the node's walkable RSAO rooms have a first-order late part (4).

@@ -6,10 +6,10 @@
 
 #include "room_reverb/ambisonics/rotation.h"
 #include "room_reverb/binaural/reflection_tap_bank.h"
+#include "room_reverb/binaural/walk_render.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/ros/binaural_renderer_server.h"
 #include "room_reverb/ros/room_conversions.h"
-#include "room_reverb/rsao/reflection_tap.h"
 
 namespace room_reverb::ros_bridge {
 namespace {
@@ -112,9 +112,9 @@ void BinauralRendererServer::moveTaps(const Eigen::Vector3d& wanted) {
     listener = wanted.cwiseMax(low).cwiseMin(high);
   }
   bool clamped = listener != wanted;
-  std::vector<core::HeardReflection> heard;
+  std::vector<core::TapTarget> targets;
   try {
-    heard = translation_->reflectionsAt(listener);
+    targets = core::tapTargetsAt(*translation_, listener);
   } catch (const core::InputError& e) {
     // Inside an object: the taps stay where they were.
     ROS_WARN_THROTTLE(5.0, "binaural_renderer: listener kept where it was: %s", e.what());
@@ -127,12 +127,6 @@ void BinauralRendererServer::moveTaps(const Eigen::Vector3d& wanted) {
                       "its edge", wanted.x(), wanted.y(), wanted.z());
     std::lock_guard<std::mutex> lock(mutex_);
     ++counters_.listener_positions_clamped;
-  }
-  std::vector<core::TapTarget> targets;
-  targets.reserve(heard.size());
-  for (const core::HeardReflection& h : heard) {
-    targets.push_back({h.reflection.time_of_arrival_s, h.heard ? h.reflection.level : 0.0,
-                       core::reflectionDirection(h.reflection)});
   }
   taps->setTargets(targets);
 }

@@ -1,5 +1,6 @@
 // room_reverb render: a dry source heard in a room over headphones, offline (the twin of
 // the binaural_renderer node's ~render_to_file).
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <optional>
@@ -12,6 +13,9 @@
 #include "room_reverb/binaural/offline_render.h"
 #include "room_reverb/binaural/hrtf_set.h"
 #include "room_reverb/binaural/rsao_binaural.h"
+#include "room_reverb/binaural/walk_render.h"
+#include "room_reverb/acoustics/room_model.h"
+#include "room_reverb/rsao/listener_translation.h"
 #include "room_reverb/rsao/rsao_yaml.h"
 #include "room_reverb/common/error.h"
 
@@ -24,6 +28,9 @@ const char* kHelp = R"(usage: room_reverb render --source DRY.wav
                           (--bformat-rir F --format fuma|ambix | --ambisonic-rir F | --rsao F.yaml)
                           [--hrtf F.sofa] [--decoder magls|least_squares|virtual_loudspeakers]
                           [--yaw DEG] --out OUT.wav
+       room_reverb render --source DRY.wav --rsao F.yaml --poses POSES.csv
+                          (--room ROOM.yaml [--rig X Y Z] | --rig X Y Z) [--hrtf F.sofa]
+                          [--decoder NAME] --out OUT.wav
 
 Renders a dry source in a room for headphones: the room's ambisonic impulse response,
 turned for the listener's head, decoded to the two ears with an HRTF set, convolved with
@@ -42,6 +49,15 @@ the source. Writes a 2-channel (left, right) 32-bit float WAV at 48 kHz.
                         used with --rsao)
   --yaw DEG             the head turned DEG degrees to the left (counter-clockwise seen
                         from above); default 0: facing +x
+  --poses FILE          a listener walking: CSV with the header t_s,x_m,y_m,z_m,qx,qy,qz,qw
+                        (time, position in the room frame, orientation), poses between rows
+                        interpolated. With --rsao: its late part convolved, its direct sound
+                        and early reflections moved to the listener every 5.3 ms block, as
+                        the binaural_renderer node plays a walkable room (docs/six_dof.md)
+  --room FILE           with --poses: the room model the RSAO was measured in (its rig pose
+                        the microphone's); reflections leave where their walls end
+  --rig X Y Z           with --poses: the microphone's position (room frame), instead of
+                        the room model's, or without a room model
 Exit status: 0 on success, 2 with one line on stderr for bad input.
 )";
 
@@ -73,8 +89,46 @@ AudioBuffer roomResponse(const Arguments& args) {
   return response;
 }
 
+// A listener walking along --poses through a walkable RSAO.
+int runWalk(const Arguments& args, const std::optional<Eigen::Vector3d>& rig) {
+  if (!args.has("rsao")) throw UsageError("--poses needs --rsao F.yaml (a walk moves the RSAO's reflections)");
+  if (args.has("yaw")) throw UsageError("--yaw and --poses do not go together: the poses turn the head");
+  std::optional<RoomModel> room;
+  if (args.has("room")) room = loadRoomModel(args.value("room", ""));
+  if (!room && !rig) throw UsageError("--poses needs the microphone's position: --room ROOM.yaml or --rig X Y Z");
+  const std::vector<ListenerPose> poses = loadPoseCsv(args.value("poses", ""));
+  const DecoderMethod method = parseDecoderMethod(args.value("decoder", "magls"));
+  const Rsao rsao = loadRsaoYaml(args.value("rsao", ""));
+  const ListenerTranslation translation(rsao, rig ? *rig : room->rig_position_m,
+                                        room && !rig ? room->rig_rotation : Eigen::Quaterniond::Identity(), room);
+  // Every pose checked before the long work starts.
+  for (const ListenerPose& pose : poses) translation.reflectionsAt(pose.position_m);
+  const AudioBuffer source = monoSource(args.value("source", ""));
+  const HrtfSet hrtf = HrtfSet::loadSofa(args.value("hrtf", HrtfSet::defaultSofaPath()));
+  for (const std::string& note : hrtf.notes()) std::cerr << "room_reverb render: note: " << note << "\n";
+  AudioBuffer out = renderWalk(source, translation, makeBinauralDecoder(hrtf, 3, method), poses);
+  float peak = 0.0f;
+  for (const auto& channel : out.channels)
+    for (float v : channel) peak = std::max(peak, std::abs(v));
+  if (peak > 1.0f) {
+    const float gain = std::pow(10.0f, -1.0f / 20.0f) / peak;
+    for (auto& channel : out.channels)
+      for (float& v : channel) v *= gain;
+    std::cerr << "room_reverb render: note: the peak was above full scale; scaled by " << 20.0 * std::log10(gain)
+              << " dB to -1 dBFS\n";
+  }
+  writeAudioFile(args.value("out", ""), out, SampleEncoding::kFloat32);
+  std::cout << "wrote " << args.value("out", "") << ": " << out.durationS() << " s, binaural, a listener walking "
+            << poses.size() << " poses over " << poses.back().t_s - poses.front().t_s << " s\n";
+  return 0;
+}
+
 int runRender(const std::vector<std::string>& raw) {
-  const Arguments args(raw, {"source", "bformat-rir", "format", "ambisonic-rir", "rsao", "hrtf", "decoder", "yaw", "out"},
+  std::vector<std::string> rest = raw;
+  const std::optional<Eigen::Vector3d> rig = takeVector(rest, "rig");
+  const Arguments args(rest,
+                       {"source", "bformat-rir", "format", "ambisonic-rir", "rsao", "hrtf", "decoder", "yaw", "out",
+                        "poses", "room"},
                        {});
   if (!args.positional().empty()) throw UsageError("unexpected argument '" + args.positional().front() + "'");
   if (!args.has("source")) throw UsageError("--source DRY.wav is required");
@@ -82,6 +136,8 @@ int runRender(const std::vector<std::string>& raw) {
   if (int(args.has("bformat-rir")) + int(args.has("ambisonic-rir")) + int(args.has("rsao")) != 1) {
     throw UsageError("give exactly one of --bformat-rir, --ambisonic-rir and --rsao");
   }
+  if (args.has("poses")) return runWalk(args, rig);
+  if (rig || args.has("room")) throw UsageError("--room and --rig go with --poses");
   const double yaw_deg = args.doubleValue("yaw", 0.0);
   if (!std::isfinite(yaw_deg)) throw UsageError("--yaw must be a finite number of degrees");
   const DecoderMethod method = parseDecoderMethod(args.value("decoder", "magls"));

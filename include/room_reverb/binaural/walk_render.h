@@ -1,0 +1,47 @@
+#pragma once
+// A listener walking through a measured room, rendered offline: the binaural_renderer
+// node's stream (the RSAO's late part convolved, its direct sound and early reflections
+// as taps moved to the listener every block, the head turned by the pose), run on a file
+// of poses instead of live topics, so that a walk can be heard, compared and repeated.
+//
+// Pose file (CSV): a header `t_s,x_m,y_m,z_m,qx,qy,qz,qw`, then one row per pose: time [s,
+// increasing], position [m, room frame], orientation (a quaternion, normalised on
+// reading). Between rows the position moves linearly and the orientation by slerp; before
+// the first row and after the last the pose holds.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "room_reverb/audio/audio_buffer.h"
+#include "room_reverb/binaural/binaural_decoder.h"
+#include "room_reverb/binaural/reflection_tap_bank.h"
+#include "room_reverb/rsao/listener_translation.h"
+
+namespace room_reverb::core {
+
+struct ListenerPose {
+  double t_s = 0.0;
+  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+};
+
+// InputError naming the line for a missing or wrong header, a row without eight numbers,
+// a non-finite value, a quaternion of zero length, times that do not increase, or no row.
+std::vector<ListenerPose> parsePoseCsv(const std::string& text);
+std::vector<ListenerPose> loadPoseCsv(const std::string& path);
+
+// The pose at `t_s` (see above). `poses` must not be empty.
+ListenerPose poseAt(const std::vector<ListenerPose>& poses, double t_s);
+
+// The taps' targets for a listener at `listener_m`: every reflection of `translation`,
+// silent where it is not heard there. Throws InputError as ListenerTranslation::at does.
+std::vector<TapTarget> tapTargetsAt(const ListenerTranslation& translation, const Eigen::Vector3d& listener_m);
+
+// `dry`: mono at 48 kHz. The output (left, right, 48 kHz) is the dry sound's length plus
+// the late part's. Throws InputError for a listener position the translation refuses.
+AudioBuffer renderWalk(const AudioBuffer& dry, const ListenerTranslation& translation, const BinauralDecoder& decoder,
+                       const std::vector<ListenerPose>& poses, std::uint32_t seed = 1);
+
+}  // namespace room_reverb::core

@@ -1,0 +1,150 @@
+#include "room_reverb/binaural/walk_render.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+#include "room_reverb/ambisonics/rotation.h"
+#include "room_reverb/binaural/binaural_stream.h"
+#include "room_reverb/common/error.h"
+#include "room_reverb/common/text_file.h"
+#include "room_reverb/rsao/reflection_tap.h"
+#include "room_reverb/rsao/rsao_resynthesis.h"
+
+namespace room_reverb::core {
+namespace {
+
+constexpr const char* kPoseHeader = "t_s,x_m,y_m,z_m,qx,qy,qz,qw";
+constexpr std::size_t kBlock = 256;
+
+std::string trimmed(const std::string& s) {
+  const auto begin = s.find_first_not_of(" \t\r");
+  if (begin == std::string::npos) return "";
+  return s.substr(begin, s.find_last_not_of(" \t\r") - begin + 1);
+}
+
+}  // namespace
+
+std::vector<ListenerPose> parsePoseCsv(const std::string& text) {
+  std::istringstream lines(text);
+  std::string line;
+  std::size_t number = 0;
+  std::vector<ListenerPose> poses;
+  bool header = false;
+  while (std::getline(lines, line)) {
+    ++number;
+    line = trimmed(line);
+    if (line.empty()) continue;
+    const std::string where = "pose file line " + std::to_string(number);
+    if (!header) {
+      std::string compact;
+      for (char c : line) {
+        if (c != ' ' && c != '\t') compact += c;
+      }
+      if (compact != kPoseHeader) throw InputError(where + ": the header must be " + kPoseHeader + ", got '" + line + "'");
+      header = true;
+      continue;
+    }
+    std::vector<double> v;
+    std::istringstream cells(line);
+    for (std::string cell; std::getline(cells, cell, ',');) {
+      cell = trimmed(cell);
+      char* end = nullptr;
+      const double x = std::strtod(cell.c_str(), &end);
+      if (cell.empty() || *end != '\0') throw InputError(where + ": '" + cell + "' is not a number");
+      if (!std::isfinite(x)) throw InputError(where + ": '" + cell + "' is not finite");
+      v.push_back(x);
+    }
+    if (v.size() != 8) throw InputError(where + ": 8 values expected (" + kPoseHeader + "), got " + std::to_string(v.size()));
+    ListenerPose pose;
+    pose.t_s = v[0];
+    pose.position_m = {v[1], v[2], v[3]};
+    const Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
+    if (q.norm() < 1e-9) throw InputError(where + ": the orientation quaternion has zero length");
+    pose.orientation = q.normalized();
+    if (!poses.empty() && !(pose.t_s > poses.back().t_s)) {
+      throw InputError(where + ": times must increase (" + std::to_string(pose.t_s) + " s after " +
+                       std::to_string(poses.back().t_s) + " s)");
+    }
+    poses.push_back(pose);
+  }
+  if (!header) throw InputError(std::string("pose file: empty; it needs the header ") + kPoseHeader + " and a row");
+  if (poses.empty()) throw InputError("pose file: no pose after the header");
+  return poses;
+}
+
+std::vector<ListenerPose> loadPoseCsv(const std::string& path) {
+  const std::string text = readTextFile(path, "pose file");
+  try {
+    return parsePoseCsv(text);
+  } catch (const InputError& e) {
+    throw InputError(path + ": " + e.what());
+  }
+}
+
+ListenerPose poseAt(const std::vector<ListenerPose>& poses, double t_s) {
+  if (t_s <= poses.front().t_s) return poses.front();
+  if (t_s >= poses.back().t_s) return poses.back();
+  const auto after = std::upper_bound(poses.begin(), poses.end(), t_s,
+                                      [](double t, const ListenerPose& p) { return t < p.t_s; });
+  const ListenerPose& b = *after;
+  const ListenerPose& a = *(after - 1);
+  const double u = (t_s - a.t_s) / (b.t_s - a.t_s);
+  ListenerPose pose;
+  pose.t_s = t_s;
+  pose.position_m = a.position_m + u * (b.position_m - a.position_m);
+  pose.orientation = a.orientation.slerp(u, b.orientation);
+  return pose;
+}
+
+std::vector<TapTarget> tapTargetsAt(const ListenerTranslation& translation, const Eigen::Vector3d& listener_m) {
+  std::vector<TapTarget> targets;
+  for (const HeardReflection& h : translation.reflectionsAt(listener_m)) {
+    targets.push_back({h.reflection.time_of_arrival_s, h.heard ? h.reflection.level : 0.0,
+                       reflectionDirection(h.reflection)});
+  }
+  return targets;
+}
+
+AudioBuffer renderWalk(const AudioBuffer& dry, const ListenerTranslation& translation, const BinauralDecoder& decoder,
+                       const std::vector<ListenerPose>& poses, std::uint32_t seed) {
+  if (poses.empty()) throw InputError("walk render: no pose");
+  if (dry.channelCount() != 1 || dry.sample_rate_hz != kInternalSampleRateHz) {
+    throw InputError("walk render: the dry source must be mono at 48000 Hz");
+  }
+  ResynthesisOptions late_only;
+  late_only.seed = seed;
+  late_only.include_early = false;
+  const AudioBuffer late = resynthesizeRsao(translation.measured(), late_only);
+  BinauralStreamOptions options;
+  options.block_size = kBlock;
+  options.max_response_s = std::max(late.durationS(), 0.01);
+  BinauralStream stream(decoder, options);
+  stream.setRoom(late);
+  ReflectionTapBankOptions tap_options;
+  tap_options.order = decoder.order;
+  tap_options.block_size = kBlock;
+  tap_options.max_delay_s = 1.0;
+  stream.setEarlyTaps(std::make_unique<ReflectionTapBank>(translation.reflectionsAtRig(), tap_options));
+
+  const std::size_t frames = dry.frameCount() + late.frameCount();
+  const std::size_t blocks = (frames + kBlock - 1) / kBlock;
+  AudioBuffer out = makeSilentBuffer(2, blocks * kBlock, kInternalSampleRateHz);
+  std::vector<float> block(kBlock);
+  for (std::size_t b = 0; b < blocks; ++b) {
+    // The pose at the end of the block: the taps glide to it across the block.
+    const ListenerPose pose = poseAt(poses, static_cast<double>((b + 1) * kBlock) / kInternalSampleRateHz);
+    stream.earlyTaps()->setTargets(tapTargetsAt(translation, pose.position_m));
+    stream.setHeadOrientation(pose.orientation);
+    for (std::size_t n = 0; n < kBlock; ++n) {
+      const std::size_t i = b * kBlock + n;
+      block[n] = i < dry.frameCount() ? dry.channels[0][i] : 0.0f;
+    }
+    stream.process(block.data(), out.channels[0].data() + b * kBlock, out.channels[1].data() + b * kBlock);
+  }
+  for (auto& channel : out.channels) channel.resize(frames);
+  return out;
+}
+
+}  // namespace room_reverb::core

@@ -1,0 +1,133 @@
+// A listener walking through a walkable RSAO, offline (binaural/walk_render.h): the pose
+// file, its interpolation, a walk towards the source heard louder, and the command line.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "reflection_rooms.h"
+#include "room_reverb/ambisonics/bformat.h"
+#include "room_reverb/audio/audio_file.h"
+#include "room_reverb/binaural/walk_render.h"
+#include "room_reverb/common/error.h"
+#include "room_reverb/rsao/rsao_estimator.h"
+#include "room_reverb/rsao/rsao_yaml.h"
+#include "spherical_head.h"
+#include "synthetic_rir.h"
+#include "test_files.h"
+#include "tool_run.h"
+
+using namespace room_reverb::core;
+using room_reverb::test::expectOneLineError;
+using room_reverb::test::runTool;
+using room_reverb::test::tempPath;
+
+namespace {
+
+constexpr double kFs = 48000.0;
+
+TEST(PoseFile, ParsesRowsAndInterpolates) {
+  const auto poses = parsePoseCsv("t_s, x_m, y_m, z_m, qx, qy, qz, qw\n0,1,2,1.5,0,0,0,1\n\n2,3,2,1.5,0,0,0.7071068,0.7071068\n");
+  ASSERT_EQ(poses.size(), 2u);
+  const ListenerPose half = poseAt(poses, 1.0);
+  EXPECT_NEAR((half.position_m - Eigen::Vector3d(2.0, 2.0, 1.5)).norm(), 0.0, 1e-12);
+  // Halfway through a quarter turn about z: 45 degrees.
+  EXPECT_NEAR(half.orientation.angularDistance(Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 4.0, Eigen::Vector3d::UnitZ()))),
+              0.0, 1e-6);
+  EXPECT_EQ(poseAt(poses, -5.0).position_m, poses.front().position_m);
+  EXPECT_EQ(poseAt(poses, 50.0).position_m, poses.back().position_m);
+}
+
+TEST(PoseFile, BadFilesAreRefusedInOneLineNamingTheLine) {
+  const std::string header = "t_s,x_m,y_m,z_m,qx,qy,qz,qw\n";
+  const auto refused = [](const std::string& text, const std::string& fragment) {
+    try {
+      parsePoseCsv(text);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const InputError& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find(fragment), std::string::npos) << message;
+      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    }
+  };
+  refused("", "empty");
+  refused("time,x,y,z\n0,1,1,1\n", "the header must be");
+  refused(header, "no pose");
+  refused(header + "0,1,1,1,0,0,0\n", "line 2: 8 values expected");
+  refused(header + "0,1,1,one,0,0,0,1\n", "'one' is not a number");
+  refused(header + "0,1,1,nan,0,0,0,1\n", "not finite");
+  refused(header + "0,1,1,1,0,0,0,0\n", "zero length");
+  refused(header + "1,1,1,1,0,0,0,1\n1,2,1,1,0,0,0,1\n", "line 3: times must increase");
+}
+
+// The estimated RSAO of a synthetic room and its model.
+struct WalkableRoom {
+  room_reverb::test::ReflectionRoom room = room_reverb::test::reflectionRoom(room_reverb::test::ReflectionRoomSet::kDevelopment, 0);
+  RoomModel model = room_reverb::test::roomModelOf(room.geometry);
+  ListenerTranslation translation{estimateRsao(room.ambix, AmbisonicFormat::kAmbiX), room.geometry.receiver_m,
+                                  Eigen::Quaterniond::Identity(), model};
+};
+
+double meanSquare(const AudioBuffer& b, double from_s, double to_s) {
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (const auto& channel : b.channels) {
+    for (auto i = static_cast<std::size_t>(from_s * kFs); i < static_cast<std::size_t>(to_s * kFs); ++i, ++n) {
+      sum += static_cast<double>(channel[i]) * channel[i];
+    }
+  }
+  return sum / static_cast<double>(n);
+}
+
+TEST(WalkRender, WalkingTowardsTheSourceIsHeardLouderAndTheOutputIsWhole) {
+  const WalkableRoom w;
+  const Eigen::Vector3d rig = w.room.geometry.receiver_m, source = w.room.geometry.source_m;
+  const double length = (source - rig).norm() - 0.7;
+  const Eigen::Vector3d near = rig + length * (source - rig).normalized();
+  std::vector<ListenerPose> poses(2);
+  poses[0].t_s = 1.0;
+  poses[0].position_m = rig;
+  poses[1].t_s = 1.0 + length;  // 1 m/s
+  poses[1].position_m = near;
+  AudioBuffer dry = makeSilentBuffer(1, static_cast<std::size_t>((length + 2.0) * kFs), kFs);
+  dry.channels[0] = room_reverb::test::whiteNoise(dry.frameCount(), 3);
+  const AudioBuffer out = renderWalk(dry, w.translation, room_reverb::test::sphericalHeadDecoder(3), poses);
+  ASSERT_EQ(out.channelCount(), 2u);
+  EXPECT_GE(out.durationS(), dry.durationS());
+  for (const auto& channel : out.channels)
+    for (float v : channel) ASSERT_TRUE(std::isfinite(v));
+  // The direct sound alone rises by 20 log10(d / 0.7 m).
+  const double gain_db = 10.0 * std::log10(meanSquare(out, length + 1.2, length + 1.9) / meanSquare(out, 0.2, 0.9));
+  EXPECT_GT(gain_db, 3.0) << gain_db;
+  EXPECT_THROW(renderWalk(dry, w.translation, room_reverb::test::sphericalHeadDecoder(3), {}), InputError);
+}
+
+TEST(WalkRender, TheCommandLineWalksAPoseFile) {
+  const WalkableRoom w;
+  const std::string rsao = tempPath("walk_rsao.yaml").string();
+  saveRsaoYaml(rsao, w.translation.measured());
+  const std::string room = tempPath("walk_room.yaml").string();
+  saveRoomModel(room, w.model);
+  const std::string poses = tempPath("walk_poses.csv").string();
+  const Eigen::Vector3d rig = w.room.geometry.receiver_m;
+  std::ofstream(poses) << "t_s,x_m,y_m,z_m,qx,qy,qz,qw\n0," << rig.x() << "," << rig.y() << "," << rig.z()
+                       << ",0,0,0,1\n1," << rig.x() + 0.5 << "," << rig.y() << "," << rig.z() << ",0,0,0.3826834,0.9238795\n";
+  const std::string dry = std::string(ROOM_REVERB_SOURCE_DIR) + "/data/dry/speech.wav";
+  const std::string out = tempPath("walk.wav").string();
+  const auto run = runTool("render --source " + dry + " --rsao " + rsao + " --room " + room + " --poses " + poses +
+                           " --out " + out);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("a listener walking 2 poses"), std::string::npos) << run.out;
+  EXPECT_EQ(readAudioFile(out).channelCount(), 2u);
+
+  const std::string base = "render --source " + dry + " --out " + out;
+  expectOneLineError(runTool(base + " --bformat-rir " + dry + " --format fuma --poses " + poses), "--poses needs --rsao");
+  expectOneLineError(runTool(base + " --rsao " + rsao + " --poses " + poses), "--room ROOM.yaml or --rig X Y Z");
+  expectOneLineError(runTool(base + " --rsao " + rsao + " --room " + room), "go with --poses");
+  expectOneLineError(runTool(base + " --rsao " + rsao + " --room " + room + " --poses /nonexistent/poses.csv"), "poses.csv");
+  const std::string outside = tempPath("walk_outside.csv").string();
+  std::ofstream(outside) << "t_s,x_m,y_m,z_m,qx,qy,qz,qw\n0,-3,1,1,0,0,0,1\n";
+  expectOneLineError(runTool(base + " --rsao " + rsao + " --room " + room + " --poses " + outside), "the listener");
+}
+
+}  // namespace
