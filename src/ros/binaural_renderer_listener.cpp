@@ -76,6 +76,7 @@ void BinauralRendererServer::onListenerPose(const geometry_msgs::PoseStamped::Co
     std::lock_guard<std::mutex> lock(mutex_);
     pending_head_ = head;
     pending_position_ = position;
+    last_listener_position_ = position;
   } catch (const std::exception& e) {
     {
       std::lock_guard<std::mutex> lock(mutex_);

@@ -4,6 +4,7 @@
 #include <time.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 
 #include "room_reverb/ambisonics/rotation.h"
@@ -207,10 +208,12 @@ bool BinauralRendererServer::renderToFile(room_reverb::RenderToFile::Request& re
         all_zero ? Eigen::Quaterniond::Identity() : core::validatedRotation(Eigen::Quaterniond(q.w, q.x, q.y, q.z));
 
     std::shared_ptr<const StreamRoom> room;
+    std::optional<Eigen::Vector3d> listener;
     if (request.current_room) {
       std::lock_guard<std::mutex> lock(mutex_);
       room = current_room_;
       if (!room) throw core::InputError("current_room: the stream has no room yet");
+      listener = last_listener_position_;
     } else if (!request.bformat_rir_file.empty()) {
       if (request.format != "fuma" && request.format != "ambix") {
         throw core::InputError("format must be \"fuma\" or \"ambix\" with bformat_rir_file");
@@ -221,6 +224,15 @@ bool BinauralRendererServer::renderToFile(room_reverb::RenderToFile::Request& re
       room = std::make_shared<const StreamRoom>(roomFromFile(request.ambisonic_rir_file, "ambix", rsao_seed_));
     } else {
       room = std::make_shared<const StreamRoom>(roomFromFile(request.rsao_file, "rsao", rsao_seed_));
+    }
+    if (room->translation) {
+      // A walkable room: the RSAO as heard where the listener stands now (the microphone
+      // until a pose arrives), resynthesised whole.
+      const Eigen::Vector3d at = listener ? *listener : room->translation->rigPosition();
+      char where[96];
+      std::snprintf(where, sizeof where, " heard at (%.2f, %.2f, %.2f) m", at.x(), at.y(), at.z());
+      room = std::make_shared<const StreamRoom>(
+          roomFromRsao(room->translation->at(at), rsao_seed_, room->description + where));
     }
     const core::AudioBuffer source = core::toInternalRate(core::mixToMono(core::readAudioFile(request.source_file)));
     const core::BinauralRender render =

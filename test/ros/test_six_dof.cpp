@@ -8,12 +8,16 @@
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <room_reverb/AudioBuffer.h>
+#include <room_reverb/RenderToFile.h>
 #include <room_reverb/RoomModel.h>
 #include <room_reverb/Rsao.h>
 #include <room_reverb/StreamStatus.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <cstdio>
 #include <mutex>
 #include <random>
 #include <vector>
@@ -174,6 +178,16 @@ TEST(SixDof, AListenerWalkingTowardsTheSourceHearsItLouderWithoutAGap) {
   const Eigen::Vector3d heard(after.listener_position.x, after.listener_position.y, after.listener_position.z);
   EXPECT_LT((heard - (rig + length * towards)).norm(), 1e-6);
   EXPECT_EQ(after.listener_positions_clamped, 0u);
+
+  // What the listener hears there, rendered to a file: the RSAO moved to the listener.
+  room_reverb::RenderToFile render;
+  render.request.source_file = std::string(ROOM_REVERB_SOURCE_DIR) + "/data/dry/speech.wav";
+  render.request.output_file = "/tmp/room_reverb_six_dof_" + std::to_string(getpid()) + ".wav";
+  render.request.current_room = true;
+  ASSERT_TRUE(ros::service::call(kNs + "render_to_file", render));
+  EXPECT_TRUE(render.response.success) << render.response.message;
+  EXPECT_NE(render.response.message.find("heard at"), std::string::npos) << render.response.message;
+  std::remove(render.request.output_file.c_str());
 
   // Outside the room: heard at its edge, counted; a malformed pose: ignored, counted.
   walker.walk(0.2, [&](double) { return Eigen::Vector3d(-5.0, 1.0, 1.5); });

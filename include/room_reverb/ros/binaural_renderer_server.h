@@ -126,6 +126,7 @@ class BinauralRendererServer {
   std::shared_ptr<const StreamRoom> current_room_;
   std::optional<Eigen::Quaterniond> pending_head_;
   std::optional<Eigen::Vector3d> pending_position_;
+  std::optional<Eigen::Vector3d> last_listener_position_;  // for ~render_to_file
   std::shared_ptr<const core::RoomModel> walkable_room_;
   std::optional<std::pair<core::Rsao, std::string>> last_rsao_;
   std::uint64_t rsao_generation_ = 0;
