@@ -5,6 +5,7 @@
 // (other seeds and shapes, a reflector panel) are only scored, in the report.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -17,7 +18,10 @@
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/quantile.h"
 #include "room_reverb/rsao/listener_translation.h"
+#include "room_reverb/audio/band_filter_bank.h"
+#include "room_reverb/audio/frequency_bands.h"
 #include "room_reverb/rsao/rsao_estimator.h"
+#include "room_reverb/rsao/rsao_resynthesis.h"
 
 using namespace room_reverb::core;
 using room_reverb::test::ImageArrival;
@@ -94,14 +98,67 @@ int withinBoth(const ReflectionScore& s) {
   return n;
 }
 
+// Early energy per octave 125 Hz-4 kHz (W, from 1 ms before the direct sound to 50 ms
+// after it) and the direct-to-reverberant ratio (W energy up to 2.5 ms after the direct
+// sound over the rest) of a first-order AmbiX RIR, in dB.
+struct EarlyLevels {
+  std::vector<double> early_db;
+  double drr_db = 0.0;
+};
+
+EarlyLevels earlyLevels(const AudioBuffer& ambix, double direct_s) {
+  static const BandFilterBank bank = [] {
+    std::vector<FrequencyBand> bands;
+    for (const FrequencyBand& b : standardBands(BandResolution::kOctave)) {
+      if (b.nominal_hz >= 125.0 && b.nominal_hz <= 4000.0) bands.push_back(b);
+    }
+    return BandFilterBank(bands, 48000.0);
+  }();
+  const std::vector<float>& w = ambix.channels[0];
+  const auto at = [&](double t) { return std::min(w.size(), static_cast<std::size_t>(std::max(0.0, t) * 48000.0)); };
+  EarlyLevels levels;
+  for (const std::vector<float>& band : bank.split(w)) {
+    double e = 0.0;
+    for (std::size_t n = at(direct_s - 0.001); n < at(direct_s + 0.050); ++n) e += static_cast<double>(band[n]) * band[n];
+    levels.early_db.push_back(10.0 * std::log10(e + 1e-30));
+  }
+  double direct = 0.0, rest = 0.0;
+  for (std::size_t n = 0; n < w.size(); ++n) {
+    (n < at(direct_s + 0.0025) ? direct : rest) += static_cast<double>(w[n]) * w[n];
+  }
+  levels.drr_db = 10.0 * std::log10(direct / rest);
+  return levels;
+}
+
+// Level errors of an RSAO against the RIR at its position: per octave band and DRR, dB.
+void addLevelErrors(const Rsao& rsao, const ReflectionRoom& there, std::vector<double>& early, std::vector<double>& drr) {
+  const EarlyLevels truth = earlyLevels(there.ambix, there.images.front().time_s);
+  ResynthesisOptions options;
+  options.duration_s = there.ambix.durationS();
+  const EarlyLevels heard = earlyLevels(resynthesizeRsao(rsao, options), rsao.reflections.front().time_of_arrival_s);
+  for (std::size_t b = 0; b < truth.early_db.size(); ++b) early.push_back(heard.early_db[b] - truth.early_db[b]);
+  drr.push_back(heard.drr_db - truth.drr_db);
+}
+
 struct MovedScore {
   ReflectionScore moved, still, own;  // vs the truth at the new position
+  // Level errors at the new positions, dB: early energy per octave and DRR, of the moved
+  // RSAO and of the RSAO left at the capture point.
+  std::vector<double> moved_early_db, moved_drr_db, still_early_db, still_drr_db;
+  // The floor: the RSAO against the RIR it was estimated from, at the capture point.
+  std::vector<double> capture_early_db, capture_drr_db;
   int surface = 0, unmatched = 0, modelled = 0;  // the reflections at the capture point, by anchor
 
   void add(const MovedScore& o) {
     moved.add(o.moved);
     still.add(o.still);
     own.add(o.own);
+    for (auto [to, from] : {std::pair{&moved_early_db, &o.moved_early_db}, std::pair{&moved_drr_db, &o.moved_drr_db},
+                            std::pair{&still_early_db, &o.still_early_db}, std::pair{&still_drr_db, &o.still_drr_db},
+                            std::pair{&capture_early_db, &o.capture_early_db},
+                            std::pair{&capture_drr_db, &o.capture_drr_db}}) {
+      to->insert(to->end(), from->begin(), from->end());
+    }
     surface += o.surface;
     unmatched += o.unmatched;
     modelled += o.modelled;
@@ -112,7 +169,7 @@ struct MovedScore {
 // The estimator's RSAO at the capture point moved to each listener offset, scored against
 // the truth there; beside it the RSAO left where it was measured, and the estimator's own
 // RSAO of the RIR at the new position.
-MovedScore scoreMovedRoom(ReflectionRoomSet set, std::size_t index, std::size_t offsets) {
+MovedScore scoreMovedRoom(ReflectionRoomSet set, std::size_t index, std::size_t offsets, bool levels = false) {
   const ReflectionRoom capture = reflectionRoom(set, index);
   const Rsao measured = estimateRsao(capture.ambix, AmbisonicFormat::kAmbiX);
   const ListenerTranslation translation(measured, capture.geometry.receiver_m, Eigen::Quaterniond::Identity(),
@@ -124,10 +181,16 @@ MovedScore scoreMovedRoom(ReflectionRoomSet set, std::size_t index, std::size_t 
     score.unmatched += anchor == ReflectionAnchor::kUnmatched;
     score.modelled += anchor == ReflectionAnchor::kModelled;
   }
+  if (levels) addLevelErrors(measured, capture, score.capture_early_db, score.capture_drr_db);
   for (const Eigen::Vector3d& offset : listenerOffsets(capture.geometry, offsets, 1000 + static_cast<std::uint32_t>(index))) {
     const ReflectionRoom there = reflectionRoom(set, index, offset);
     MovedScore one;
-    one.moved = scoreReflections(there, translation.at(there.geometry.receiver_m).reflections);
+    const Rsao moved = translation.at(there.geometry.receiver_m);
+    one.moved = scoreReflections(there, moved.reflections);
+    if (levels) {
+      addLevelErrors(moved, there, one.moved_early_db, one.moved_drr_db);
+      addLevelErrors(measured, there, one.still_early_db, one.still_drr_db);
+    }
     one.still = scoreReflections(there, measured.reflections);
     one.own = scoreReflections(there, estimateRsao(there.ambix, AmbisonicFormat::kAmbiX).reflections);
     score.add(one);
@@ -146,8 +209,28 @@ std::string describe(const MovedScore& s) {
   std::snprintf(anchors, sizeof anchors,
                 "  reflections at the capture point: measured on a surface %d, measured unmatched %d, modelled %d",
                 s.surface, s.unmatched, s.modelled);
-  return line("moved:", s.moved) + line("left at the capture point:", s.still) +
-         line("estimated at the new position:", s.own) + anchors;
+  std::string text = line("moved:", s.moved) + line("left at the capture point:", s.still) +
+                     line("estimated at the new position:", s.own) + anchors;
+  const auto levels = [](const char* what, const std::vector<double>& early, const std::vector<double>& drr) {
+    if (early.empty()) return std::string();
+    std::vector<double> abs_early, abs_drr;
+    for (double v : early) abs_early.push_back(std::abs(v));
+    for (double v : drr) abs_drr.push_back(std::abs(v));
+    const auto within = [](const std::vector<double>& v) {
+      return 100.0 * static_cast<double>(std::count_if(v.begin(), v.end(), [](double x) { return x <= 1.0; })) /
+             static_cast<double>(v.size());
+    };
+    char text[300];
+    std::snprintf(text, sizeof text,
+                  "\n  %-30s early energy per octave 125 Hz-4 kHz: |error| median %.2f dB, p90 %.2f dB, %.0f %% within 1 dB; "
+                  "DRR: |error| median %.2f dB, p90 %.2f dB, %.0f %% within 1 dB",
+                  what, quantileLinear(abs_early, 0.5), quantileLinear(abs_early, 0.9), within(abs_early),
+                  quantileLinear(abs_drr, 0.5), quantileLinear(abs_drr, 0.9), within(abs_drr));
+    return std::string(text);
+  };
+  return text + levels("levels at the capture point:", s.capture_early_db, s.capture_drr_db) +
+         levels("levels, moved:", s.moved_early_db, s.moved_drr_db) +
+         levels("levels, left at the capture:", s.still_early_db, s.still_drr_db);
 }
 
 TEST(ListenerTranslation, ExactImageSourcesMoveToTheTruthAtTheNewPosition) {
@@ -406,7 +489,7 @@ TEST(ListenerTranslationReport, BothSets) {
   for (const ReflectionRoomSet set : {ReflectionRoomSet::kDevelopment, ReflectionRoomSet::kHeldOut}) {
     if (set == ReflectionRoomSet::kHeldOut && std::getenv("ROOM_REVERB_DEVELOPMENT_ONLY")) continue;
     MovedScore total;
-    for (std::size_t i = 0; i < reflectionRoomCount(set); ++i) total.add(scoreMovedRoom(set, i, 4));
+    for (std::size_t i = 0; i < reflectionRoomCount(set); ++i) total.add(scoreMovedRoom(set, i, 4, true));
     std::printf("%s rooms, 4 listener positions 0.5-2 m from the capture point each:\n%s\n",
                 set == ReflectionRoomSet::kDevelopment ? "development" : "held-out", describe(total).c_str());
   }
