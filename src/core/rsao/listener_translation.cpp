@@ -9,6 +9,7 @@
 #include "room_reverb/acoustics/image_sources.h"
 #include "room_reverb/acoustics/room_shape.h"
 #include "room_reverb/common/error.h"
+#include "room_reverb/rsao/reflection_tap.h"
 
 namespace room_reverb::core {
 namespace {
@@ -21,11 +22,6 @@ std::string formatPoint(const Eigen::Vector3d& p) {
   os.precision(3);
   os << "(" << p.x() << ", " << p.y() << ", " << p.z() << ") m";
   return os.str();
-}
-
-Eigen::Vector3d unitDirection(const EarlyReflection& r) {
-  return {std::cos(r.elevation_rad) * std::cos(r.azimuth_rad), std::cos(r.elevation_rad) * std::sin(r.azimuth_rad),
-          std::sin(r.elevation_rad)};
 }
 
 void setDirection(EarlyReflection& r, const Eigen::Vector3d& direction) {
@@ -151,7 +147,7 @@ ListenerTranslation::ListenerTranslation(Rsao measured, const Eigen::Vector3d& r
 
   const double c = options_.speed_of_sound_m_s;
   const EarlyReflection& direct = measured_.reflections.front();
-  source_m_ = rig_m_ + rig_rotation_ * (direct.distance_m * unitDirection(direct));
+  source_m_ = rig_m_ + rig_rotation_ * (direct.distance_m * reflectionDirection(direct));
   time_offset_s_ = direct.time_of_arrival_s - direct.distance_m / c;
 
   reflections_ = measured_.reflections;
@@ -160,7 +156,7 @@ ListenerTranslation::ListenerTranslation(Rsao measured, const Eigen::Vector3d& r
     const EarlyReflection& r = measured_.reflections[k];
     AnchoredReflection& a = anchors_[k];
     a.anchor = k == 0 ? ReflectionAnchor::kSource : ReflectionAnchor::kUnchecked;
-    a.image_source_m = rig_m_ + rig_rotation_ * (r.distance_m * unitDirection(r));
+    a.image_source_m = rig_m_ + rig_rotation_ * (r.distance_m * reflectionDirection(r));
     a.rig_distance_m = r.distance_m;
   }
   if (!room) return;
