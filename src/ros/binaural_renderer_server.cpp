@@ -96,6 +96,7 @@ BinauralRendererServer::BinauralRendererServer(::ros::NodeHandle& nh, ::ros::Nod
   room_model_sub_ = private_nh.subscribe("room_model", 1, &BinauralRendererServer::onRoomModel, this);
   render_server_ = private_nh.advertiseService("render_to_file", &BinauralRendererServer::renderToFile, this);
   simulator_ = nh_.serviceClient<room_reverb::SimulateRoom>(simulator_service_);
+  setUpJack(private_nh);
 }
 
 BinauralRendererServer::~BinauralRendererServer() { stop(); }
@@ -106,6 +107,7 @@ void BinauralRendererServer::start() {
 }
 
 void BinauralRendererServer::stop() {
+  jack_timer_.stop();
   running_ = false;
   if (audio_thread_.joinable()) audio_thread_.join();
 }

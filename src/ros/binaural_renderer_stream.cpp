@@ -40,13 +40,15 @@ void BinauralRendererServer::audioLoop() {
   cpu_thread_mark_ = cpuSeconds(CLOCK_THREAD_CPUTIME_ID);
   cpu_process_mark_ = cpuSeconds(CLOCK_PROCESS_CPUTIME_ID);
   while (running_ && ::ros::ok()) {
-    const double now = ::ros::Time::now().toSec();
+    takeJack();
+    const double now = streamClock();
     const core::StreamPacer::Step step = pacer_->next(now);
     if (step.kind == core::StreamPacer::Step::kWait) {
       // On the wall clock, sleep until the chunk is due (at most 50 ms, to notice shutdown).
       // Under simulated time the clock may stop, jump or run at another rate: poll it in
-      // 2 ms wall-clock steps.
-      const double cap_s = ::ros::Time::isSimTime() ? 0.002 : 0.05;
+      // 2 ms wall-clock steps. The card's clock advances a period at a time: poll it in
+      // 5 ms steps at most.
+      const double cap_s = jack_ ? 0.005 : ::ros::Time::isSimTime() ? 0.002 : 0.05;
       const double wait_s = std::clamp(step.until - now, 0.0001, cap_s);
       ::ros::WallDuration(wait_s).sleep();
       continue;
@@ -68,9 +70,10 @@ void BinauralRendererServer::audioLoop() {
     const std::uint64_t index = pacer_->chunkIndex();
     const ::ros::Time stream_start(pacer_->startTime());
     chunk_message_.header.stamp = stream_start + ::ros::Duration(static_cast<double>(index) * chunk_period_s);
+    if (jack_) jack_->write(left_.data(), right_.data(), left_.size());
     binaural_publisher_.publish(chunk_message_);
     const std::uint64_t late_before = pacer_->counters().late;
-    pacer_->published(::ros::Time::now().toSec());
+    pacer_->published(streamClock());
     if (pacer_->counters().late > late_before) {
       ROS_WARN_THROTTLE(5.0, "binaural_renderer: chunk %llu was published late",
                         static_cast<unsigned long long>(index));
@@ -174,6 +177,13 @@ void BinauralRendererServer::publishStatus() {
     status.orientations_rejected = counters_.orientations_rejected;
     status.listener_positions_clamped = counters_.listener_positions_clamped;
     status.last_message = counters_.last_message;
+    status.jack_output = jack_state_;
+  }
+  status.jack_underrun_frames = jack_counts_before_.underrun_frames;
+  status.jack_overflow_frames = jack_counts_before_.overflow_frames;
+  if (jack_) {
+    status.jack_underrun_frames += jack_->counters().underrun_frames;
+    status.jack_overflow_frames += jack_->counters().overflow_frames;
   }
   // Processor time over stream time since the last status.
   const double thread_cpu = cpuSeconds(CLOCK_THREAD_CPUTIME_ID);

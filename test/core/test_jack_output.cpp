@@ -9,6 +9,8 @@
 #include <random>
 #include <thread>
 
+#include <unistd.h>
+
 #include "jack_server.h"
 #include "room_reverb/audio/jack_output.h"
 #include "test_files.h"
@@ -17,6 +19,7 @@ namespace room_reverb::core {
 namespace {
 
 using test::DummyJackServer;
+using test::findExact;
 using test::JackRecorder;
 
 constexpr double kStreamRate = 48000.0;
@@ -44,16 +47,6 @@ void playPaced(JackOutput& output, const std::vector<float>& left, const std::ve
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(50));
-}
-
-// Where `needle` starts inside `haystack`, by exact equality of every sample; -1 if nowhere.
-long findExact(const std::vector<float>& haystack, const std::vector<float>& needle) {
-  for (std::size_t start = 0; start + needle.size() <= haystack.size(); ++start) {
-    if (std::equal(needle.begin(), needle.end(), haystack.begin() + static_cast<std::ptrdiff_t>(start))) {
-      return static_cast<long>(start);
-    }
-  }
-  return -1;
 }
 
 std::vector<float> noise(std::size_t n, unsigned seed) {
@@ -125,7 +118,7 @@ TEST(JackOutput, ClockFollowsTheServer) {
 }
 
 TEST(JackOutput, ResamplesToAServerAtAnotherRate) {
-  DummyJackServer server(44100.0, 256, "_44k");
+  DummyJackServer server(44100.0, 256, "room_reverb_test_" + std::to_string(::getpid()) + "_44k");
   ASSERT_TRUE(server.ok());
   JackOutputOptions options;
   options.server_name = server.name();
@@ -181,6 +174,11 @@ TEST(JackOutput, BadOptionsAndAMissingServerGiveOneLine) {
   options.server_name = server.name();
   options.connect = "system:playback_1";
   test::expectInputError([&] { JackOutput output(options); }, {"two ports"});
+  for (const std::string bad : {"a,b,c", ",b", "a, ", "   "}) {
+    test::expectInputError([&] { parseJackConnect(bad); }, {"two ports \"A,B\"", "(got \"" + bad + "\")"});
+  }
+  EXPECT_EQ(parseJackConnect(" a , b "), (std::vector<std::string>{"a", "b"}));
+  EXPECT_TRUE(parseJackConnect("physical").empty());
   options.connect = "system:playback_1,nowhere:in";
   test::expectInputError([&] { JackOutput output(options); }, {"no port \"nowhere:in\""});
   options.connect = "system:capture_1,system:playback_2";

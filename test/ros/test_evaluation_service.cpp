@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <tuple>
 #include <nlohmann/json.hpp>
 
 #include "room_reverb/acoustics/room_model.h"
@@ -18,6 +19,7 @@
 #include "room_reverb/ros/audio_conversions.h"
 #include "room_reverb/ros/room_conversions.h"
 #include "test_files.h"
+#include "tool_run.h"
 
 namespace room_reverb::test {
 namespace {
@@ -263,42 +265,36 @@ TEST_F(EvaluationService, BadInputAnswersWithAReason) {
   EXPECT_TRUE(d.causes.empty());
 }
 
-// Starts a second evaluation node (the binary next to this test's) under `name`, whose
-// private parameters the caller has set on the master; its output and exit status.
-std::string runEvaluationNode(const std::string& name) {
-  const std::string node = (std::filesystem::read_symlink("/proc/self/exe").parent_path() / "evaluation").string();
-  FILE* pipe = popen(("timeout 20 " + node + " __name:=" + name + " 2>&1; echo \"exit $?\"").c_str(), "r");
-  if (pipe == nullptr) return "popen failed";
-  std::string output;
-  char line[512];
-  while (fgets(line, sizeof line, pipe)) output += line;
-  pclose(pipe);
-  return output;
+// A second evaluation node (the binary next to this test's) under `name`, whose private
+// parameters the caller has set on the master: its exit code and its error output.
+std::pair<int, std::string> runEvaluationNode(const std::string& name) {
+  const ToolRun run = runSiblingNode("evaluation", name, 20);
+  return {run.exit_code, run.err};
 }
 
 TEST(EvaluationNode, AnUnknownOrMistypedCauseListStopsTheNodeWithOneLine) {
   ros::param::set("/evaluation_unknown_cause/causes", std::vector<std::string>{"air_absorption", "reverb_gremlins"});
-  std::string output = runEvaluationNode("evaluation_unknown_cause");
+  auto [code, output] = runEvaluationNode("evaluation_unknown_cause");
   EXPECT_NE(output.find("unknown cause 'reverb_gremlins'"), std::string::npos) << output;
-  EXPECT_NE(output.find("exit 2"), std::string::npos) << output;
+  EXPECT_EQ(code, 2) << output;
 
   // One name where a list belongs: refused, not silently replaced by the whole catalogue.
   ros::param::set("/evaluation_cause_string/causes", std::string("air_absorption"));
-  output = runEvaluationNode("evaluation_cause_string");
+  std::tie(code, output) = runEvaluationNode("evaluation_cause_string");
   EXPECT_NE(output.find("parameter ~causes must be a list of strings"), std::string::npos) << output;
-  EXPECT_NE(output.find("exit 2"), std::string::npos) << output;
+  EXPECT_EQ(code, 2) << output;
 
   // A number given as text is refused too.
   ros::param::set("/evaluation_rays_string/diagnosis_rays", std::string("many"));
-  output = runEvaluationNode("evaluation_rays_string");
+  std::tie(code, output) = runEvaluationNode("evaluation_rays_string");
   EXPECT_NE(output.find("parameter ~diagnosis_rays must be an integer"), std::string::npos) << output;
-  EXPECT_NE(output.find("exit 2"), std::string::npos) << output;
+  EXPECT_EQ(code, 2) << output;
 
   // As is any parameter of another type than its own (typedParam): a flag given as text.
   ros::param::set("/evaluation_flag_string/auto_diagnose", std::string("yes"));
-  output = runEvaluationNode("evaluation_flag_string");
+  std::tie(code, output) = runEvaluationNode("evaluation_flag_string");
   EXPECT_NE(output.find("parameter ~auto_diagnose must be true or false"), std::string::npos) << output;
-  EXPECT_NE(output.find("exit 2"), std::string::npos) << output;
+  EXPECT_EQ(code, 2) << output;
 }
 
 }  // namespace

@@ -32,8 +32,8 @@ jack_client_t* openClient(const std::string& server, const std::string& name) {
 
 }  // namespace
 
-DummyJackServer::DummyJackServer(double rate_hz, std::size_t period_frames, const std::string& tag)
-    : name_("room_reverb_test_" + std::to_string(::getpid()) + tag) {
+DummyJackServer::DummyJackServer(double rate_hz, std::size_t period_frames, const std::string& name)
+    : name_(name.empty() ? "room_reverb_test_" + std::to_string(::getpid()) : name) {
   const std::string log = tempPath("jackd_" + name_ + ".log").string();
   const std::string rate = std::to_string(static_cast<long>(rate_hz));
   const std::string period = std::to_string(period_frames);
@@ -163,6 +163,15 @@ std::vector<std::string> JackRecorder::connectionsOf(const std::string& port) co
     jack_free(connections);
   }
   return names;
+}
+
+long findExact(const std::vector<float>& haystack, const std::vector<float>& needle) {
+  for (std::size_t start = 0; start + needle.size() <= haystack.size(); ++start) {
+    if (std::equal(needle.begin(), needle.end(), haystack.begin() + static_cast<std::ptrdiff_t>(start))) {
+      return static_cast<long>(start);
+    }
+  }
+  return -1;
 }
 
 }  // namespace room_reverb::test

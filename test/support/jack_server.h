@@ -13,11 +13,11 @@ namespace room_reverb::test {
 
 class DummyJackServer {
  public:
-  // Starts `jackd -n NAME -d dummy -r RATE -p PERIOD` under a name private to this
-  // process (real-time scheduling where the system allows it, as jackd does by default)
+  // Starts `jackd -n NAME -d dummy -r RATE -p PERIOD` (real-time scheduling where the
+  // system allows it, as jackd does by default; NAME "" is a name private to this process)
   // and waits (at most 10 s) until a client can join; the test fails with jackd's log
   // otherwise (ok() is false then).
-  explicit DummyJackServer(double rate_hz = 48000.0, std::size_t period_frames = 256, const std::string& tag = "");
+  explicit DummyJackServer(double rate_hz = 48000.0, std::size_t period_frames = 256, const std::string& name = "");
   ~DummyJackServer();
   DummyJackServer(const DummyJackServer&) = delete;
   DummyJackServer& operator=(const DummyJackServer&) = delete;
@@ -59,5 +59,9 @@ class JackRecorder {
   std::atomic<std::size_t> recorded_{0};
   std::atomic<bool> recording_{false};
 };
+
+// Where `needle` starts inside `haystack`, by exact equality of every sample; -1 if
+// nowhere: how a test finds a stream's samples in what a JACK client heard.
+long findExact(const std::vector<float>& haystack, const std::vector<float>& needle);
 
 }  // namespace room_reverb::test

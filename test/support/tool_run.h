@@ -44,6 +44,14 @@ inline ToolRun runCommand(const std::string& command_line) {
 // `args` is appended to the tool's path as a shell command line.
 inline ToolRun runTool(const std::string& args) { return runCommand(std::string(ROOM_REVERB_TOOL) + " " + args); }
 
+// Runs a node binary that stands next to this test's executable (a rostest's gtest node)
+// once, as `name`, with its private parameters as the caller set them on the master; at
+// most `timeout_s`. A node refusing its parameters exits 2 with the reason on stderr.
+inline ToolRun runSiblingNode(const std::string& binary, const std::string& name, int timeout_s = 30) {
+  const std::filesystem::path node = std::filesystem::read_symlink("/proc/self/exe").parent_path() / binary;
+  return runCommand("timeout " + std::to_string(timeout_s) + " " + node.string() + " __name:=" + name);
+}
+
 // A bad-input run as every subcommand must end it: exit 2, nothing on stdout, one line on
 // stderr that holds `fragment`. (gtest assertions: include gtest before this header.)
 inline void expectOneLineError(const ToolRun& run, const std::string& fragment) {

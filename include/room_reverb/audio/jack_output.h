@@ -40,6 +40,10 @@ struct JackOutputCounters {
   std::uint64_t overflow_frames = 0;  // frames written while the ring was full (dropped)
 };
 
+// InputError unless `connect` is "physical", "" or two non-empty port names "A,B"
+// (JackOutputOptions::connect); the two names otherwise (none for "physical" and "").
+std::vector<std::string> parseJackConnect(const std::string& connect);
+
 class JackOutput {
  public:
   // Opens the client, registers out_left and out_right, activates it and connects the

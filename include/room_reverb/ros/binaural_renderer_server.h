@@ -16,6 +16,8 @@
 // ~listener_pose (geometry_msgs/PoseStamped: position and orientation in the room frame),
 // ~room_model (RoomModel, with TF ~room_frame -> ~rig_frame: the room an RSAO is walked in);
 // ~binaural (AudioBuffer out, "binaural", 48 kHz), ~status (StreamStatus, latched).
+// With ~jack_output the same samples also play through a JACK client, whose sound card
+// then paces the stream (binaural_renderer_jack.cpp).
 // Service: ~render_to_file (RenderToFile). Parameters: config/binaural_renderer.yaml.
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/QuaternionStamped.h>
@@ -36,6 +38,7 @@
 #include <string>
 #include <thread>
 
+#include "room_reverb/audio/jack_output.h"
 #include "room_reverb/binaural/binaural_decoder.h"
 #include "room_reverb/binaural/binaural_stream.h"
 #include "room_reverb/binaural/source_feed.h"
@@ -89,6 +92,14 @@ class BinauralRendererServer {
   void takeRoomTaps(const StreamRoom& room);
   void moveTaps(const Eigen::Vector3d& listener);
   void publishStatus();
+  // JACK output (binaural_renderer_jack.cpp): the parameters and the retry timer; joining
+  // the server (timer thread); on the audio thread, taking a new client over or dropping
+  // one whose server went away, and the stream's clock (the card's while JACK plays, ROS
+  // time otherwise).
+  void setUpJack(::ros::NodeHandle& private_nh);
+  void joinJack();
+  void takeJack();
+  double streamClock() const;
 
   // Configuration.
   std::string frame_id_;
@@ -118,6 +129,9 @@ class BinauralRendererServer {
   std::shared_ptr<const core::RoomModel> taps_room_model_;
   Eigen::Vector3d listener_from_ = Eigen::Vector3d::Zero(), listener_to_ = Eigen::Vector3d::Zero();
   bool listener_known_ = false;
+  std::shared_ptr<core::JackOutput> jack_;
+  double jack_epoch_s_ = 0.0;  // stream time at the client's first frame
+  core::JackOutputCounters jack_counts_before_;  // of clients whose server went away
 
   // Shared, under mutex_.
   std::mutex mutex_;
@@ -131,8 +145,14 @@ class BinauralRendererServer {
   std::optional<std::pair<core::Rsao, std::string>> last_rsao_;
   std::uint64_t rsao_generation_ = 0;
   Counters counters_;
+  std::shared_ptr<core::JackOutput> pending_jack_;
+  std::string jack_state_ = "off";
+  std::string jack_lost_;  // why the last server went away, until one is joined
 
   std::atomic<bool> running_{false};
+  std::atomic<bool> jack_playing_{false};
+  core::JackOutputOptions jack_options_;
+  ::ros::WallTimer jack_timer_;
   std::thread audio_thread_;
 
   ::ros::NodeHandle nh_;

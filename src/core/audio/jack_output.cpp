@@ -47,7 +47,10 @@ constexpr std::size_t kFrameBytes = 2 * sizeof(float);
 // the constructor's InputError says what matters in one line instead.
 void quietJackMessage(const char*) {}
 
-std::vector<std::string> splitPorts(const std::string& connect) {
+}  // namespace
+
+std::vector<std::string> parseJackConnect(const std::string& connect) {
+  if (connect == "physical" || connect.empty()) return {};
   std::vector<std::string> names;
   std::size_t start = 0;
   while (start <= connect.size()) {
@@ -58,10 +61,11 @@ std::vector<std::string> splitPorts(const std::string& connect) {
     names.push_back(name);
     start = comma + 1;
   }
+  if (names.size() != 2 || names[0].empty() || names[1].empty()) {
+    throw InputError("JACK output: connect to \"physical\", nothing (\"\") or two ports \"A,B\" (got \"" + connect + "\")");
+  }
   return names;
 }
-
-}  // namespace
 
 JackOutput::JackOutput(const JackOutputOptions& options)
     : client_(std::make_unique<Client>()), stream_rate_hz_(options.stream_rate_hz) {
@@ -75,6 +79,7 @@ JackOutput::JackOutput(const JackOutputOptions& options)
   if (!(options.ring_seconds >= 0.05 && options.ring_seconds <= 10.0)) {
     throw InputError("JACK output: the ring must hold 0.05 to 10 s");
   }
+  parseJackConnect(options.connect);
   jack_set_error_function(quietJackMessage);
   jack_set_info_function(quietJackMessage);
   jack_status_t status{};
@@ -141,10 +146,7 @@ void JackOutput::connectPorts(const std::string& connect) {
     }
     if (targets.size() == 1) targets.push_back(targets[0]);  // a mono device hears both
   } else if (!connect.empty()) {
-    targets = splitPorts(connect);
-    if (targets.size() != 2 || targets[0].empty() || targets[1].empty()) {
-      throw InputError("JACK output: connect to \"physical\", nothing (\"\") or two ports \"a,b\" (got \"" + connect + "\")");
-    }
+    targets = parseJackConnect(connect);
     for (const std::string& name : targets) {
       jack_port_t* port = jack_port_by_name(client_->client, name.c_str());
       if (port == nullptr) throw InputError("JACK output: no port \"" + name + "\" on the server");
