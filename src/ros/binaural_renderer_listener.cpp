@@ -69,10 +69,14 @@ void BinauralRendererServer::onRoomModel(const room_reverb::RoomModel::ConstPtr&
 void BinauralRendererServer::onListenerPose(const geometry_msgs::PoseStamped::ConstPtr& message) {
   const auto& p = message->pose.position;
   const auto& q = message->pose.orientation;
+  acceptListenerPose(Eigen::Vector3d(p.x, p.y, p.z), Eigen::Quaterniond(q.w, q.x, q.y, q.z), "~listener_pose");
+}
+
+void BinauralRendererServer::acceptListenerPose(const Eigen::Vector3d& position, const Eigen::Quaterniond& orientation,
+                                                const char* from) {
   try {
-    const Eigen::Vector3d position(p.x, p.y, p.z);
     if (!position.allFinite()) throw core::InputError("the position is not finite");
-    const Eigen::Quaterniond head = core::validatedRotation(Eigen::Quaterniond(q.w, q.x, q.y, q.z));
+    const Eigen::Quaterniond head = core::validatedRotation(orientation);
     std::lock_guard<std::mutex> lock(mutex_);
     pending_head_ = head;
     pending_position_ = position;
@@ -82,8 +86,25 @@ void BinauralRendererServer::onListenerPose(const geometry_msgs::PoseStamped::Co
       std::lock_guard<std::mutex> lock(mutex_);
       ++counters_.orientations_rejected;
     }
-    ROS_WARN_THROTTLE(5.0, "binaural_renderer: a listener pose was ignored: %s", e.what());
+    ROS_WARN_THROTTLE(5.0, "binaural_renderer: a listener pose from %s was ignored: %s", from, e.what());
   }
+}
+
+void BinauralRendererServer::followListenerFrame() {
+  geometry_msgs::TransformStamped head;
+  try {
+    head = tf_buffer_->lookupTransform(room_frame_, listener_frame_, ::ros::Time(0));
+  } catch (const std::exception& e) {
+    // Not published yet, or the tracker stopped: the listener stays where it was.
+    ROS_WARN_THROTTLE(10.0, "binaural_renderer: no TF %s -> %s yet: %s", room_frame_.c_str(), listener_frame_.c_str(),
+                      e.what());
+    return;
+  }
+  if (head.header.stamp == last_listener_tf_stamp_ && !head.header.stamp.isZero()) return;  // nothing new
+  last_listener_tf_stamp_ = head.header.stamp;
+  const auto& t = head.transform.translation;
+  const auto& r = head.transform.rotation;
+  acceptListenerPose(Eigen::Vector3d(t.x, t.y, t.z), Eigen::Quaterniond(r.w, r.x, r.y, r.z), "TF");
 }
 
 void BinauralRendererServer::takeRoomTaps(const StreamRoom& room) {

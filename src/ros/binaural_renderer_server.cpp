@@ -53,6 +53,12 @@ BinauralRendererServer::BinauralRendererServer(::ros::NodeHandle& nh, ::ros::Nod
   typedParam(private_nh, "room_model_file", room_model_file, std::string(""));
   typedParam(private_nh, "room_frame", room_frame_, std::string("room"));
   typedParam(private_nh, "rig_frame", rig_frame_, std::string("rig"));
+  typedParam(private_nh, "listener_frame", listener_frame_, std::string(""));
+  double listener_tf_period_s = 0.005;
+  typedParam(private_nh, "listener_tf_period_s", listener_tf_period_s, 0.005);
+  if (!(listener_tf_period_s >= 0.001 && listener_tf_period_s <= 1.0)) {
+    throw core::InputError("parameter ~listener_tf_period_s must be 0.001 to 1 s");
+  }
   if (!room_model_file.empty()) walkable_room_ = std::make_shared<const core::RoomModel>(core::loadRoomModel(room_model_file));
 
   const core::HrtfSet hrtf =
@@ -94,6 +100,10 @@ BinauralRendererServer::BinauralRendererServer(::ros::NodeHandle& nh, ::ros::Nod
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
   tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_);
   room_model_sub_ = private_nh.subscribe("room_model", 1, &BinauralRendererServer::onRoomModel, this);
+  if (!listener_frame_.empty()) {
+    listener_timer_ = private_nh.createWallTimer(::ros::WallDuration(listener_tf_period_s),
+                                                 [this](const ::ros::WallTimerEvent&) { followListenerFrame(); });
+  }
   render_server_ = private_nh.advertiseService("render_to_file", &BinauralRendererServer::renderToFile, this);
   simulator_ = nh_.serviceClient<room_reverb::SimulateRoom>(simulator_service_);
   setUpJack(private_nh);
@@ -108,6 +118,7 @@ void BinauralRendererServer::start() {
 
 void BinauralRendererServer::stop() {
   jack_timer_.stop();
+  listener_timer_.stop();
   running_ = false;
   if (audio_thread_.joinable()) audio_thread_.join();
 }

@@ -13,6 +13,7 @@
 #include <room_reverb/Rsao.h>
 #include <room_reverb/StreamStatus.h>
 #include <tf2_ros/static_transform_broadcaster.h>
+#include <tf2_ros/transform_broadcaster.h>
 
 #include <unistd.h>
 
@@ -200,6 +201,40 @@ TEST(SixDof, AListenerWalkingTowardsTheSourceHearsItLouderWithoutAGap) {
   }, 5.0)) << "clamped " << ears.latest().listener_positions_clamped;
   EXPECT_TRUE(waitFor(ears, [&](const room_reverb::StreamStatus& s) { return s.chunks_published > after.chunks_published + 20; },
                       5.0));
+}
+
+TEST(SixDof, AListenerTrackedOnTfWalksAndTurns) {
+  ros::NodeHandle nh;
+  Ears ears(nh);
+  ASSERT_TRUE(waitFor(ears, [](const room_reverb::StreamStatus& s) { return s.walkable; }, 20.0));
+  const room_reverb::StreamStatus before = ears.latest();
+  tf2_ros::TransformBroadcaster tf;
+  // A tracker publishing room -> head at 100 Hz, standing at each place for 0.5 s.
+  const std::vector<Eigen::Vector3d> places = {{2.0, 1.5, 1.6}, {2.6, 1.9, 1.6}};
+  for (const Eigen::Vector3d& place : places) {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(0.5);
+    while (ros::WallTime::now() < end) {
+      geometry_msgs::TransformStamped head;
+      head.header.stamp = ros::Time::now();
+      head.header.frame_id = "room";
+      head.child_frame_id = "head";
+      head.transform.translation.x = place.x();
+      head.transform.translation.y = place.y();
+      head.transform.translation.z = place.z();
+      head.transform.rotation.z = std::sin(0.25);  // turned 0.5 rad to the left
+      head.transform.rotation.w = std::cos(0.25);
+      tf.sendTransform(head);
+      ros::spinOnce();
+      ros::WallDuration(0.01).sleep();
+    }
+    EXPECT_TRUE(waitFor(ears, [&](const room_reverb::StreamStatus& s) {
+      return (Eigen::Vector3d(s.listener_position.x, s.listener_position.y, s.listener_position.z) - place).norm() < 1e-6;
+    }, 5.0)) << "the listener is heard at (" << ears.latest().listener_position.x << ", "
+             << ears.latest().listener_position.y << ", " << ears.latest().listener_position.z << ")";
+  }
+  const room_reverb::StreamStatus after = ears.latest();
+  EXPECT_EQ(after.orientations_rejected, before.orientations_rejected);
+  EXPECT_EQ(after.chunks_dropped, before.chunks_dropped);
 }
 
 }  // namespace

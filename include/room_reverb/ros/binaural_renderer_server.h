@@ -14,7 +14,8 @@
 // ~rsao (Rsao), ~impulse_response (ImpulseResponse), ~room_scene (RoomScene, simulated by
 // the room_simulator's service), ~head_orientation (geometry_msgs/QuaternionStamped),
 // ~listener_pose (geometry_msgs/PoseStamped: position and orientation in the room frame),
-// ~room_model (RoomModel, with TF ~room_frame -> ~rig_frame: the room an RSAO is walked in);
+// ~room_model (RoomModel, with TF ~room_frame -> ~rig_frame: the room an RSAO is walked in),
+// TF ~room_frame -> ~listener_frame (the listener's head, when that parameter is set);
 // ~binaural (AudioBuffer out, "binaural", 48 kHz), ~status (StreamStatus, latched).
 // With ~jack_output the same samples also play through a JACK client, whose sound card
 // then paces the stream (binaural_renderer_jack.cpp).
@@ -90,6 +91,10 @@ class BinauralRendererServer {
   void offerRsao(const core::Rsao& rsao, const std::string& what);
   // Audio thread: a new room's taps, and the taps' targets for a listener position.
   void takeRoomTaps(const StreamRoom& room);
+  // A listener pose from ~listener_pose or TF (`from` names which, for the log).
+  void acceptListenerPose(const Eigen::Vector3d& position, const Eigen::Quaterniond& orientation, const char* from);
+  // Timer: the newest TF room_frame -> listener_frame, when ~listener_frame is set.
+  void followListenerFrame();
   void moveTaps(const Eigen::Vector3d& listener);
   void publishStatus();
   // JACK output (binaural_renderer_jack.cpp): the parameters and the retry timer; joining
@@ -159,7 +164,9 @@ class BinauralRendererServer {
   ::ros::Publisher binaural_publisher_, status_publisher_;
   ::ros::Subscriber source_sub_, rsao_sub_, impulse_response_sub_, room_scene_sub_, head_sub_;
   ::ros::Subscriber listener_pose_sub_, room_model_sub_;
-  std::string room_frame_, rig_frame_;
+  std::string room_frame_, rig_frame_, listener_frame_;
+  ::ros::WallTimer listener_timer_;
+  ::ros::Time last_listener_tf_stamp_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   ::ros::ServiceServer render_server_;
