@@ -9,7 +9,9 @@
 #include "room_reverb/binaural/walk_render.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/ros/binaural_renderer_server.h"
+#include "room_reverb/ros/listener_markers.h"
 #include "room_reverb/ros/room_conversions.h"
+#include "room_reverb/ros/room_markers.h"
 
 namespace room_reverb::ros_bridge {
 namespace {
@@ -81,6 +83,7 @@ void BinauralRendererServer::acceptListenerPose(const Eigen::Vector3d& position,
     pending_head_ = head;
     pending_position_ = position;
     last_listener_position_ = position;
+    last_head_ = head;
   } catch (const std::exception& e) {
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -105,6 +108,40 @@ void BinauralRendererServer::followListenerFrame() {
   const auto& t = head.transform.translation;
   const auto& r = head.transform.rotation;
   acceptListenerPose(Eigen::Vector3d(t.x, t.y, t.z), Eigen::Quaterniond(r.w, r.x, r.y, r.z), "TF");
+}
+
+void BinauralRendererServer::publishMarkers() {
+  std::shared_ptr<const StreamRoom> room;
+  std::optional<Eigen::Vector3d> listener;
+  Eigen::Quaterniond head;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    room = current_room_;
+    listener = last_listener_position_;
+    head = last_head_;
+  }
+  const ::ros::Time stamp = ::ros::Time::now();
+  if (!room || !room->translation) {
+    if (markers_shown_) {  // the walkable room stopped playing: take its markers away
+      visualization_msgs::MarkerArray clear;
+      clear.markers.push_back(baseMarker(room_frame_, stamp, "", 0, visualization_msgs::Marker::SPHERE));
+      clear.markers.back().action = visualization_msgs::Marker::DELETEALL;
+      marker_publisher_.publish(clear);
+      markers_shown_ = false;
+    }
+    return;
+  }
+  const core::ListenerTranslation& translation = *room->translation;
+  const Eigen::Vector3d at = listener ? *listener : translation.rigPosition();
+  std::vector<core::ReflectionPath> paths;
+  try {
+    paths = translation.heardPathsAt(at);
+  } catch (const core::InputError&) {
+    // Outside the room or inside an object: the head is drawn where the tracker says, with
+    // no paths (the audio thread says why, counted in ~status).
+  }
+  marker_publisher_.publish(listenerMarkers(translation, paths, at, head, room_frame_, stamp));
+  markers_shown_ = true;
 }
 
 void BinauralRendererServer::takeRoomTaps(const StreamRoom& room) {

@@ -2,6 +2,7 @@
 
 #include <room_reverb/SimulateRoom.h>
 #include <room_reverb/StreamStatus.h>
+#include <visualization_msgs/MarkerArray.h>
 
 #include <algorithm>
 #include <cmath>
@@ -100,6 +101,14 @@ BinauralRendererServer::BinauralRendererServer(::ros::NodeHandle& nh, ::ros::Nod
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
   tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_);
   room_model_sub_ = private_nh.subscribe("room_model", 1, &BinauralRendererServer::onRoomModel, this);
+  double marker_period_s = 0.1;
+  typedParam(private_nh, "marker_period_s", marker_period_s, 0.1);
+  if (!(marker_period_s >= 0.0 && marker_period_s <= 60.0)) throw core::InputError("parameter ~marker_period_s must be 0 (off) to 60 s");
+  marker_publisher_ = private_nh.advertise<visualization_msgs::MarkerArray>("markers", 1);
+  if (marker_period_s > 0.0) {
+    marker_timer_ = private_nh.createWallTimer(::ros::WallDuration(marker_period_s),
+                                               [this](const ::ros::WallTimerEvent&) { publishMarkers(); });
+  }
   if (!listener_frame_.empty()) {
     listener_timer_ = private_nh.createWallTimer(::ros::WallDuration(listener_tf_period_s),
                                                  [this](const ::ros::WallTimerEvent&) { followListenerFrame(); });
@@ -119,6 +128,7 @@ void BinauralRendererServer::start() {
 void BinauralRendererServer::stop() {
   jack_timer_.stop();
   listener_timer_.stop();
+  marker_timer_.stop();
   running_ = false;
   if (audio_thread_.joinable()) audio_thread_.join();
 }
@@ -216,6 +226,7 @@ void BinauralRendererServer::onHeadOrientation(const geometry_msgs::QuaternionSt
     const Eigen::Quaterniond head = core::validatedRotation(Eigen::Quaterniond(q.w, q.x, q.y, q.z));
     std::lock_guard<std::mutex> lock(mutex_);
     pending_head_ = head;
+    last_head_ = head;
   } catch (const std::exception& e) {
     {
       std::lock_guard<std::mutex> lock(mutex_);

@@ -36,18 +36,6 @@ std::array<float, 3> materialColor(const std::string& material) {
   return {0.6f, 0.6f, 0.6f};
 }
 
-Marker baseMarker(const std::string& frame, const ::ros::Time& stamp, const std::string& ns, int id, int type) {
-  Marker m;
-  m.header.frame_id = frame;
-  m.header.stamp = stamp;
-  m.ns = ns;
-  m.id = id;
-  m.type = type;
-  m.action = Marker::ADD;
-  m.pose.orientation.w = 1.0;
-  return m;
-}
-
 void setColor(Marker& m, const std::string& material, float alpha) {
   const auto rgb = materialColor(material);
   m.color.r = rgb[0];
@@ -86,6 +74,18 @@ void faceSlab(const Eigen::Vector3d& size, int k, Eigen::Vector3d& centre, Eigen
 }
 
 }  // namespace
+
+Marker baseMarker(const std::string& frame, const ::ros::Time& stamp, const std::string& ns, int id, int type) {
+  Marker m;
+  m.header.frame_id = frame;
+  m.header.stamp = stamp;
+  m.ns = ns;
+  m.id = id;
+  m.type = type;
+  m.action = Marker::ADD;
+  m.pose.orientation.w = 1.0;
+  return m;
+}
 
 visualization_msgs::MarkerArray roomMarkers(const core::RoomModel& model, const std::string& frame,
                                             const ::ros::Time& stamp) {

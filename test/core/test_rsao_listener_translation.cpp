@@ -352,6 +352,40 @@ TEST(ListenerTranslation, AReflectionIsGoneWhereItsPointLeavesThePanel) {
   EXPECT_GE(leaves, 2);
 }
 
+TEST(ListenerTranslation, HeardPathsRunThroughTheirReflectionPointsOnTheWalls) {
+  const ReflectionRoom capture = reflectionRoom(ReflectionRoomSet::kDevelopment, 0);
+  const ListenerTranslation translation(exactRsao(capture, 1), capture.geometry.receiver_m, Eigen::Quaterniond::Identity(),
+                                        modelOf(capture.geometry));
+  const Eigen::Vector3d offset = listenerOffsets(capture.geometry, 1, 11).front();
+  const Eigen::Vector3d listener = capture.geometry.receiver_m + offset;
+  const Eigen::Vector3d size = capture.geometry.size_m;
+  const std::vector<HeardReflection> heard = translation.reflectionsAt(listener);
+  const std::vector<ReflectionPath> paths = translation.heardPathsAt(listener);
+  ASSERT_EQ(paths.size(), static_cast<std::size_t>(std::count_if(heard.begin(), heard.end(), [](const HeardReflection& h) {
+              return h.heard;
+            })));
+  ASSERT_FALSE(paths.empty());
+  EXPECT_EQ(paths.front().anchor, ReflectionAnchor::kSource);
+  ASSERT_EQ(paths.front().points.size(), 2u);
+  EXPECT_LT((paths.front().points.front() - capture.geometry.source_m).norm(), 1e-6);
+  for (const ReflectionPath& path : paths) {
+    const EarlyReflection& r = heard[path.index].reflection;
+    EXPECT_EQ(path.level, r.level);
+    // From the source, through one point on a face of the box per order, to the listener;
+    // its length is the reflection's distance.
+    ASSERT_EQ(path.points.size(), translation.anchors()[path.index].planes.size() + 2) << path.index;
+    EXPECT_LT((path.points.back() - listener).norm(), 1e-12);
+    double length = 0.0;
+    for (std::size_t i = 1; i < path.points.size(); ++i) length += (path.points[i] - path.points[i - 1]).norm();
+    EXPECT_NEAR(length, r.distance_m, 1e-6) << path.index;
+    for (std::size_t i = 1; i + 1 < path.points.size(); ++i) {
+      const Eigen::Vector3d& p = path.points[i];
+      const double to_face = std::min({p.x(), p.y(), p.z(), size.x() - p.x(), size.y() - p.y(), size.z() - p.z()});
+      EXPECT_LT(std::abs(to_face), 1e-6) << "reflection " << path.index << ", point " << i;
+    }
+  }
+}
+
 TEST(ListenerTranslation, EveryReflectionKeepsItsPlaceHeardOrNot) {
   // A renderer keeps one tap per reflection: reflectionsAt lists them all, in the anchors'
   // order, and at() is its heard part.

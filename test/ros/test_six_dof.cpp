@@ -14,6 +14,8 @@
 #include <room_reverb/StreamStatus.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_broadcaster.h>
+#include <visualization_msgs/MarkerArray.h>
+#include <ros/topic.h>
 
 #include <unistd.h>
 
@@ -235,6 +237,34 @@ TEST(SixDof, AListenerTrackedOnTfWalksAndTurns) {
   const room_reverb::StreamStatus after = ears.latest();
   EXPECT_EQ(after.orientations_rejected, before.orientations_rejected);
   EXPECT_EQ(after.chunks_dropped, before.chunks_dropped);
+
+  // rviz sees the listener there, turned, and the paths heard: from the source, through
+  // reflection points on the room's faces, to the listener.
+  visualization_msgs::MarkerArray::ConstPtr markers =
+      ros::topic::waitForMessage<visualization_msgs::MarkerArray>(kNs + "markers", nh, ros::Duration(5.0));
+  ASSERT_TRUE(markers);
+  const test::ReflectionRoom room = test::reflectionRoom(test::ReflectionRoomSet::kDevelopment, 0);
+  const Eigen::Vector3d size = room.geometry.size_m;
+  bool head_seen = false, paths_seen = false;
+  for (const visualization_msgs::Marker& m : markers->markers) {
+    if (m.ns == "listener" && m.type == visualization_msgs::Marker::ARROW) {
+      head_seen = true;
+      EXPECT_NEAR(m.pose.position.x, places.back().x(), 1e-9);
+      EXPECT_NEAR(m.pose.position.y, places.back().y(), 1e-9);
+      EXPECT_NEAR(m.pose.orientation.z, std::sin(0.25), 1e-9);
+    }
+    if (m.ns != "reflection_paths") continue;
+    paths_seen = true;
+    ASSERT_EQ(m.points.size() % 2, 0u);
+    int on_faces = 0;
+    for (const geometry_msgs::Point& p : m.points) {
+      const double to_face = std::min({p.x, p.y, p.z, size.x() - p.x, size.y() - p.y, size.z() - p.z});
+      on_faces += std::abs(to_face) < 1e-6;
+    }
+    EXPECT_GE(on_faces, 6) << "reflection points on the faces";  // each on two segments
+  }
+  EXPECT_TRUE(head_seen);
+  EXPECT_TRUE(paths_seen);
 }
 
 }  // namespace

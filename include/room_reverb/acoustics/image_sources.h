@@ -4,6 +4,7 @@
 // order, and keep an image only if the path it stands for is real: each reflection point
 // lies on a triangle of its plane and nothing blocks any leg (checked with Embree rays).
 #include <Eigen/Core>
+#include <optional>
 #include <vector>
 
 #include "room_reverb/acoustics/acoustic_scene.h"
@@ -47,6 +48,12 @@ struct SpecularPath {
 // listener that moves along known paths, without searching every image again.
 bool specularPathValid(const AcousticScene& scene, const Eigen::Vector3d& source, const Eigen::Vector3d& listener,
                        const std::vector<std::size_t>& planes);
+// The same test; where the path is real, its reflection points (one per plane, source side
+// first), else nothing: what a viewer draws of a reflection.
+std::optional<std::vector<Eigen::Vector3d>> specularReflectionPoints(const AcousticScene& scene,
+                                                                     const Eigen::Vector3d& source,
+                                                                     const Eigen::Vector3d& listener,
+                                                                     const std::vector<std::size_t>& planes);
 
 // Pressure gains are relative to the direct sound of an omni source at 1 m (gain 1).
 std::vector<SpecularPath> computeImageSources(const AcousticScene& scene, const Eigen::Vector3d& source,

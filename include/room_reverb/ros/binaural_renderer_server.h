@@ -16,7 +16,8 @@
 // ~listener_pose (geometry_msgs/PoseStamped: position and orientation in the room frame),
 // ~room_model (RoomModel, with TF ~room_frame -> ~rig_frame: the room an RSAO is walked in),
 // TF ~room_frame -> ~listener_frame (the listener's head, when that parameter is set);
-// ~binaural (AudioBuffer out, "binaural", 48 kHz), ~status (StreamStatus, latched).
+// ~binaural (AudioBuffer out, "binaural", 48 kHz), ~status (StreamStatus, latched),
+// ~markers (visualization_msgs/MarkerArray: the walking listener for rviz).
 // With ~jack_output the same samples also play through a JACK client, whose sound card
 // then paces the stream (binaural_renderer_jack.cpp).
 // Service: ~render_to_file (RenderToFile). Parameters: config/binaural_renderer.yaml.
@@ -95,6 +96,8 @@ class BinauralRendererServer {
   void acceptListenerPose(const Eigen::Vector3d& position, const Eigen::Quaterniond& orientation, const char* from);
   // Timer: the newest TF room_frame -> listener_frame, when ~listener_frame is set.
   void followListenerFrame();
+  // Timer: ~markers of the walkable room playing (listener, image sources, paths heard).
+  void publishMarkers();
   void moveTaps(const Eigen::Vector3d& listener);
   void publishStatus();
   // JACK output (binaural_renderer_jack.cpp): the parameters and the retry timer; joining
@@ -145,7 +148,9 @@ class BinauralRendererServer {
   std::shared_ptr<const StreamRoom> current_room_;
   std::optional<Eigen::Quaterniond> pending_head_;
   std::optional<Eigen::Vector3d> pending_position_;
-  std::optional<Eigen::Vector3d> last_listener_position_;  // for ~render_to_file
+  std::optional<Eigen::Vector3d> last_listener_position_;  // for ~render_to_file and ~markers
+  Eigen::Quaterniond last_head_ = Eigen::Quaterniond::Identity();  // for ~markers
+  bool markers_shown_ = false;  // ~markers holds a listener (cleared when the room stops being walkable)
   std::shared_ptr<const core::RoomModel> walkable_room_;
   std::optional<std::pair<core::Rsao, std::string>> last_rsao_;
   std::uint64_t rsao_generation_ = 0;
@@ -165,7 +170,8 @@ class BinauralRendererServer {
   ::ros::Subscriber source_sub_, rsao_sub_, impulse_response_sub_, room_scene_sub_, head_sub_;
   ::ros::Subscriber listener_pose_sub_, room_model_sub_;
   std::string room_frame_, rig_frame_, listener_frame_;
-  ::ros::WallTimer listener_timer_;
+  ::ros::WallTimer listener_timer_, marker_timer_;
+  ::ros::Publisher marker_publisher_;
   ::ros::Time last_listener_tf_stamp_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;

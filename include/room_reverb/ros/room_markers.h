@@ -11,6 +11,10 @@
 
 namespace room_reverb::ros_bridge {
 
+// An ADD marker of `type` with an identity pose: what every marker here starts from.
+visualization_msgs::Marker baseMarker(const std::string& frame, const ::ros::Time& stamp, const std::string& ns, int id,
+                                      int type);
+
 // Markers in `frame` (the model's frame, "room"). The first marker deletes all earlier
 // ones, so a rebuilt room with fewer objects leaves nothing stale. Namespaces: surfaces,
 // objects, labels.

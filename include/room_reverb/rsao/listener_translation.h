@@ -92,6 +92,17 @@ struct HeardReflection {
   bool heard = false;
 };
 
+// A reflection heard at a listener position, drawn: `points` run from where the sound
+// leaves to the listener (room frame): the source, each reflection point and the listener
+// for the direct sound and for reflections on the room model's planes; the image source
+// and the listener for reflections no plane checks (unchecked, unmatched).
+struct ReflectionPath {
+  std::size_t index = 0;  // into anchors() and reflectionsAt()
+  ReflectionAnchor anchor = ReflectionAnchor::kUnchecked;
+  double level = 0.0;     // the reflection's level there
+  std::vector<Eigen::Vector3d> points;
+};
+
 class ListenerTranslation {
  public:
   // `measured`: the RSAO at the capture point, reflections[0] the direct sound, each with
@@ -114,6 +125,9 @@ class ListenerTranslation {
   // Every reflection of anchors() at `listener_m`, in the same order, heard or not (a
   // renderer keeps one tap per reflection and fades those that go); the same checks.
   std::vector<HeardReflection> reflectionsAt(const Eigen::Vector3d& listener_m) const;
+  // The paths of the reflections heard at `listener_m` (those reflectionsAt marks heard), for
+  // a viewer; the same checks.
+  std::vector<ReflectionPath> heardPathsAt(const Eigen::Vector3d& listener_m) const;
 
   const Eigen::Vector3d& sourcePosition() const { return source_m_; }
   const Eigen::Vector3d& rigPosition() const { return rig_m_; }

@@ -32,9 +32,11 @@ double signedDistance(const Eigen::Vector3d& point, const ScenePlane& plane) {
 // Walks the path back from the listener to the source through the chain of planes and
 // returns the hit triangles (source side first), or false if any leg is blocked or a
 // reflection point misses its plane's triangles.
-bool validatePath(const Search& s, std::vector<std::size_t>& triangles, Eigen::Vector3d& first_leg_direction) {
+bool validatePath(const Search& s, std::vector<std::size_t>& triangles, Eigen::Vector3d& first_leg_direction,
+                  std::vector<Eigen::Vector3d>* points = nullptr) {
   const std::size_t order = s.planes.size();
   triangles.assign(order, 0);
+  if (points != nullptr) points->assign(order, Eigen::Vector3d::Zero());
   Eigen::Vector3d from = s.listener;
   for (std::size_t k = order; k-- > 0;) {
     const Eigen::Vector3d target = s.images[k];
@@ -50,6 +52,7 @@ bool validatePath(const Search& s, std::vector<std::size_t>& triangles, Eigen::V
     if (std::abs(hit.distance_m - t_plane) > 1e-3) return false;
     triangles[k] = hit.triangle;
     from = from + t_plane * direction;
+    if (points != nullptr) (*points)[k] = from;
   }
   // Last leg: from the first reflection point (or the listener) to the source.
   if (s.scene.geometry().occluded(from, s.source, 1e-4)) return false;
@@ -117,23 +120,32 @@ void countCandidates(const std::vector<ScenePlane>& planes, const Eigen::Vector3
 
 }  // namespace
 
-bool specularPathValid(const AcousticScene& scene, const Eigen::Vector3d& source, const Eigen::Vector3d& listener,
-                       const std::vector<std::size_t>& planes) {
+std::optional<std::vector<Eigen::Vector3d>> specularReflectionPoints(const AcousticScene& scene,
+                                                                     const Eigen::Vector3d& source,
+                                                                     const Eigen::Vector3d& listener,
+                                                                     const std::vector<std::size_t>& planes) {
   const PropagationModel model;
   const ImageSourceOptions options;
   Search s{scene, source, listener, model, options, {}, {}, {}};
   Eigen::Vector3d current = source;
   for (std::size_t p : planes) {
-    if (p >= scene.planes().size()) return false;
+    if (p >= scene.planes().size()) return std::nullopt;
     const ScenePlane& plane = scene.planes()[p];
-    if (signedDistance(current, plane) * signedDistance(listener, plane) <= 0.0) return false;
+    if (signedDistance(current, plane) * signedDistance(listener, plane) <= 0.0) return std::nullopt;
     current = mirror(current, plane);
     s.images.push_back(current);
     s.planes.push_back(p);
   }
   std::vector<std::size_t> triangles;
   Eigen::Vector3d leaving;
-  return validatePath(s, triangles, leaving);
+  std::vector<Eigen::Vector3d> points;
+  if (!validatePath(s, triangles, leaving, &points)) return std::nullopt;
+  return points;
+}
+
+bool specularPathValid(const AcousticScene& scene, const Eigen::Vector3d& source, const Eigen::Vector3d& listener,
+                       const std::vector<std::size_t>& planes) {
+  return specularReflectionPoints(scene, source, listener, planes).has_value();
 }
 
 double estimatedImageCandidates(const AcousticScene& scene, const Eigen::Vector3d& source,

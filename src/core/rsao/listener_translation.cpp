@@ -327,6 +327,34 @@ std::vector<HeardReflection> ListenerTranslation::reflectionsAt(const Eigen::Vec
   return out;
 }
 
+std::vector<ReflectionPath> ListenerTranslation::heardPathsAt(const Eigen::Vector3d& listener_m) const {
+  const std::vector<HeardReflection> heard = reflectionsAt(listener_m);
+  std::vector<ReflectionPath> paths;
+  for (std::size_t k = 0; k < heard.size(); ++k) {
+    if (!heard[k].heard) continue;
+    ReflectionPath path;
+    path.index = k;
+    path.anchor = anchors_[k].anchor;
+    path.level = heard[k].reflection.level;
+    if (path.anchor == ReflectionAnchor::kSurface || path.anchor == ReflectionAnchor::kModelled) {
+      for (const std::vector<std::size_t>& planes : plane_orders_[k]) {
+        if (auto points = specularReflectionPoints(*scene_, source_m_, listener_m, planes)) {
+          path.points.push_back(source_m_);
+          path.points.insert(path.points.end(), points->begin(), points->end());
+          break;
+        }
+      }
+    } else if (path.anchor == ReflectionAnchor::kSource) {
+      path.points.push_back(source_m_);
+    } else {
+      path.points.push_back(anchors_[k].image_source_m);
+    }
+    path.points.push_back(listener_m);
+    paths.push_back(std::move(path));
+  }
+  return paths;
+}
+
 Rsao ListenerTranslation::at(const Eigen::Vector3d& listener_m) const {
   Rsao out = measured_;
   out.reflections.clear();
