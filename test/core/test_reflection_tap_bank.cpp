@@ -114,6 +114,45 @@ TEST(ReflectionTapBank, AGlidingTapIsAsSmoothAsItsSource) {
   EXPECT_LT(step, 1.02 * amplitude * 2.0 * std::sin(kPi * 2000.0 / kFs));
 }
 
+TEST(ReflectionTapBank, AMovingTapReadsTheSourceAtItsDelay) {
+  // A 500 Hz sine through one tap whose delay glides (a walking pace, then a listener
+  // running at Mach 0.5) and jumps (a pose 300 samples away: faster than sound within one
+  // block): at every sample the output is the sine at n - delay(n), the delay moving
+  // linearly across each block from the last target to the new one.
+  EarlyReflection r;
+  r.level = 1.0;
+  ReflectionTapBankOptions options;
+  options.block_size = kBlock;
+  ReflectionTapBank bank({r}, options);
+  const double w0 = 2.0 * kPi * 500.0 / kFs;
+  std::vector<float> sine(120 * kBlock);
+  for (std::size_t n = 0; n < sine.size(); ++n) sine[n] = static_cast<float>(std::sin(w0 * n));
+  // The delay in samples at the end of block b.
+  const auto delayAt = [](std::size_t b) {
+    if (b < 40) return 100.0 + 0.5 * static_cast<double>(b);         // walking away
+    if (b < 60) return 120.0 + 128.0 * static_cast<double>(b - 40);  // half the block per block
+    if (b < 61) return 2680.0 - 300.0;                               // a jump back
+    return 2380.0 - 3.0 * static_cast<double>(b - 61);               // walking closer
+  };
+  const auto field = run(bank, sine, 100, [&](std::size_t b) {
+    bank.setTargets({{delayAt(b) / kFs, 1.0, Eigen::Vector3d::UnitX()}});
+  });
+  // The tap's gain at rest: the W channel over the sine in the first blocks.
+  double gain = 0.0, worst = 0.0;
+  for (std::size_t b = 5; b < 100; ++b) {
+    for (std::size_t n = 0; n < kBlock; ++n) {
+      const double u = static_cast<double>(n + 1) / static_cast<double>(kBlock);
+      const double delay = delayAt(b - 1) + u * (delayAt(b) - delayAt(b - 1));
+      const double expected = std::sin(w0 * (static_cast<double>(b * kBlock + n) - delay));
+      const double heard = field[0][b * kBlock + n];
+      if (b == 5 && n == kBlock / 4) gain = heard / expected;
+      if (gain != 0.0) worst = std::max(worst, std::abs(heard - gain * expected));
+    }
+  }
+  ASSERT_GT(std::abs(gain), 0.1);
+  EXPECT_LT(worst, 1e-3 * std::abs(gain));
+}
+
 TEST(ReflectionTapBank, ATapThatGoesFadesOverOneBlockAndComesBackWithoutAGlide) {
   EarlyReflection r;
   r.level = 1.0;

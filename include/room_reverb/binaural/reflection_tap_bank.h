@@ -77,6 +77,7 @@ class ReflectionTapBank {
   std::size_t history_size_ = 0;
   std::size_t write_ = 0;       // where the next source sample goes
   std::vector<float> tap_signal_;
+  std::vector<float> ramp_;  // (n + 1) / block_size: the glide's weight at sample n
   std::size_t clamped_targets_ = 0;
 };
 

@@ -34,7 +34,11 @@ ReflectionTapBank::ReflectionTapBank(const std::vector<EarlyReflection>& reflect
   // interpolation reads are always contiguous and need no wrap test per sample.
   history_size_ = capacity + options_.block_size + 8;
   history_.assign(2 * history_size_, 0.0f);
-  tap_signal_.assign(options_.block_size, 0.0);
+  tap_signal_.assign(options_.block_size, 0.0f);
+  ramp_.resize(options_.block_size);
+  for (std::size_t n = 0; n < ramp_.size(); ++n) {
+    ramp_[n] = static_cast<float>(static_cast<double>(n + 1) / static_cast<double>(options_.block_size));
+  }
   taps_.resize(reflections.size());
   for (std::size_t k = 0; k < reflections.size(); ++k) {
     EarlyReflection unit = reflections[k];
@@ -106,17 +110,29 @@ void ReflectionTapBank::process(const float* source, float* const* field) {
   const double inverse_frames = 1.0 / static_cast<double>(frames);
   for (Tap& tap : taps_) {
     if (tap.amplitude_from == 0.0 && tap.amplitude_to == 0.0) continue;
+    // The read position n - delay(n) with delay(n) = from + (n + 1) (to - from) / frames
+    // advances by a constant per sample. Where it advances by 0 to 2 samples (any listener
+    // slower than sound) it is stepped, its whole part kept as an index into the ring,
+    // instead of taking a floor per sample; the ring's doubling is chosen once for the block.
+    const double delay_step = (tap.delay_to - tap.delay_from) * inverse_frames;
+    const double advance = 1.0 - delay_step;
+    const double start = -(tap.delay_from + delay_step);
+    const double start_whole = std::floor(start);
+    long index = static_cast<long>(block_start) + static_cast<long>(size) + static_cast<long>(start_whole);
+    const long reach = static_cast<long>(2 * frames) + 4;  // the furthest the index moves, and the read's span
+    if (index + reach >= static_cast<long>(2 * size)) index -= static_cast<long>(size);
+    const bool stepped = advance >= 0.0 && advance < 2.0 && index >= 1 && index + reach < static_cast<long>(2 * size);
+    double t = start - start_whole;
+    const double amplitude_change = tap.amplitude_to - tap.amplitude_from;
     for (std::size_t n = 0; n < frames; ++n) {
-      const double u = static_cast<double>(n + 1) * inverse_frames;
-      const double delay = tap.delay_from + u * (tap.delay_to - tap.delay_from);
-      // The read position relative to this block's first sample.
-      const double position = static_cast<double>(n) - delay;
-      const double whole = std::floor(position);
-      const double t = position - whole;
-      // The sample at `whole` in the doubled ring: at least one sample in, and its three
-      // neighbours inside.
-      long index = static_cast<long>(block_start) + static_cast<long>(size) + static_cast<long>(whole);
-      if (index + 2 >= static_cast<long>(2 * size)) index -= static_cast<long>(size);
+      if (!stepped) {
+        const double u = static_cast<double>(n + 1) * inverse_frames;
+        const double position = static_cast<double>(n) - (tap.delay_from + u * (tap.delay_to - tap.delay_from));
+        const double whole = std::floor(position);
+        t = position - whole;
+        index = static_cast<long>(block_start) + static_cast<long>(size) + static_cast<long>(whole);
+        if (index + 2 >= static_cast<long>(2 * size)) index -= static_cast<long>(size);
+      }
       const float* x = history + index;
       double y = -t * (t - 1.0) * (t - 2.0) / 6.0 * x[-1] + (t + 1.0) * (t - 1.0) * (t - 2.0) / 2.0 * x[0] -
                  (t + 1.0) * t * (t - 2.0) / 2.0 * x[1] + (t + 1.0) * t * (t - 1.0) / 6.0 * x[2];
@@ -126,16 +142,25 @@ void ReflectionTapBank::process(const float* source, float* const* field) {
         s.s2 = s.b2 * y - s.a2 * out;
         y = out;
       }
-      tap_signal_[n] = static_cast<float>(y * (tap.amplitude_from + u * (tap.amplitude_to - tap.amplitude_from)));
+      tap_signal_[n] = static_cast<float>(y * (tap.amplitude_from + static_cast<double>(ramp_[n]) * amplitude_change));
+      if (stepped) {
+        t += advance;
+        while (t >= 1.0) {
+          t -= 1.0;
+          ++index;
+        }
+      }
     }
-    // In single precision, as the field is: this loop is most of the taps' cost and
-    // vectorises so.
-    const float* signal = tap_signal_.data();
+    // In single precision, as the field is, with the glide's weights from a table and
+    // the buffers declared unaliased: so the loop vectorises (a sample index converted to
+    // float in the loop kept it scalar, and it was half the taps' cost).
+    const float* __restrict signal = tap_signal_.data();
+    const float* __restrict ramp = ramp_.data();
     for (std::size_t c = 0; c < channels_; ++c) {
       const auto from = static_cast<float>(tap.gains_from[c]);
-      const auto step = static_cast<float>((tap.gains_to[c] - tap.gains_from[c]) * inverse_frames);
-      float* out = field[c];
-      for (std::size_t n = 0; n < frames; ++n) out[n] += (from + step * static_cast<float>(n + 1)) * signal[n];
+      const auto change = static_cast<float>(tap.gains_to[c] - tap.gains_from[c]);
+      float* __restrict out = field[c];
+      for (std::size_t n = 0; n < frames; ++n) out[n] += (from + change * ramp[n]) * signal[n];
     }
     tap.delay_from = tap.delay_to;
     tap.amplitude_from = tap.amplitude_to;
