@@ -4,9 +4,11 @@
 #include <cmath>
 #include <iostream>
 #include <optional>
+#include <set>
 
 #include "arguments.h"
 #include "command.h"
+#include "simulation_arguments.h"
 #include "room_reverb/ambisonics/bformat.h"
 #include "room_reverb/audio/audio_file.h"
 #include "room_reverb/binaural/binaural_decoder.h"
@@ -15,6 +17,7 @@
 #include "room_reverb/binaural/rsao_binaural.h"
 #include "room_reverb/binaural/walk_render.h"
 #include "room_reverb/acoustics/room_model.h"
+#include "room_reverb/acoustics/simulated_walk.h"
 #include "room_reverb/rsao/listener_translation.h"
 #include "room_reverb/rsao/rsao_yaml.h"
 #include "room_reverb/common/error.h"
@@ -30,6 +33,9 @@ const char* kHelp = R"(usage: room_reverb render --source DRY.wav
                           [--yaw DEG] --out OUT.wav
        room_reverb render --source DRY.wav --rsao F.yaml --poses POSES.csv
                           (--room ROOM.yaml [--rig X Y Z] | --rig X Y Z) [--hrtf F.sofa]
+                          [--decoder NAME] --out OUT.wav
+       room_reverb render --source DRY.wav --room ROOM.yaml --source-at X Y Z
+                          --poses POSES.csv [simulation options] [--hrtf F.sofa]
                           [--decoder NAME] --out OUT.wav
 
 Renders a dry source in a room for headphones: the room's ambisonic impulse response,
@@ -58,6 +64,14 @@ the source. Writes a 2-channel (left, right) 32-bit float WAV at 48 kHz.
                         the microphone's); reflections leave where their walls end
   --rig X Y Z           with --poses: the microphone's position (room frame), instead of
                         the room model's, or without a room model
+  --source-at X Y Z     with --room and --poses, without --rsao: the simulated route
+                        walked. The room is simulated once at the first pose (its late
+                        part kept); the image sources (direct sound and reflections up to
+                        --order) are computed again at the listener every 10.7 ms and
+                        crossfaded in. Simulation options as for simulate (--mode,
+                        --order, --rays, --seed, --threads, --duration, --materials,
+                        --no-air, --temperature, --humidity, --scattering,
+                        --receiver-radius; the ambisonic order is the decoder's, 3)
 Exit status: 0 on success, 2 with one line on stderr for bad input.
 )";
 
@@ -89,6 +103,22 @@ AudioBuffer roomResponse(const Arguments& args) {
   return response;
 }
 
+// A walk's render written as float WAV, a peak above full scale brought to -1 dBFS first
+// (as every render for listening is).
+void writeWalk(const std::string& path, AudioBuffer& out) {
+  float peak = 0.0f;
+  for (const auto& channel : out.channels)
+    for (float v : channel) peak = std::max(peak, std::abs(v));
+  if (peak > 1.0f) {
+    const float gain = std::pow(10.0f, -1.0f / 20.0f) / peak;
+    for (auto& channel : out.channels)
+      for (float& v : channel) v *= gain;
+    std::cerr << "room_reverb render: note: the peak was above full scale; scaled by " << 20.0 * std::log10(gain)
+              << " dB to -1 dBFS\n";
+  }
+  writeAudioFile(path, out, SampleEncoding::kFloat32);
+}
+
 // A listener walking along --poses through a walkable RSAO.
 int runWalk(const Arguments& args, const std::optional<Eigen::Vector3d>& rig) {
   if (!args.has("rsao")) throw UsageError("--poses needs --rsao F.yaml (a walk moves the RSAO's reflections)");
@@ -107,32 +137,58 @@ int runWalk(const Arguments& args, const std::optional<Eigen::Vector3d>& rig) {
   const HrtfSet hrtf = HrtfSet::loadSofa(args.value("hrtf", HrtfSet::defaultSofaPath()));
   for (const std::string& note : hrtf.notes()) std::cerr << "room_reverb render: note: " << note << "\n";
   AudioBuffer out = renderWalk(source, translation, makeBinauralDecoder(hrtf, 3, method), poses);
-  float peak = 0.0f;
-  for (const auto& channel : out.channels)
-    for (float v : channel) peak = std::max(peak, std::abs(v));
-  if (peak > 1.0f) {
-    const float gain = std::pow(10.0f, -1.0f / 20.0f) / peak;
-    for (auto& channel : out.channels)
-      for (float& v : channel) v *= gain;
-    std::cerr << "room_reverb render: note: the peak was above full scale; scaled by " << 20.0 * std::log10(gain)
-              << " dB to -1 dBFS\n";
-  }
-  writeAudioFile(args.value("out", ""), out, SampleEncoding::kFloat32);
+  writeWalk(args.value("out", ""), out);
   std::cout << "wrote " << args.value("out", "") << ": " << out.durationS() << " s, binaural, a listener walking "
             << poses.size() << " poses over " << poses.back().t_s - poses.front().t_s << " s\n";
+  return 0;
+}
+
+// The simulated route walked along --poses from a room model and a source position.
+int runSimulatedWalk(const Arguments& args, const Eigen::Vector3d& source_at) {
+  if (!args.has("room")) throw UsageError("--source-at needs --room ROOM.yaml (the room the source is simulated in)");
+  if (!args.has("poses")) throw UsageError("--source-at needs --poses POSES.csv (where the listener walks)");
+  if (args.has("yaw")) throw UsageError("--yaw and --poses do not go together: the poses turn the head");
+  const std::vector<ListenerPose> poses = loadPoseCsv(args.value("poses", ""));
+  const DecoderMethod method = parseDecoderMethod(args.value("decoder", "magls"));
+  SimulationSettings settings = simulationSettingsFrom(args);
+  if (args.has("ambisonic-order")) throw UsageError("--ambisonic-order is the decoder's (3) in a walk");
+  settings.ambisonic_order = 3;
+  AirConditions air;
+  AcousticScene scene = sceneFrom(SceneFiles{args.value("room", ""), "", UpAxis::kZ, false}, args, air);
+  settings.air = air;
+  const SimulatedWalk walk(std::move(scene), source_at, poses.front().position_m, settings);
+  const AudioBuffer source = monoSource(args.value("source", ""));
+  const HrtfSet hrtf = HrtfSet::loadSofa(args.value("hrtf", HrtfSet::defaultSofaPath()));
+  for (const std::string& note : hrtf.notes()) std::cerr << "room_reverb render: note: " << note << "\n";
+  AudioBuffer out = renderSimulatedWalk(source, walk, makeBinauralDecoder(hrtf, 3, method), poses);
+  writeWalk(args.value("out", ""), out);
+  std::cout << "wrote " << args.value("out", "") << ": " << out.durationS() << " s, binaural, the simulated room ("
+            << toString(settings.mode) << ") walked through " << poses.size() << " poses over "
+            << poses.back().t_s - poses.front().t_s << " s\n";
   return 0;
 }
 
 int runRender(const std::vector<std::string>& raw) {
   std::vector<std::string> rest = raw;
   const std::optional<Eigen::Vector3d> rig = takeVector(rest, "rig");
-  const Arguments args(rest,
-                       {"source", "bformat-rir", "format", "ambisonic-rir", "rsao", "hrtf", "decoder", "yaw", "out",
-                        "poses", "room"},
-                       {});
+  const std::optional<Eigen::Vector3d> source_at = takeVector(rest, "source-at");
+  std::set<std::string> options = {"source", "bformat-rir", "format", "ambisonic-rir", "rsao", "hrtf", "decoder",
+                                   "yaw", "out", "poses", "room"};
+  std::set<std::string> flags;
+  if (source_at) {
+    options.merge(simulationValueOptions());
+    flags = simulationFlags();
+  }
+  const Arguments args(rest, options, flags);
   if (!args.positional().empty()) throw UsageError("unexpected argument '" + args.positional().front() + "'");
   if (!args.has("source")) throw UsageError("--source DRY.wav is required");
   if (!args.has("out")) throw UsageError("--out OUT.wav is required");
+  if (source_at) {
+    if (args.has("bformat-rir") || args.has("ambisonic-rir") || args.has("rsao") || rig) {
+      throw UsageError("--source-at simulates the room: no --bformat-rir, --ambisonic-rir, --rsao or --rig with it");
+    }
+    return runSimulatedWalk(args, *source_at);
+  }
   if (int(args.has("bformat-rir")) + int(args.has("ambisonic-rir")) + int(args.has("rsao")) != 1) {
     throw UsageError("give exactly one of --bformat-rir, --ambisonic-rir and --rsao");
   }

@@ -169,6 +169,45 @@ TEST(BinauralStream, BadInput) {
   BinauralStreamOptions zero;
   zero.block_size = 0;
   expectInputError([&] { BinauralStream bad(decoder(), zero); }, {"block_size"});
+  zero = BinauralStreamOptions();
+  zero.early_crossfade_blocks = 0;
+  expectInputError([&] { BinauralStream bad(decoder(), zero); }, {"crossfades"});
+  expectInputError([&] { s.setEarlyResponse(five); }, {"early response", "5 channels"});
+  expectInputError([&] { s.setEarlyResponse(at44); }, {"early response", "48000"});
+  expectInputError([&] { s.setEarlyResponse(nan); }, {"early response", "NaN"});
+}
+
+TEST(BinauralStream, AnEarlyResponseAddsToTheRoomsAndGoesWhenRemoved) {
+  // The room split in two, its first 10 ms as the early response: the same stream as the
+  // whole room; removing the early response fades it out, leaving the rest.
+  const AudioBuffer whole = room(unit(30.0), 5);
+  AudioBuffer early = whole, late = whole;
+  for (std::size_t c = 0; c < 16; ++c) {
+    early.channels[c].resize(480);
+    std::fill(late.channels[c].begin(), late.channels[c].begin() + 480, 0.0f);
+  }
+  const std::vector<float> source = room_reverb::test::whiteNoise(256 * 40, 4);
+  BinauralStream reference(decoder()), split(decoder()), late_only(decoder());
+  reference.setRoom(whole);
+  split.setRoom(late);
+  split.setEarlyResponse(early);
+  late_only.setRoom(late);
+  const auto [l1, r1] = stream(reference, source);
+  const auto [l2, r2] = stream(split, source);
+  stream(late_only, source);  // the same history as the others
+  double worst = 0.0, peak = 0.0;
+  for (std::size_t n = 0; n < source.size(); ++n) {
+    worst = std::max({worst, static_cast<double>(std::abs(l1[n] - l2[n])), static_cast<double>(std::abs(r1[n] - r2[n]))});
+    peak = std::max(peak, static_cast<double>(std::abs(l1[n])));
+  }
+  EXPECT_LT(worst, 1e-5 * peak);
+  // Removed: after the fade (2 blocks) and the early response's 10 ms, the late room alone.
+  split.setEarlyResponse(AudioBuffer());
+  const auto [l3, r3] = stream(split, source);
+  const auto [l4, r4] = stream(late_only, source);
+  worst = 0.0;
+  for (std::size_t n = 256 * 4; n < source.size(); ++n) worst = std::max(worst, static_cast<double>(std::abs(l3[n] - l4[n])));
+  EXPECT_LT(worst, 1e-5 * peak);
 }
 
 TEST(BinauralStream, EarlyTapsAddToTheRoomAsTheirResponseWould) {

@@ -53,6 +53,11 @@ struct SimulationResult {
 SimulationResult simulateRoom(const AcousticScene& scene, const Eigen::Vector3d& source,
                               const Eigen::Vector3d& listener, const SimulationSettings& settings);
 
+// How simulateRoom turns its paths and late energy into the impulse response: the
+// synthesis options of the scene and settings (the early and late parts synthesised apart
+// with them add up to simulateRoom's response exactly).
+SynthesisOptions simulationSynthesisOptions(const AcousticScene& scene, const SimulationSettings& settings);
+
 // Eyring's reverberation time with air per octave band, for the scene.
 OctaveBandValues eyringReverberationTimes(const AcousticScene& scene, const AirConditions& air);
 

@@ -28,8 +28,8 @@ AudioBuffer ambixToFuma(const AudioBuffer& ambix);
 AudioBuffer toAmbix(const AudioBuffer& buffer, AmbisonicFormat from);
 
 // The ambisonic order of an AmbiX buffer (1, 4, 9, 16 channels: 0-3); InputError naming
-// the channel count otherwise.
-int ambixOrder(const AudioBuffer& ambix);
+// `what` and the channel count otherwise.
+int ambixOrder(const AudioBuffer& ambix, const std::string& what = "the room response");
 
 // Diagnostic for a stated convention: in a diffuse field the energy of X+Y+Z over W is 1
 // for SN3D and 2 for FuMa (whose W is 3 dB down). Returns that ratio over the late part

@@ -34,6 +34,9 @@ struct BinauralStreamOptions {
   std::size_t block_size = PartitionedConvolver::kDefaultBlockSize;  // frames at 48 kHz
   std::size_t crossfade_blocks = 4;  // room changes fade over this many blocks (21 ms at 256)
   double max_response_s = 4.0;       // longer room responses are truncated, with a warning
+  // setEarlyResponse's changes fade over this many blocks (a walking listener's early
+  // part changes every few blocks).
+  std::size_t early_crossfade_blocks = 2;
 };
 
 class BinauralStream {
@@ -61,6 +64,13 @@ class BinauralStream {
   // The taps, to set their targets before a block; null when there are none.
   ReflectionTapBank* earlyTaps() { return taps_.get(); }
 
+  // A second, short ambisonic response convolved beside the room's and added to its field:
+  // the image-source part of a simulated room at the listener's position, changed as the
+  // listener walks (simulated_walk.h); the room's response is then the late part. Each
+  // change fades over early_crossfade_blocks on the same input history, so no reflection
+  // is cut. The same checks and truncation as setRoom. An empty buffer removes it.
+  std::string setEarlyResponse(const AudioBuffer& ambix_response);
+
   // The listener's head orientation in the room frame (rotation.h). Throws InputError for a
   // malformed quaternion (the stream keeps the previous orientation then).
   void setHeadOrientation(const Eigen::Quaterniond& head_in_room);
@@ -74,10 +84,16 @@ class BinauralStream {
   std::size_t nonFiniteSamples() const { return non_finite_samples_; }
 
  private:
+  // The response as the convolver's 1 x channels_ matrix, padded and truncated; its
+  // warning ("" when none). InputError as setRoom says.
+  FilterMatrix responseFilters(const AudioBuffer& response, const char* what, std::string& warning) const;
+
   BinauralDecoder decoder_;
   BinauralStreamOptions options_;
   std::size_t channels_;
-  std::unique_ptr<PartitionedConvolver> room_;
+  std::unique_ptr<PartitionedConvolver> room_, early_;
+  std::vector<std::vector<float>> early_field_;
+  std::vector<float*> early_out_;
   std::unique_ptr<PartitionedConvolver> decoder_convolver_;
   std::unique_ptr<ReflectionTapBank> taps_, retiring_taps_;
   Eigen::MatrixXd rotation_from_, rotation_to_;

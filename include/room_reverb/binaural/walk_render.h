@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "room_reverb/acoustics/simulated_walk.h"
 #include "room_reverb/audio/audio_buffer.h"
 #include "room_reverb/binaural/binaural_decoder.h"
 #include "room_reverb/binaural/reflection_tap_bank.h"
@@ -43,5 +44,13 @@ std::vector<TapTarget> tapTargetsAt(const ListenerTranslation& translation, cons
 // the late part's. Throws InputError for a listener position the translation refuses.
 AudioBuffer renderWalk(const AudioBuffer& dry, const ListenerTranslation& translation, const BinauralDecoder& decoder,
                        const std::vector<ListenerPose>& poses, std::uint32_t seed = 1);
+
+// The simulated route walked: the walk's late part convolved, its image-source part
+// computed at the listener's position every `update_blocks` blocks of 256 frames and
+// crossfaded in (BinauralStream::setEarlyResponse), the head turned by the pose. `dry`:
+// mono at 48 kHz; the output is its length plus the late part's. Every pose is checked
+// first (InputError as SimulatedWalk::earlyAt).
+AudioBuffer renderSimulatedWalk(const AudioBuffer& dry, const SimulatedWalk& walk, const BinauralDecoder& decoder,
+                                const std::vector<ListenerPose>& poses, std::size_t update_blocks = 2);
 
 }  // namespace room_reverb::core

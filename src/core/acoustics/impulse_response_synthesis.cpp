@@ -15,7 +15,7 @@ namespace room_reverb::core {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr std::size_t kTapLength = 2048;  // 43 ms at 48 kHz: resolves the 63 Hz band's gain
+constexpr std::size_t kTapLength = kPathTapLength;
 
 int orderOfChannel(std::size_t acn) { return static_cast<int>(std::floor(std::sqrt(static_cast<double>(acn)))); }
 

@@ -143,14 +143,19 @@ SimulationResult simulateRoom(const AcousticScene& scene, const Eigen::Vector3d&
                                        settings.duration_s, settings.rays.bin_s);
   }
 
+  result.impulse_response =
+      synthesizeImpulseResponse(result.paths, &result.late, simulationSynthesisOptions(scene, settings));
+  return result;
+}
+
+SynthesisOptions simulationSynthesisOptions(const AcousticScene& scene, const SimulationSettings& settings) {
   SynthesisOptions synthesis;
   synthesis.duration_s = settings.duration_s;
   synthesis.ambisonic_order = settings.ambisonic_order;
   synthesis.room_volume_m3 = scene.volumeM3() > 0.0 ? scene.volumeM3() : 100.0;
-  synthesis.speed_of_sound_m_s = model.speed_of_sound_m_s;
+  synthesis.speed_of_sound_m_s = PropagationModel::from(settings.air, settings.directivity).speed_of_sound_m_s;
   synthesis.seed = settings.rays.seed;
-  result.impulse_response = synthesizeImpulseResponse(result.paths, &result.late, synthesis);
-  return result;
+  return synthesis;
 }
 
 }  // namespace room_reverb::core

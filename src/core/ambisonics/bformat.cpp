@@ -63,11 +63,11 @@ AudioBuffer ambixToFuma(const AudioBuffer& ambix) {
   return fuma;
 }
 
-int ambixOrder(const AudioBuffer& ambix) {
+int ambixOrder(const AudioBuffer& ambix, const std::string& what) {
   for (int n = 0; n <= kMaxAmbisonicOrder; ++n) {
     if (ambix.channelCount() == static_cast<std::size_t>(ambisonicChannelCount(n))) return n;
   }
-  throw InputError("the room response has " + std::to_string(ambix.channelCount()) +
+  throw InputError(what + " has " + std::to_string(ambix.channelCount()) +
                    " channels; AmbiX of order 0-3 has 1, 4, 9 or 16");
 }
 

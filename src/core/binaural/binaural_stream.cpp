@@ -25,8 +25,9 @@ BinauralStream::BinauralStream(BinauralDecoder decoder, const BinauralStreamOpti
     throw InputError("binaural stream: the decoder is at " + std::to_string(decoder_.sample_rate_hz) +
                      " Hz; make it from an HRTF set resampled to 48000 Hz");
   }
-  if (options_.block_size == 0 || options_.crossfade_blocks == 0 || !(options_.max_response_s > 0.0)) {
-    throw InputError("binaural stream: block_size and crossfade_blocks must be positive, max_response_s too");
+  if (options_.block_size == 0 || options_.crossfade_blocks == 0 || options_.early_crossfade_blocks == 0 ||
+      !(options_.max_response_s > 0.0)) {
+    throw InputError("binaural stream: block_size and the crossfades' blocks must be positive, max_response_s too");
   }
   channels_ = static_cast<std::size_t>(ambisonicChannelCount(decoder_.order));
   if (decoder_.filters.size() != channels_) throw InputError("binaural stream: the decoder's filter count does not match its order");
@@ -49,33 +50,57 @@ BinauralStream::BinauralStream(BinauralDecoder decoder, const BinauralStreamOpti
 
 BinauralStream::~BinauralStream() = default;
 
-std::string BinauralStream::setRoom(const AudioBuffer& response) {
-  validateAudioBuffer(response, "binaural stream: the room response");
+FilterMatrix BinauralStream::responseFilters(const AudioBuffer& response, const char* what, std::string& warning) const {
+  validateAudioBuffer(response, std::string("binaural stream: the ") + what);
   if (response.sample_rate_hz != kInternalSampleRateHz) {
-    throw InputError("binaural stream: the room response is at " + std::to_string(response.sample_rate_hz) +
+    throw InputError(std::string("binaural stream: the ") + what + " is at " + std::to_string(response.sample_rate_hz) +
                      " Hz; resample it to 48000 Hz");
   }
-  const int order = ambixOrder(response);
+  const int order = ambixOrder(response, std::string("the ") + what);
   if (order > decoder_.order) {
-    throw InputError("binaural stream: an order-" + std::to_string(order) + " room response cannot go through the order-" +
-                     std::to_string(decoder_.order) + " decoder");
+    throw InputError("binaural stream: an order-" + std::to_string(order) + " " + what +
+                     " cannot go through the order-" + std::to_string(decoder_.order) + " decoder");
   }
   const std::size_t count = response.channelCount();
-  std::string warning;
   const auto limit = static_cast<std::size_t>(options_.max_response_s * kInternalSampleRateHz);
   FilterMatrix filters(1, std::vector<std::vector<float>>(channels_, std::vector<float>{0.0f}));
   for (std::size_t c = 0; c < count; ++c) filters[0][c] = response.channels[c];
   if (response.frameCount() > limit) {
     for (std::size_t c = 0; c < count; ++c) filters[0][c].resize(limit);
     std::ostringstream os;
-    os << "the room response (" << response.durationS() << " s) was truncated to max_response_s = "
+    os << "the " << what << " (" << response.durationS() << " s) was truncated to max_response_s = "
        << options_.max_response_s << " s";
     warning = os.str();
   }
+  return filters;
+}
+
+std::string BinauralStream::setRoom(const AudioBuffer& response) {
+  std::string warning;
+  const FilterMatrix filters = responseFilters(response, "room response", warning);
   if (room_) {
     room_->setFilters(filters);
   } else {
     room_ = std::make_unique<PartitionedConvolver>(filters, options_.block_size, options_.crossfade_blocks);
+  }
+  return warning;
+}
+
+std::string BinauralStream::setEarlyResponse(const AudioBuffer& response) {
+  std::string warning;
+  if (response.frameCount() == 0) {
+    // Faded out like any change, then left silent: a single zero tap costs nothing.
+    if (early_) early_->setFilters(FilterMatrix(1, std::vector<std::vector<float>>(channels_, std::vector<float>{0.0f})));
+    return warning;
+  }
+  const FilterMatrix filters = responseFilters(response, "early response", warning);
+  if (early_) {
+    early_->setFilters(filters);
+  } else {
+    early_ = std::make_unique<PartitionedConvolver>(filters, options_.block_size, options_.early_crossfade_blocks);
+    early_field_.assign(channels_, std::vector<float>(options_.block_size, 0.0f));
+    early_out_.clear();
+    for (auto& channel : early_field_) early_out_.push_back(channel.data());
   }
   return warning;
 }
@@ -110,6 +135,14 @@ void BinauralStream::process(const float* source, float* left, float* right) {
   }
   const float* input = source_block_.data();
   room_->process(&input, field_out_.data());
+  if (early_) {
+    early_->process(&input, early_out_.data());
+    for (std::size_t c = 0; c < channels_; ++c) {
+      float* __restrict out = field_[c].data();
+      const float* __restrict early = early_field_[c].data();
+      for (std::size_t n = 0; n < frames; ++n) out[n] += early[n];
+    }
+  }
   if (retiring_taps_) {
     retiring_taps_->process(input, field_out_.data());
     retiring_taps_.reset();

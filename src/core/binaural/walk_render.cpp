@@ -147,4 +147,43 @@ AudioBuffer renderWalk(const AudioBuffer& dry, const ListenerTranslation& transl
   return out;
 }
 
+AudioBuffer renderSimulatedWalk(const AudioBuffer& dry, const SimulatedWalk& walk, const BinauralDecoder& decoder,
+                                const std::vector<ListenerPose>& poses, std::size_t update_blocks) {
+  if (poses.empty()) throw InputError("walk render: no pose");
+  if (update_blocks == 0) throw InputError("walk render: update_blocks must be positive");
+  if (dry.channelCount() != 1 || dry.sample_rate_hz != kInternalSampleRateHz) {
+    throw InputError("walk render: the dry source must be mono at 48000 Hz");
+  }
+  for (const ListenerPose& pose : poses) walk.pathsAt(pose.position_m);
+  const AudioBuffer& late = walk.late();
+  BinauralStreamOptions options;
+  options.block_size = kBlock;
+  options.max_response_s = std::max(late.durationS(), 0.01);
+  options.early_crossfade_blocks = update_blocks;
+  BinauralStream stream(decoder, options);
+  stream.setRoom(late);
+
+  const std::size_t frames = dry.frameCount() + late.frameCount();
+  const std::size_t blocks = (frames + kBlock - 1) / kBlock;
+  AudioBuffer out = makeSilentBuffer(2, blocks * kBlock, kInternalSampleRateHz);
+  std::vector<float> block(kBlock);
+  for (std::size_t b = 0; b < blocks; ++b) {
+    const ListenerPose pose = poseAt(poses, static_cast<double>((b + 1) * kBlock) / kInternalSampleRateHz);
+    // A new early part as often as a fade completes: where the listener will be half an
+    // update later, so that the fade is centred on the pose it plays.
+    if (b % update_blocks == 0) {
+      const double centre_s = static_cast<double>(b * kBlock + update_blocks * kBlock / 2) / kInternalSampleRateHz;
+      stream.setEarlyResponse(walk.earlyAt(poseAt(poses, centre_s).position_m));
+    }
+    stream.setHeadOrientation(pose.orientation);
+    for (std::size_t n = 0; n < kBlock; ++n) {
+      const std::size_t i = b * kBlock + n;
+      block[n] = i < dry.frameCount() ? dry.channels[0][i] : 0.0f;
+    }
+    stream.process(block.data(), out.channels[0].data() + b * kBlock, out.channels[1].data() + b * kBlock);
+  }
+  for (auto& channel : out.channels) channel.resize(frames);
+  return out;
+}
+
 }  // namespace room_reverb::core

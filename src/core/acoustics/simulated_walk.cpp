@@ -1,0 +1,43 @@
+#include "room_reverb/acoustics/simulated_walk.h"
+
+#include <algorithm>
+
+#include "room_reverb/acoustics/propagation.h"
+#include "room_reverb/common/error.h"
+
+namespace room_reverb::core {
+namespace {
+
+
+}  // namespace
+
+SimulatedWalk::SimulatedWalk(AcousticScene scene, const Eigen::Vector3d& source_m,
+                             const Eigen::Vector3d& reference_listener_m, const SimulationSettings& settings)
+    : scene_(std::move(scene)), source_m_(source_m), reference_m_(reference_listener_m), settings_(settings) {
+  const SimulationResult reference = simulateRoom(scene_, source_m_, reference_m_, settings_);
+  synthesis_ = simulationSynthesisOptions(scene_, settings_);
+  late_ = synthesizeImpulseResponse({}, &reference.late, synthesis_);
+}
+
+std::vector<SpecularPath> SimulatedWalk::pathsAt(const Eigen::Vector3d& listener_m) const {
+  if (!listener_m.allFinite()) throw InputError("the listener position is not finite");
+  scene_.requireInside(listener_m, "listener");
+  if ((listener_m - source_m_).norm() < 0.05) throw InputError("the listener is closer than 5 cm to the source");
+  ImageSourceOptions options;
+  options.max_order = settings_.image_source_order;
+  return computeImageSources(scene_, source_m_, listener_m, PropagationModel::from(settings_.air, settings_.directivity),
+                             options);
+}
+
+AudioBuffer SimulatedWalk::earlyAt(const Eigen::Vector3d& listener_m) const {
+  const std::vector<SpecularPath> paths = pathsAt(listener_m);
+  double last_s = 0.0;
+  for (const SpecularPath& p : paths) last_s = std::max(last_s, p.delay_s);
+  SynthesisOptions options = synthesis_;
+  // To the end of the last path's band-shaping FIR, which is centred on its arrival.
+  const double fir_half_s = static_cast<double>(kPathTapLength / 2 + 1) / options.sample_rate_hz;
+  options.duration_s = std::min(last_s + fir_half_s, settings_.duration_s);
+  return synthesizeImpulseResponse(paths, nullptr, options);
+}
+
+}  // namespace room_reverb::core
