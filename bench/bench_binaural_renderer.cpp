@@ -21,6 +21,7 @@
 
 #include "room_reverb/acoustics/image_sources.h"
 #include "room_reverb/acoustics/room_model.h"
+#include "room_reverb/acoustics/simulated_walk.h"
 #include "room_reverb/binaural/binaural_stream.h"
 #include "room_reverb/binaural/hrtf_set.h"
 #include "room_reverb/binaural/reflection_tap_bank.h"
@@ -150,6 +151,57 @@ void BM_ReflectionsAtPose(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_ReflectionsAtPose)->Unit(benchmark::kMicrosecond)->Repetitions(3)->ReportAggregatesOnly(true);
+
+// The simulated route walked: the same room (and table) simulated in eyring mode at the
+// microphone, second-order image sources, third-order AmbiX, a 2 s late part.
+SimulatedWalk simulatedRoom() {
+  RoomModel model;
+  model.size_m = {9.0, 7.0, 3.0};
+  for (const char* name : kRoomSurfaceNames) model.surfaces[name] = SurfaceAssignment{"plaster_smooth", 1.0};
+  CuboidObject table;
+  table.label = "table";
+  table.material = "wood";
+  table.center_m = {6.0, 1.5, 0.4};
+  table.size_m = {1.6, 0.9, 0.8};
+  model.objects.push_back(table);
+  SimulationSettings settings;
+  settings.mode = SimulationMode::kEyring;
+  settings.image_source_order = 2;
+  settings.ambisonic_order = 3;
+  return SimulatedWalk(roomModelToScene(model, MaterialLibrary::loadDefault()), Eigen::Vector3d(6.5, 5.0, 1.6),
+                       Eigen::Vector3d(4.0, 3.5, 1.5), settings);
+}
+
+// The worker's job for one pose: image sources and their synthesis.
+void BM_SimulatedEarlyAtPose(benchmark::State& state) {
+  const SimulatedWalk walk = simulatedRoom();
+  double t = 0.0, frames = 0.0;
+  for (auto _ : state) {
+    t += 0.01;
+    const AudioBuffer early = walk.earlyAt(walking(t));
+    frames = static_cast<double>(early.frameCount());
+    benchmark::DoNotOptimize(early.channels.data());
+  }
+  state.counters["early_ms"] = 1000.0 * frames / kInternalSampleRateHz;
+}
+BENCHMARK(BM_SimulatedEarlyAtPose)->Unit(benchmark::kMillisecond)->Repetitions(3)->ReportAggregatesOnly(true);
+
+// The audio thread's share walking the simulated route: the late part convolved, a new
+// early part set every Arg chunks (the worker's pace; each set partitions it).
+void BM_SimulatedWalkChunk(benchmark::State& state) {
+  const HrtfSet hrtf = HrtfSet::loadSofa(HrtfSet::defaultSofaPath());
+  BinauralStream stream(makeBinauralDecoder(hrtf, 3));
+  const SimulatedWalk walk = simulatedRoom();
+  stream.setRoom(walk.late());
+  std::vector<AudioBuffer> early;  // made beforehand: the worker's, not the audio thread's
+  for (int k = 0; k < 50; ++k) early.push_back(walk.earlyAt(walking(0.02 * k)));
+  std::size_t block = 0, next = 0;
+  const auto every = static_cast<std::size_t>(2 * state.range(0));
+  streamChunks(state, stream, [&](double) {
+    if (block++ % every == 0) stream.setEarlyResponse(early[next++ % early.size()]);
+  });
+}
+BENCHMARK(BM_SimulatedWalkChunk)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond)->Repetitions(3)->ReportAggregatesOnly(true);
 
 }  // namespace
 

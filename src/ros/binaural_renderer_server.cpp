@@ -116,6 +116,7 @@ BinauralRendererServer::BinauralRendererServer(::ros::NodeHandle& nh, ::ros::Nod
   render_server_ = private_nh.advertiseService("render_to_file", &BinauralRendererServer::renderToFile, this);
   simulator_ = nh_.serviceClient<room_reverb::SimulateRoom>(simulator_service_);
   setUpJack(private_nh);
+  setUpSimulatedWalk(private_nh);
 }
 
 BinauralRendererServer::~BinauralRendererServer() { stop(); }
@@ -127,6 +128,9 @@ void BinauralRendererServer::start() {
 
 void BinauralRendererServer::stop() {
   jack_timer_.stop();
+  refresh_timer_.stop();
+  early_running_ = false;
+  if (early_thread_.joinable()) early_thread_.join();
   listener_timer_.stop();
   marker_timer_.stop();
   running_ = false;
@@ -195,29 +199,13 @@ void BinauralRendererServer::onImpulseResponse(const room_reverb::ImpulseRespons
 }
 
 void BinauralRendererServer::onRoomScene(const room_reverb::RoomScene::ConstPtr& message) {
-  room_reverb::SimulateRoom simulate;
-  simulate.request.room = message->room;
-  simulate.request.source = message->source;
-  simulate.request.listener = message->listener;
-  simulate.request.mode = message->mode;
-  simulate.request.ambisonic_order = decoder_.order;
-  simulate.request.global_scattering = -1.0;
-  if (!simulator_.call(simulate)) {
-    rejectRoom("~room_scene: the simulator service " + simulator_.getService() + " did not answer");
-    return;
+  std::uint64_t generation = 0;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    generation = ++scene_generation_;
+    last_scene_ = message;
   }
-  if (!simulate.response.success) {
-    rejectRoom("~room_scene: the simulator refused the room: " + simulate.response.message);
-    return;
-  }
-  try {
-    StreamRoom room = roomFromImpulseResponse(simulate.response.impulse_response);
-    room.description = "room_scene " + (message->mode.empty() ? std::string("default mode") : message->mode) + ", " +
-                       room.description;
-    offerRoom(std::move(room));
-  } catch (const std::exception& e) {
-    rejectRoom(std::string("~room_scene: ") + e.what());
-  }
+  playScene(*message, generation);
 }
 
 void BinauralRendererServer::onHeadOrientation(const geometry_msgs::QuaternionStamped::ConstPtr& message) {

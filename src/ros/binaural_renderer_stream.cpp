@@ -88,11 +88,13 @@ void BinauralRendererServer::renderChunk() {
   std::shared_ptr<const StreamRoom> room;
   std::optional<Eigen::Quaterniond> head;
   std::optional<Eigen::Vector3d> position;
+  std::shared_ptr<const PendingEarly> early;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     room.swap(pending_room_);
     head.swap(pending_head_);
     position.swap(pending_position_);
+    early.swap(pending_early_);
   }
   if (position) {
     listener_to_ = *position;
@@ -103,6 +105,14 @@ void BinauralRendererServer::renderChunk() {
     try {
       const std::string warning = stream_->setRoom(room->ambix);
       takeRoomTaps(*room);
+      // A walkable simulated room brings its image-source part; any other room takes the
+      // last one away.
+      if (room->simulated_walk) {
+        stream_->setEarlyResponse(room->early);
+      } else if (early_walk_) {
+        stream_->setEarlyResponse(core::AudioBuffer());
+      }
+      early_walk_ = room->simulated_walk;
       {
         std::lock_guard<std::mutex> lock(mutex_);
         current_room_ = room;
@@ -114,6 +124,9 @@ void BinauralRendererServer::renderChunk() {
     }
   }
   if (head) stream_->setHeadOrientation(*head);
+  // The worker's image-source part for where the listener is now, if it belongs to the
+  // room playing.
+  if (early && early->walk == early_walk_ && early_walk_) stream_->setEarlyResponse(early->early);
 
   for (std::size_t b = 0; b < chunk_blocks_; ++b) {
     if (looped_source_) {
@@ -156,7 +169,7 @@ void BinauralRendererServer::publishStatus() {
   status.clock_restarts = pacing.restarts;
   status.source = source_description_;
   status.audio_scheduling = audio_scheduling_;
-  status.walkable = translation_ != nullptr;
+  status.walkable = translation_ != nullptr || early_walk_ != nullptr;
   status.listener_position.x = listener_to_.x();
   status.listener_position.y = listener_to_.y();
   status.listener_position.z = listener_to_.z();
@@ -235,7 +248,20 @@ bool BinauralRendererServer::renderToFile(room_reverb::RenderToFile::Request& re
     } else {
       room = std::make_shared<const StreamRoom>(roomFromFile(request.rsao_file, "rsao", rsao_seed_));
     }
-    if (room->translation) {
+    if (room->simulated_walk) {
+      // A walkable simulated room: its image sources where the listener stands now (where
+      // it was simulated until a pose arrives) over its late part.
+      const core::SimulatedWalk& walk = *room->simulated_walk;
+      const core::AudioBuffer early = walk.earlyAt(listener ? *listener : walk.referenceListener());
+      StreamRoom heard = *room;
+      for (std::size_t c = 0; c < heard.ambix.channelCount(); ++c) {
+        for (std::size_t n = 0; n < std::min(early.frameCount(), heard.ambix.frameCount()); ++n) {
+          heard.ambix.channels[c][n] += early.channels[c][n];
+        }
+      }
+      heard.description += listener ? ", heard where the listener stands" : "";
+      room = std::make_shared<const StreamRoom>(std::move(heard));
+    } else if (room->translation) {
       // A walkable room: the RSAO as heard where the listener stands now (the microphone
       // until a pose arrives), resynthesised whole.
       const Eigen::Vector3d at = listener ? *listener : room->translation->rigPosition();

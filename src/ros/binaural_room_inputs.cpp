@@ -1,11 +1,14 @@
 #include "room_reverb/ros/binaural_room_inputs.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "room_reverb/audio/audio_file.h"
 #include "room_reverb/binaural/offline_render.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/ros/audio_conversions.h"
+#include "room_reverb/ros/room_conversions.h"
 #include "room_reverb/ros/rsao_conversions.h"
 #include "room_reverb/rsao/rsao_resynthesis.h"
 #include "room_reverb/rsao/rsao_yaml.h"
@@ -20,6 +23,49 @@ std::string describe(const std::string& what, const core::AudioBuffer& ambix) {
 }
 
 }  // namespace
+
+StreamRoom walkableSimulatedRoom(const room_reverb::RoomScene& scene, const room_reverb::SimulateRoom::Response& simulated,
+                                 const core::MaterialLibrary& library, const std::string& description) {
+  const core::AudioBuffer whole = fromMessage(simulated.impulse_response.audio);
+  if (simulated.late_impulse_response.audio.samples.empty()) {
+    throw core::InputError("the simulator sent no late part (an older room_simulator?)");
+  }
+  core::AudioBuffer late = fromMessage(simulated.late_impulse_response.audio);
+  const core::RoomModel model = fromMessage(scene.room);
+  core::SimulationSettings settings;
+  settings.image_source_order = simulated.image_source_order;
+  settings.ambisonic_order = core::ambixOrder(whole);
+  settings.duration_s = whole.durationS();
+  settings.air = model.air;
+  const Eigen::Vector3d source(scene.source.x, scene.source.y, scene.source.z);
+  const Eigen::Vector3d listener(scene.listener.x, scene.listener.y, scene.listener.z);
+  auto walk = std::make_shared<const core::SimulatedWalk>(core::roomModelToScene(model, library), source, listener,
+                                                           settings, std::move(late));
+  StreamRoom room;
+  room.early = walk->earlyAt(listener);
+  // The image sources computed here and the simulator's late part add up to its response
+  // only if both used the same materials and settings.
+  double energy = 0.0, residual = 0.0;
+  for (std::size_t c = 0; c < whole.channelCount(); ++c) {
+    for (std::size_t n = 0; n < whole.frameCount(); ++n) {
+      const double here = walk->late().channels[c][n] + (n < room.early.frameCount() ? room.early.channels[c][n] : 0.0f);
+      energy += static_cast<double>(whole.channels[c][n]) * whole.channels[c][n];
+      residual += (whole.channels[c][n] - here) * (whole.channels[c][n] - here);
+    }
+  }
+  const double residual_db = 10.0 * std::log10(std::max(residual, 1e-30) / std::max(energy, 1e-30));
+  if (residual_db > -40.0) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "the image sources computed here differ from the simulator's by %.1f dB (are its materials this node's?)",
+                  residual_db);
+    throw core::InputError(text);
+  }
+  room.ambix = walk->late();
+  room.simulated_walk = std::move(walk);
+  room.description = describe(description + ", walkable", whole);
+  return room;
+}
 
 StreamRoom roomFromRsao(const core::Rsao& rsao, std::uint32_t seed, const std::string& what,
                         const std::shared_ptr<const core::RoomModel>& walkable) {

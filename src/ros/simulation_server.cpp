@@ -79,6 +79,14 @@ bool SimulationServer::simulate(room_reverb::SimulateRoom::Request& request,
     response.impulse_response.source_position = request.source;
     response.impulse_response.receiver_position = request.listener;
     response.impulse_response.positions_known = true;
+    response.image_source_order = settings.image_source_order;
+    if (request.late_part) {
+      const core::AudioBuffer late =
+          core::synthesizeImpulseResponse({}, &result.late, core::simulationSynthesisOptions(*scene, settings));
+      response.late_impulse_response = response.impulse_response;
+      response.late_impulse_response.audio = toMessage(late, settings.ambisonic_order == 0 ? "mono" : "ambix");
+      response.late_impulse_response.audio.header = response.impulse_response.audio.header;
+    }
     const core::MetricsReport metrics = core::analyseImpulseResponse(result.impulse_response, 0);
     for (const auto& band : metrics.bands) {
       response.t30_s.push_back(band.t30_s ? *band.t30_s : std::numeric_limits<double>::quiet_NaN());

@@ -20,6 +20,11 @@ class SimulatedWalk {
   // positions or settings).
   SimulatedWalk(AcousticScene scene, const Eigen::Vector3d& source_m, const Eigen::Vector3d& reference_listener_m,
                 const SimulationSettings& settings);
+  // With the late part simulated elsewhere (the room_simulator node's late_part) for these
+  // settings at `reference_listener_m`: AmbiX of the settings' ambisonic order at 48 kHz
+  // (InputError otherwise, or for positions the scene refuses).
+  SimulatedWalk(AcousticScene scene, const Eigen::Vector3d& source_m, const Eigen::Vector3d& reference_listener_m,
+                const SimulationSettings& settings, AudioBuffer late);
 
   // The image-source part at `listener_m`, at the settings' ambisonic order and 48 kHz,
   // to the end of its last path's band-shaping FIR (21 ms after it). InputError for a listener outside the

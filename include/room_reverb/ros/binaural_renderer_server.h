@@ -105,6 +105,13 @@ class BinauralRendererServer {
   // one whose server went away, and the stream's clock (the card's while JACK plays, ROS
   // time otherwise).
   void setUpJack(::ros::NodeHandle& private_nh);
+  // The simulated route walked (binaural_renderer_simulated_walk.cpp): parameters, worker
+  // and refresh timer; a scene simulated and offered (walkable when it can be); the late
+  // part simulated again where the listener has walked to; the worker's loop.
+  void setUpSimulatedWalk(::ros::NodeHandle& private_nh);
+  void playScene(const room_reverb::RoomScene& scene, std::uint64_t generation);
+  void refreshWalk();
+  void earlyLoop();
   void joinJack();
   void takeJack();
   double streamClock() const;
@@ -135,6 +142,7 @@ class BinauralRendererServer {
   std::string audio_scheduling_;
   std::shared_ptr<const core::ListenerTranslation> translation_;  // of the room playing
   std::shared_ptr<const core::RoomModel> taps_room_model_;
+  std::shared_ptr<const core::SimulatedWalk> early_walk_;  // of the room playing
   Eigen::Vector3d listener_from_ = Eigen::Vector3d::Zero(), listener_to_ = Eigen::Vector3d::Zero();
   bool listener_known_ = false;
   std::shared_ptr<core::JackOutput> jack_;
@@ -156,13 +164,26 @@ class BinauralRendererServer {
   std::uint64_t rsao_generation_ = 0;
   Counters counters_;
   std::shared_ptr<core::JackOutput> pending_jack_;
+  // An image-source part for the audio thread, and the walk it belongs to.
+  struct PendingEarly {
+    std::shared_ptr<const core::SimulatedWalk> walk;
+    core::AudioBuffer early;
+  };
+  std::shared_ptr<const PendingEarly> pending_early_;
+  room_reverb::RoomScene::ConstPtr last_scene_;
+  std::uint64_t scene_generation_ = 0;
   std::string jack_state_ = "off";
   std::string jack_lost_;  // why the last server went away, until one is joined
 
   std::atomic<bool> running_{false};
   std::atomic<bool> jack_playing_{false};
   core::JackOutputOptions jack_options_;
-  ::ros::WallTimer jack_timer_;
+  ::ros::WallTimer jack_timer_, refresh_timer_;
+  bool walk_room_scenes_ = true;
+  double walk_refresh_m_ = 1.0;
+  core::MaterialLibrary library_;
+  std::atomic<bool> early_running_{false};
+  std::thread early_thread_;
   std::thread audio_thread_;
 
   ::ros::NodeHandle nh_;

@@ -2,14 +2,18 @@
 // The rooms the binaural_renderer can be given, each turned into what the stream plays: an
 // AmbiX room response at 48 kHz (offline_render.h) and a one-line description.
 #include <room_reverb/ImpulseResponse.h>
+#include <room_reverb/RoomScene.h>
 #include <room_reverb/Rsao.h>
+#include <room_reverb/SimulateRoom.h>
 
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "room_reverb/acoustics/material.h"
 #include "room_reverb/acoustics/room_model.h"
+#include "room_reverb/acoustics/simulated_walk.h"
 #include "room_reverb/audio/audio_buffer.h"
 #include "room_reverb/rsao/listener_translation.h"
 
@@ -24,6 +28,11 @@ struct StreamRoom {
   // reflection_tap_bank.h), and `ambix` holds only its late part. Null otherwise.
   std::shared_ptr<const core::ListenerTranslation> translation;
   std::shared_ptr<const core::RoomModel> room_model;
+  // A simulated room the listener walks in: its image-source part computed again where the
+  // listener stands (simulated_walk.h), `ambix` its late part, `early` the image-source
+  // part at the simulated listener position. Null otherwise.
+  std::shared_ptr<const core::SimulatedWalk> simulated_walk;
+  core::AudioBuffer early;
 };
 
 // An ImpulseResponse message: its audio.channel_layout says the convention ("fuma",
@@ -39,6 +48,14 @@ StreamRoom roomFromRsao(const core::Rsao& rsao, std::uint32_t seed, const std::s
                         const std::shared_ptr<const core::RoomModel>& walkable = nullptr);
 StreamRoom roomFromRsao(const room_reverb::Rsao& message, std::uint32_t seed,
                         const std::shared_ptr<const core::RoomModel>& walkable = nullptr);
+
+// A RoomScene simulated by the room_simulator with late_part, made walkable: the scene built
+// here from the same room model with `library`, the image sources at the scene's listener
+// plus the simulator's late part must give back its whole response (within -40 dB: the
+// simulator and this node must use the same materials), else InputError saying by how
+// much they differ. `decoder_order`: the ambisonic order asked of the simulator.
+StreamRoom walkableSimulatedRoom(const room_reverb::RoomScene& scene, const room_reverb::SimulateRoom::Response& simulated,
+                                 const core::MaterialLibrary& library, const std::string& description);
 
 // A file: a B-format or AmbiX RIR with `format` "fuma", "ambix" or "mono", or an RSAO YAML
 // with format "rsao" (walkable as above). InputError for a missing or unreadable file or an

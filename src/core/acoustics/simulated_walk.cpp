@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "room_reverb/acoustics/propagation.h"
+#include "room_reverb/ambisonics/spherical_harmonics.h"
 #include "room_reverb/common/error.h"
 
 namespace room_reverb::core {
@@ -17,6 +18,22 @@ SimulatedWalk::SimulatedWalk(AcousticScene scene, const Eigen::Vector3d& source_
   const SimulationResult reference = simulateRoom(scene_, source_m_, reference_m_, settings_);
   synthesis_ = simulationSynthesisOptions(scene_, settings_);
   late_ = synthesizeImpulseResponse({}, &reference.late, synthesis_);
+}
+
+SimulatedWalk::SimulatedWalk(AcousticScene scene, const Eigen::Vector3d& source_m,
+                             const Eigen::Vector3d& reference_listener_m, const SimulationSettings& settings,
+                             AudioBuffer late)
+    : scene_(std::move(scene)), source_m_(source_m), reference_m_(reference_listener_m), settings_(settings),
+      late_(std::move(late)) {
+  validateAudioBuffer(late_, "the late part");
+  if (late_.sample_rate_hz != kInternalSampleRateHz ||
+      late_.channelCount() != static_cast<std::size_t>(ambisonicChannelCount(settings_.ambisonic_order))) {
+    throw InputError("the late part must be AmbiX of order " + std::to_string(settings_.ambisonic_order) + " at 48000 Hz");
+  }
+  if (!source_m_.allFinite()) throw InputError("the source position is not finite");
+  scene_.requireInside(source_m_, "source");
+  pathsAt(reference_m_);
+  synthesis_ = simulationSynthesisOptions(scene_, settings_);
 }
 
 std::vector<SpecularPath> SimulatedWalk::pathsAt(const Eigen::Vector3d& listener_m) const {
