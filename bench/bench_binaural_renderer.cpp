@@ -91,7 +91,7 @@ BENCHMARK(BM_RendererChunk)->Arg(16)->Arg(4)->Unit(benchmark::kMicrosecond)->Rep
 // A 9 x 7 x 3 m room with a table, its source 3 m from the microphone: the RSAO is the
 // room's own image sources to second order (25 arrivals, each matched to its walls, so
 // every pose checks every path), as an estimate with a room model gives.
-ListenerTranslation walkableRoom() {
+RoomModel roomWithATable() {
   RoomModel model;
   model.size_m = {9.0, 7.0, 3.0};
   for (const char* name : kRoomSurfaceNames) model.surfaces[name] = SurfaceAssignment{"plaster_smooth", 1.0};
@@ -102,6 +102,11 @@ ListenerTranslation walkableRoom() {
   table.center_m = {6.0, 1.5, 0.4};
   table.size_m = {1.6, 0.9, 0.8};
   model.objects.push_back(table);
+  return model;
+}
+
+ListenerTranslation walkableRoom() {
+  const RoomModel model = roomWithATable();
   const Eigen::Vector3d source(6.5, 5.0, 1.6);
   const AcousticScene scene = roomModelToScene(model, MaterialLibrary::loadDefault());
   ImageSourceOptions search;
@@ -155,21 +160,13 @@ BENCHMARK(BM_ReflectionsAtPose)->Unit(benchmark::kMicrosecond)->Repetitions(3)->
 // The simulated route walked: the same room (and table) simulated in eyring mode at the
 // microphone, second-order image sources, third-order AmbiX, a 2 s late part.
 SimulatedWalk simulatedRoom() {
-  RoomModel model;
-  model.size_m = {9.0, 7.0, 3.0};
-  for (const char* name : kRoomSurfaceNames) model.surfaces[name] = SurfaceAssignment{"plaster_smooth", 1.0};
-  CuboidObject table;
-  table.label = "table";
-  table.material = "wood";
-  table.center_m = {6.0, 1.5, 0.4};
-  table.size_m = {1.6, 0.9, 0.8};
-  model.objects.push_back(table);
+  const RoomModel model = roomWithATable();
   SimulationSettings settings;
   settings.mode = SimulationMode::kEyring;
   settings.image_source_order = 2;
   settings.ambisonic_order = 3;
   return SimulatedWalk(roomModelToScene(model, MaterialLibrary::loadDefault()), Eigen::Vector3d(6.5, 5.0, 1.6),
-                       Eigen::Vector3d(4.0, 3.5, 1.5), settings);
+                       model.rig_position_m, settings);
 }
 
 // The worker's job for one pose: image sources and their synthesis.

@@ -1,3 +1,4 @@
+#include "room_reverb/ros/room_conversions.h"
 #include "room_reverb/ros/listener_markers.h"
 
 #include <algorithm>
@@ -31,14 +32,6 @@ std::array<float, 3> anchorColor(core::ReflectionAnchor anchor) {
   return {1.0f, 1.0f, 1.0f};
 }
 
-geometry_msgs::Point point(const Eigen::Vector3d& p) {
-  geometry_msgs::Point out;
-  out.x = p.x();
-  out.y = p.y();
-  out.z = p.z();
-  return out;
-}
-
 }  // namespace
 
 visualization_msgs::MarkerArray listenerMarkers(const core::ListenerTranslation& translation,
@@ -51,12 +44,12 @@ visualization_msgs::MarkerArray listenerMarkers(const core::ListenerTranslation&
   out.markers.push_back(clear);
 
   Marker head_sphere = baseMarker(frame, stamp, "listener", 0, Marker::SPHERE);
-  head_sphere.pose.position = point(listener_m);
+  head_sphere.pose.position = toPoint(listener_m);
   head_sphere.scale.x = head_sphere.scale.y = head_sphere.scale.z = 0.2;
   head_sphere.color = rgba({0.9f, 0.8f, 0.7f}, 1.0f);
   out.markers.push_back(head_sphere);
   Marker facing = baseMarker(frame, stamp, "listener", 1, Marker::ARROW);
-  facing.pose.position = point(listener_m);
+  facing.pose.position = toPoint(listener_m);
   facing.pose.orientation.x = head.x();
   facing.pose.orientation.y = head.y();
   facing.pose.orientation.z = head.z();
@@ -67,7 +60,7 @@ visualization_msgs::MarkerArray listenerMarkers(const core::ListenerTranslation&
   out.markers.push_back(facing);
 
   Marker source = baseMarker(frame, stamp, "source", 0, Marker::SPHERE);
-  source.pose.position = point(translation.sourcePosition());
+  source.pose.position = toPoint(translation.sourcePosition());
   source.scale.x = source.scale.y = source.scale.z = 0.25;
   source.color = rgba(anchorColor(core::ReflectionAnchor::kSource), 1.0f);
   out.markers.push_back(source);
@@ -82,12 +75,12 @@ visualization_msgs::MarkerArray listenerMarkers(const core::ListenerTranslation&
     const auto alpha = static_cast<float>(std::clamp(1.0 + db / 40.0 * 0.85, 0.15, 1.0));
     const std_msgs::ColorRGBA color = rgba(anchorColor(path.anchor), alpha);
     if (path.anchor != core::ReflectionAnchor::kSource) {
-      images.points.push_back(point(translation.anchors()[path.index].image_source_m));
+      images.points.push_back(toPoint(translation.anchors()[path.index].image_source_m));
       images.colors.push_back(color);
     }
     for (std::size_t i = 1; i < path.points.size(); ++i) {
-      lines.points.push_back(point(path.points[i - 1]));
-      lines.points.push_back(point(path.points[i]));
+      lines.points.push_back(toPoint(path.points[i - 1]));
+      lines.points.push_back(toPoint(path.points[i]));
       lines.colors.push_back(color);
       lines.colors.push_back(color);
     }

@@ -111,4 +111,12 @@ room_reverb::RoomModel toMessage(const core::RoomModel& model) {
   return msg;
 }
 
+geometry_msgs::Point toPoint(const Eigen::Vector3d& p) {
+  geometry_msgs::Point out;
+  out.x = p.x();
+  out.y = p.y();
+  out.z = p.z();
+  return out;
+}
+
 }  // namespace room_reverb::ros_bridge

@@ -1,3 +1,4 @@
+#include "room_reverb/ros/room_conversions.h"
 #include "room_reverb/ros/sample_bag.h"
 
 #include <geometry_msgs/QuaternionStamped.h>
@@ -34,14 +35,6 @@ namespace fs = std::filesystem;
 const ::ros::Time kStart(1700000000, 0);
 constexpr double kHeadPeriodS = 10.0;
 constexpr double kHeadAmplitudeRad = 30.0 * M_PI / 180.0;
-
-geometry_msgs::Point point(const Eigen::Vector3d& p) {
-  geometry_msgs::Point out;
-  out.x = p.x();
-  out.y = p.y();
-  out.z = p.z();
-  return out;
-}
 
 core::MeasurementPair rigPair(const std::string& measurement_path) {
   const core::Measurements m = core::loadMeasurements(measurement_path);
@@ -126,8 +119,8 @@ SampleBagReport writeSampleBag(const SampleBagOptions& o) {
   ir.audio = toMessage(rir.impulse_response, "ambix");
   ir.audio.header.stamp = capture_time;
   ir.audio.header.frame_id = "rig";  // the microphone's frame: the RSAO's directions are in it
-  ir.source_position = point(pair.source_m);
-  ir.receiver_position = point(pair.receiver_m);
+  ir.source_position = toPoint(pair.source_m);
+  ir.receiver_position = toPoint(pair.receiver_m);
   ir.positions_known = true;
   bag.write("/rig/impulse_response", capture_time, ir);
 

@@ -183,7 +183,7 @@ TEST(SimulatedWalk, BadPositionsAreRefusedInOneLine) {
 TEST(SimulatedWalk, TheCommandLineWalksThroughASimulatedRoom) {
   RoomModel room;
   room.size_m = kSize;
-  for (const std::string& name : {"floor", "ceiling", "wall_x_min", "wall_x_max", "wall_y_min", "wall_y_max"}) {
+  for (const char* name : kRoomSurfaceNames) {
     room.surfaces[name].material = "plaster_smooth";
   }
   const std::string room_file = test::tempPath("walk_sim_room.yaml").string();

@@ -20,6 +20,7 @@
 #include <mutex>
 #include <string>
 
+#include "room_scene_message.h"
 #include "room_reverb/audio/audio_file.h"
 #include "room_reverb/audio/channel_mix.h"
 #include "room_reverb/audio/resample.h"
@@ -240,19 +241,8 @@ TEST_F(TopicRenderer, TakesRoomsFromEveryInputAndRefusesBadOnes) {
   EXPECT_NE(s.room.find("rsao"), std::string::npos) << s.room;
 
   // A room model through the simulator.
-  room_reverb::RoomScene scene;
-  scene.room.header.frame_id = "room";
-  scene.room.size.x = 5.0;
-  scene.room.size.y = 4.0;
-  scene.room.size.z = 2.8;
-  scene.room.has_ceiling = true;
-  scene.room.floor_material = "carpet_thick";
-  scene.room.ceiling_material = "acoustic_ceiling_tiles";
-  scene.room.wall_x_min_material = scene.room.wall_x_max_material = "plaster_smooth";
-  scene.room.wall_y_min_material = scene.room.wall_y_max_material = "plaster_smooth";
-  scene.source.x = 3.5; scene.source.y = 2.0; scene.source.z = 1.5;
-  scene.listener.x = 1.5; scene.listener.y = 2.0; scene.listener.z = 1.5;
-  scene.mode = "fast";
+  room_reverb::RoomScene scene = room_reverb::test::shoeboxScene(Eigen::Vector3d(5.0, 4.0, 2.8), Eigen::Vector3d(3.5, 2.0, 1.5),
+                                                                 Eigen::Vector3d(1.5, 2.0, 1.5), "fast");
   s = awaitRoomOutcome([&] { scene_pub_.publish(scene); });
   EXPECT_NE(s.room.find("room_scene fast"), std::string::npos) << s.room << " / " << s.last_message;
   EXPECT_NE(s.room.find("order 3"), std::string::npos) << s.room;

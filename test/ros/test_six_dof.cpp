@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "reflection_rooms.h"
+#include "room_scene_message.h"
 #include "room_reverb/ambisonics/bformat.h"
 #include "room_reverb/ros/room_conversions.h"
 #include "room_reverb/ros/rsao_conversions.h"
@@ -273,20 +274,8 @@ TEST(SixDof, AListenerWalkingInASimulatedRoomHearsTheSourceLouder) {
   Ears ears(nh);
   Walker walker(nh);
   ros::Publisher scene_pub = nh.advertise<room_reverb::RoomScene>(kNs + "room_scene", 1, true);
-  room_reverb::RoomScene scene;
-  scene.room.header.frame_id = "room";
-  scene.room.size.x = 6.0;
-  scene.room.size.y = 4.0;
-  scene.room.size.z = 2.8;
-  scene.room.has_ceiling = true;
-  scene.room.floor_material = "carpet_thick";
-  scene.room.ceiling_material = "acoustic_ceiling_tiles";
-  scene.room.wall_x_min_material = scene.room.wall_x_max_material = "plaster_smooth";
-  scene.room.wall_y_min_material = scene.room.wall_y_max_material = "plaster_smooth";
   const Eigen::Vector3d source(1.2, 2.0, 1.5), start(4.8, 2.0, 1.5);
-  scene.source.x = source.x(); scene.source.y = source.y(); scene.source.z = source.z();
-  scene.listener.x = start.x(); scene.listener.y = start.y(); scene.listener.z = start.z();
-  scene.mode = "eyring";
+  const room_reverb::RoomScene scene = test::shoeboxScene(Eigen::Vector3d(6.0, 4.0, 2.8), source, start, "eyring");
   scene_pub.publish(scene);
   walker.walk(1.0, [&](double) { return start; });
   ASSERT_TRUE(waitFor(ears, [](const room_reverb::StreamStatus& s) {

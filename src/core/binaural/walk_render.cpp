@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <functional>
 #include <sstream>
 
 #include "room_reverb/ambisonics/rotation.h"
@@ -107,6 +108,34 @@ std::vector<TapTarget> tapTargetsAt(const ListenerTranslation& translation, cons
   return targets;
 }
 
+namespace {
+
+// Streams `dry` and `tail_frames` of silence through `stream` block by block, the head
+// turned to each block's pose (the pose at its end); `before_block(b, pose)` moves the
+// room first. Left and right, the dry sound's length plus the tail.
+AudioBuffer streamWalk(const AudioBuffer& dry, std::size_t tail_frames, BinauralStream& stream,
+                       const std::vector<ListenerPose>& poses,
+                       const std::function<void(std::size_t, const ListenerPose&)>& before_block) {
+  const std::size_t frames = dry.frameCount() + tail_frames;
+  const std::size_t blocks = (frames + kBlock - 1) / kBlock;
+  AudioBuffer out = makeSilentBuffer(2, blocks * kBlock, kInternalSampleRateHz);
+  std::vector<float> block(kBlock);
+  for (std::size_t b = 0; b < blocks; ++b) {
+    const ListenerPose pose = poseAt(poses, static_cast<double>((b + 1) * kBlock) / kInternalSampleRateHz);
+    before_block(b, pose);
+    stream.setHeadOrientation(pose.orientation);
+    for (std::size_t n = 0; n < kBlock; ++n) {
+      const std::size_t i = b * kBlock + n;
+      block[n] = i < dry.frameCount() ? dry.channels[0][i] : 0.0f;
+    }
+    stream.process(block.data(), out.channels[0].data() + b * kBlock, out.channels[1].data() + b * kBlock);
+  }
+  for (auto& channel : out.channels) channel.resize(frames);
+  return out;
+}
+
+}  // namespace
+
 AudioBuffer renderWalk(const AudioBuffer& dry, const ListenerTranslation& translation, const BinauralDecoder& decoder,
                        const std::vector<ListenerPose>& poses, std::uint32_t seed) {
   if (poses.empty()) throw InputError("walk render: no pose");
@@ -128,23 +157,10 @@ AudioBuffer renderWalk(const AudioBuffer& dry, const ListenerTranslation& transl
   tap_options.max_delay_s = 1.0;
   stream.setEarlyTaps(std::make_unique<ReflectionTapBank>(translation.reflectionsAtRig(), tap_options));
 
-  const std::size_t frames = dry.frameCount() + late.frameCount();
-  const std::size_t blocks = (frames + kBlock - 1) / kBlock;
-  AudioBuffer out = makeSilentBuffer(2, blocks * kBlock, kInternalSampleRateHz);
-  std::vector<float> block(kBlock);
-  for (std::size_t b = 0; b < blocks; ++b) {
+  return streamWalk(dry, late.frameCount(), stream, poses, [&](std::size_t, const ListenerPose& pose) {
     // The pose at the end of the block: the taps glide to it across the block.
-    const ListenerPose pose = poseAt(poses, static_cast<double>((b + 1) * kBlock) / kInternalSampleRateHz);
     stream.earlyTaps()->setTargets(tapTargetsAt(translation, pose.position_m));
-    stream.setHeadOrientation(pose.orientation);
-    for (std::size_t n = 0; n < kBlock; ++n) {
-      const std::size_t i = b * kBlock + n;
-      block[n] = i < dry.frameCount() ? dry.channels[0][i] : 0.0f;
-    }
-    stream.process(block.data(), out.channels[0].data() + b * kBlock, out.channels[1].data() + b * kBlock);
-  }
-  for (auto& channel : out.channels) channel.resize(frames);
-  return out;
+  });
 }
 
 AudioBuffer renderSimulatedWalk(const AudioBuffer& dry, const SimulatedWalk& walk, const BinauralDecoder& decoder,
@@ -163,27 +179,14 @@ AudioBuffer renderSimulatedWalk(const AudioBuffer& dry, const SimulatedWalk& wal
   BinauralStream stream(decoder, options);
   stream.setRoom(late);
 
-  const std::size_t frames = dry.frameCount() + late.frameCount();
-  const std::size_t blocks = (frames + kBlock - 1) / kBlock;
-  AudioBuffer out = makeSilentBuffer(2, blocks * kBlock, kInternalSampleRateHz);
-  std::vector<float> block(kBlock);
-  for (std::size_t b = 0; b < blocks; ++b) {
-    const ListenerPose pose = poseAt(poses, static_cast<double>((b + 1) * kBlock) / kInternalSampleRateHz);
+  return streamWalk(dry, late.frameCount(), stream, poses, [&](std::size_t b, const ListenerPose&) {
     // A new early part as often as a fade completes: where the listener will be half an
     // update later, so that the fade is centred on the pose it plays.
     if (b % update_blocks == 0) {
       const double centre_s = static_cast<double>(b * kBlock + update_blocks * kBlock / 2) / kInternalSampleRateHz;
       stream.setEarlyResponse(walk.earlyAt(poseAt(poses, centre_s).position_m));
     }
-    stream.setHeadOrientation(pose.orientation);
-    for (std::size_t n = 0; n < kBlock; ++n) {
-      const std::size_t i = b * kBlock + n;
-      block[n] = i < dry.frameCount() ? dry.channels[0][i] : 0.0f;
-    }
-    stream.process(block.data(), out.channels[0].data() + b * kBlock, out.channels[1].data() + b * kBlock);
-  }
-  for (auto& channel : out.channels) channel.resize(frames);
-  return out;
+  });
 }
 
 }  // namespace room_reverb::core
