@@ -37,7 +37,7 @@ DummyJackServer::DummyJackServer(double rate_hz, std::size_t period_frames, cons
   const std::string log = tempPath("jackd_" + name_ + ".log").string();
   const std::string rate = std::to_string(static_cast<long>(rate_hz));
   const std::string period = std::to_string(period_frames);
-  std::vector<std::string> args = {"jackd", "-n", name_, "-d", "dummy", "-r", rate, "-p", period};
+  std::vector<std::string> args = {"jackd", "--port-max", "32", "-n", name_, "-d", "dummy", "-r", rate, "-p", period};
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);

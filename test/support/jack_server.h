@@ -13,10 +13,11 @@ namespace room_reverb::test {
 
 class DummyJackServer {
  public:
-  // Starts `jackd -n NAME -d dummy -r RATE -p PERIOD` (real-time scheduling where the
-  // system allows it, as jackd does by default; NAME "" is a name private to this process)
-  // and waits (at most 10 s) until a client can join; the test fails with jackd's log
-  // otherwise (ok() is false then).
+  // Starts `jackd --port-max 32 -n NAME -d dummy -r RATE -p PERIOD` (real-time scheduling
+  // where the system allows it, as jackd does by default; 32 ports keep its shared memory
+  // at some 40 MB instead of 110; NAME "" is a name private to this process) and waits (at
+  // most 10 s) until a client can join; the test fails with jackd's log otherwise (ok() is
+  // false then).
   explicit DummyJackServer(double rate_hz = 48000.0, std::size_t period_frames = 256, const std::string& name = "");
   ~DummyJackServer();
   DummyJackServer(const DummyJackServer&) = delete;
