@@ -2,7 +2,7 @@
 """Drives a running binaural_renderer for a soak: swaps rooms and turns the head while it
 streams, samples its status and its resident memory, and reports.
 
-    soak.py --pid PID [--ns /soak] [--minutes 60] [--swap-s 20] [--out REPORT.md]
+    soak.py --pid PID [--ns /soak] [--minutes 60] [--swap-s 20] [--walk] [--out REPORT.md]
 
 Every --swap-s seconds the next measured B-format RIR of data/rirs/bformat goes to
 <ns>/binaural_renderer/impulse_response (FuMa, 2-6 s long); the head turns continuously,
@@ -12,6 +12,12 @@ one revolution every 12 s, at 50 orientations per second on .../head_orientation
 and refused, the CPU share (median and worst of the status periods), and the memory's
 least-squares slope over the run after its first five minutes (warm-up: the convolver
 and the HRTF caches fill), in MiB per hour.
+
+With --walk the listener walks instead: a simulated room (a 6 x 4 x 2.8 m room with a
+carpeted floor and a tiled ceiling, fast mode, through the room_simulator) on
+.../room_scene, then a listener walking at 1 m/s on average around an ellipse 0.9 m inside
+its walls, facing where it goes, around the source in the room's middle, at 50 poses per second on .../listener_pose. The report adds the
+positions refused and the late parts simulated again on the way (room changes).
 
 Exit status: 0 when the run completed with no chunk dropped, no room refused and the
 renderer alive; 1 otherwise; 2 for bad arguments.
@@ -26,8 +32,8 @@ import time
 import wave
 
 import rospy
-from geometry_msgs.msg import QuaternionStamped
-from room_reverb.msg import ImpulseResponse, StreamStatus
+from geometry_msgs.msg import PoseStamped, QuaternionStamped
+from room_reverb.msg import ImpulseResponse, RoomScene, StreamStatus
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 RIRS = ["dixon_studio_theatre_r1", "terrys_typing_room", "st_andrews_church", "tyndall_bruce_monument"]
@@ -59,6 +65,39 @@ def rss_mib(pid):
     raise RuntimeError("no VmRSS")
 
 
+WALK_ROOM = (6.0, 4.0, 2.8)
+WALK_SOURCE = (3.0, 2.0, 1.2)  # the room's middle: the listener circles it at 1.1-2.1 m
+WALK_SPEED_M_S = 1.0
+
+
+def walk_scene():
+    """The walk's room: a RoomScene the room_simulator simulates in fast mode."""
+    scene = RoomScene()
+    scene.room.header.frame_id = "room"
+    scene.room.size.x, scene.room.size.y, scene.room.size.z = WALK_ROOM
+    scene.room.has_ceiling = True
+    scene.room.floor_material = "carpet_thick"
+    scene.room.ceiling_material = "acoustic_ceiling_tiles"
+    for wall in ("wall_x_min", "wall_x_max", "wall_y_min", "wall_y_max"):
+        setattr(scene.room, wall + "_material", "plaster_smooth")
+    scene.source.x, scene.source.y, scene.source.z = WALK_SOURCE
+    x, y = walk_position(0.0)[:2]
+    scene.listener.x, scene.listener.y, scene.listener.z = x, y, 1.6
+    scene.mode = "fast"
+    return scene
+
+
+def walk_position(t_s):
+    """Position and heading at t_s on an ellipse 0.9 m inside the walls, 1 m/s on average
+    (0.7-1.4 m/s: uniform in the ellipse's angle, not its length)."""
+    a, b = WALK_ROOM[0] / 2 - 0.9, WALK_ROOM[1] / 2 - 0.9
+    perimeter = math.pi * (3 * (a + b) - math.sqrt((3 * a + b) * (a + 3 * b)))  # Ramanujan
+    phase = 2.0 * math.pi * WALK_SPEED_M_S * t_s / perimeter
+    x, y = WALK_ROOM[0] / 2 + a * math.cos(phase), WALK_ROOM[1] / 2 + b * math.sin(phase)
+    heading = math.atan2(b * math.cos(phase), -a * math.sin(phase))
+    return x, y, 1.6, heading
+
+
 def slope_per_hour(samples):
     """Least-squares slope of (t_s, value) pairs, per hour."""
     if len(samples) < 3:
@@ -76,6 +115,7 @@ def main():
     parser.add_argument("--ns", default="/soak", help="the renderer's namespace")
     parser.add_argument("--minutes", type=float, default=60.0)
     parser.add_argument("--swap-s", type=float, default=20.0)
+    parser.add_argument("--walk", action="store_true", help="a listener walking in a simulated room")
     parser.add_argument("--out", default="", help="write the report (Markdown) here too")
     args = parser.parse_args()
     if args.minutes <= 0 or args.swap_s <= 0:
@@ -89,6 +129,8 @@ def main():
     base = args.ns.rstrip("/") + "/binaural_renderer/"
     rir_pub = rospy.Publisher(base + "impulse_response", ImpulseResponse, queue_size=1, latch=True)
     head_pub = rospy.Publisher(base + "head_orientation", QuaternionStamped, queue_size=10)
+    scene_pub = rospy.Publisher(base + "room_scene", RoomScene, queue_size=1, latch=True)
+    pose_pub = rospy.Publisher(base + "listener_pose", PoseStamped, queue_size=10)
     status = {"last": None, "cpu": [], "worst_chunk": 0.0}
 
     def on_status(message):
@@ -108,6 +150,18 @@ def main():
         message.audio.samples = samples
         rooms.append((name, message))
 
+    if args.walk:
+        scene_pub.publish(walk_scene())
+        deadline = time.monotonic() + 60.0
+        while not rospy.is_shutdown() and time.monotonic() < deadline:
+            if status["last"] is not None and status["last"].walkable:
+                break
+            time.sleep(0.1)
+        if status["last"] is None or not status["last"].walkable:
+            last = status["last"]
+            print("soak.py: the simulated room did not become walkable in 60 s" +
+                  (f" ({last.last_message})" if last is not None else ""))
+            return 1
     start = time.monotonic()
     end = start + 60.0 * args.minutes
     next_swap, next_sample, swaps = start, start, 0
@@ -118,7 +172,7 @@ def main():
         if not os.path.exists(f"/proc/{args.pid}"):
             print(f"soak.py: the renderer (pid {args.pid}) died after {now - start:.0f} s")
             return 1
-        if now >= next_swap:
+        if not args.walk and now >= next_swap:
             name, message = rooms[swaps % len(rooms)]
             message.audio.header.stamp = rospy.Time.now()
             rir_pub.publish(message)
@@ -128,12 +182,21 @@ def main():
             memory.append((now - start, rss_mib(args.pid)))
             load.append(os.getloadavg()[0])
             next_sample += 10.0
-        yaw = 2.0 * math.pi * ((now - start) / 12.0 % 1.0)
-        q = QuaternionStamped()
-        q.header.stamp = rospy.Time.now()
-        q.header.frame_id = "head"
-        q.quaternion.z, q.quaternion.w = math.sin(yaw / 2.0), math.cos(yaw / 2.0)
-        head_pub.publish(q)
+        if args.walk:
+            x, y, z, heading = walk_position(now - start)
+            pose = PoseStamped()
+            pose.header.stamp = rospy.Time.now()
+            pose.header.frame_id = "room"
+            pose.pose.position.x, pose.pose.position.y, pose.pose.position.z = x, y, z
+            pose.pose.orientation.z, pose.pose.orientation.w = math.sin(heading / 2.0), math.cos(heading / 2.0)
+            pose_pub.publish(pose)
+        else:
+            yaw = 2.0 * math.pi * ((now - start) / 12.0 % 1.0)
+            q = QuaternionStamped()
+            q.header.stamp = rospy.Time.now()
+            q.header.frame_id = "head"
+            q.quaternion.z, q.quaternion.w = math.sin(yaw / 2.0), math.cos(yaw / 2.0)
+            head_pub.publish(q)
         rate.sleep()
 
     last = status["last"]
@@ -142,13 +205,17 @@ def main():
         return 1
     after_warm_up = [(t, v) for t, v in memory if t >= WARM_UP_S] or memory
     cpu = sorted(status["cpu"])
+    what = (f"a listener walking at {WALK_SPEED_M_S:g} m/s in a simulated {WALK_ROOM[0]:g} x {WALK_ROOM[1]:g} x "
+            f"{WALK_ROOM[2]:g} m room, 50 poses per second" if args.walk else
+            f"a room swap every {args.swap_s:g} s ({swaps} swaps over {len(rooms)} RIRs), head turning at 50 Hz")
     lines = [
-        f"| run | {args.minutes:g} min, a room swap every {args.swap_s:g} s ({swaps} swaps over {len(rooms)} RIRs), "
-        f"head turning at 50 Hz |",
+        f"| run | {args.minutes:g} min, {what} |",
         "| --- | --- |",
         f"| chunks published / late / dropped | {last.chunks_published} / {last.chunks_late} / {last.chunks_dropped} |",
         f"| rooms accepted / refused | {last.room_changes} / {last.rooms_rejected} |",
         f"| orientations refused | {last.orientations_rejected} |",
+        *([f"| walkable at the end / positions outside the room | {last.walkable} / {last.listener_positions_clamped} |"]
+          if args.walk else []),
         f"| process CPU share, median / worst status period | {statistics.median(cpu):.3f} / {cpu[-1]:.3f} |",
         f"| longest chunk render | {1000.0 * status['worst_chunk']:.1f} ms |",
         f"| audio thread scheduling | {last.audio_scheduling} |",
