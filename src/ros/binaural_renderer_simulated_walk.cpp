@@ -25,7 +25,7 @@ void BinauralRendererServer::setUpSimulatedWalk(::ros::NodeHandle& private_nh) {
   typedParam(private_nh, "walk_room_scenes", walk_room_scenes_, true);
   std::string materials_file;
   typedParam(private_nh, "materials_file", materials_file, std::string(""));
-  typedParam(private_nh, "walk_refresh_m", walk_refresh_m_, 1.0);
+  typedParam(private_nh, "walk_refresh_m", walk_refresh_m_, 2.0);
   if (!(walk_refresh_m_ >= 0.0 && walk_refresh_m_ <= 1000.0)) {
     throw core::InputError("parameter ~walk_refresh_m must be 0 (never) to 1000 m");
   }
@@ -47,7 +47,8 @@ void BinauralRendererServer::playScene(const room_reverb::RoomScene& scene, std:
   simulate.request.ambisonic_order = decoder_.order;
   simulate.request.global_scattering = -1.0;
   simulate.request.late_part = walk_room_scenes_;
-  if (!simulator_.call(simulate)) {
+  // Nodes of one launch start in any order: give the simulator a few seconds to come up.
+  if (!simulator_.waitForExistence(::ros::Duration(5.0)) || !simulator_.call(simulate)) {
     rejectRoom("~room_scene: the simulator service " + simulator_.getService() + " did not answer");
     return;
   }

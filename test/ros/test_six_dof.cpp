@@ -289,7 +289,7 @@ TEST(SixDof, AListenerWalkingInASimulatedRoomHearsTheSourceLouder) {
   const room_reverb::StreamStatus before = ears.latest();
 
   // Walk at 1 m/s to 0.6 m from the source (3 m; the late part is simulated again on the
-  // way, 1 m on), and stay there.
+  // way, 2 m on), and stay there.
   const Eigen::Vector3d near = source + Eigen::Vector3d(0.6, 0.0, 0.0);
   const double length = (start - near).norm();
   const Eigen::Vector3d towards = (near - start).normalized();

@@ -180,7 +180,7 @@ class BinauralRendererServer {
   core::JackOutputOptions jack_options_;
   ::ros::WallTimer jack_timer_, refresh_timer_;
   bool walk_room_scenes_ = true;
-  double walk_refresh_m_ = 1.0;
+  double walk_refresh_m_ = 2.0;
   core::MaterialLibrary library_;
   std::atomic<bool> early_running_{false};
   std::thread early_thread_;
