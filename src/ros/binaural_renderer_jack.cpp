@@ -35,6 +35,12 @@ void BinauralRendererServer::setUpJack(::ros::NodeHandle& private_nh) {
 }
 
 void BinauralRendererServer::joinJack() {
+  std::shared_ptr<core::JackOutput> retired;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    retired.swap(retired_jack_);
+  }
+  retired.reset();  // closed here: jack_client_close may wait on a server that is going away
   if (jack_playing_.load()) return;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -67,10 +73,10 @@ void BinauralRendererServer::takeJack() {
     const core::JackOutputCounters c = jack_->counters();
     jack_counts_before_.underrun_frames += c.underrun_frames;
     jack_counts_before_.overflow_frames += c.overflow_frames;
-    jack_.reset();
     jack_playing_ = false;
     {
       std::lock_guard<std::mutex> lock(mutex_);
+      retired_jack_ = std::move(jack_);
       jack_lost_ = why;
       jack_state_ = "waiting for the JACK server (it went away: " + why + ")";
     }

@@ -84,6 +84,7 @@ void BinauralRendererServer::acceptListenerPose(const Eigen::Vector3d& position,
     pending_position_ = position;
     last_listener_position_ = position;
     last_head_ = head;
+    early_wake_.notify_one();
   } catch (const std::exception& e) {
     {
       std::lock_guard<std::mutex> lock(mutex_);

@@ -129,7 +129,11 @@ void BinauralRendererServer::start() {
 void BinauralRendererServer::stop() {
   jack_timer_.stop();
   refresh_timer_.stop();
-  early_running_ = false;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    early_running_ = false;
+  }
+  early_wake_.notify_one();
   if (early_thread_.joinable()) early_thread_.join();
   listener_timer_.stop();
   marker_timer_.stop();

@@ -4,7 +4,6 @@
 // the listener stands (some milliseconds: never on the audio thread), which the audio
 // thread crossfades in (BinauralStream::setEarlyResponse); a timer asks the simulator for
 // a new late part when the listener has walked far from where it was simulated.
-#include <chrono>
 #include <cstdio>
 
 #include "room_reverb/common/error.h"
@@ -31,7 +30,10 @@ void BinauralRendererServer::setUpSimulatedWalk(::ros::NodeHandle& private_nh) {
   }
   library_ = materials_file.empty() ? core::MaterialLibrary::loadDefault() : core::MaterialLibrary::load(materials_file);
   if (!walk_room_scenes_) return;
-  early_running_ = true;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    early_running_ = true;
+  }
   early_thread_ = std::thread([this] { earlyLoop(); });
   if (walk_refresh_m_ > 0.0) {
     refresh_timer_ = private_nh.createWallTimer(::ros::WallDuration(0.5), [this](const ::ros::WallTimerEvent&) { refreshWalk(); });
@@ -92,7 +94,7 @@ void BinauralRendererServer::refreshWalk() {
   }
   if (!walk || !position || !scene || (*position - walk->referenceListener()).norm() < walk_refresh_m_) return;
   try {
-    walk->pathsAt(*position);  // only from where the listener may stand
+    walk->requireListener(*position);  // only from where the listener may stand
   } catch (const core::InputError&) {
     return;
   }
@@ -110,35 +112,36 @@ void BinauralRendererServer::refreshWalk() {
 void BinauralRendererServer::earlyLoop() {
   std::shared_ptr<const core::SimulatedWalk> done_walk;
   Eigen::Vector3d done_at = Eigen::Vector3d::Constant(1e9);
-  while (early_running_) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (true) {
+    // Asleep until the room changes or the listener has walked a step from where the
+    // early part was last computed (acceptListenerPose and the audio thread wake it).
     std::shared_ptr<const core::SimulatedWalk> walk;
-    std::optional<Eigen::Vector3d> position;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (current_room_) walk = current_room_->simulated_walk;
-      position = last_listener_position_;
-    }
-    if (!walk) {
-      done_walk.reset();
+    early_wake_.wait(lock, [&] {
+      walk = current_room_ ? current_room_->simulated_walk : nullptr;
+      return !early_running_ || walk != done_walk ||
+             (walk && last_listener_position_ && (*last_listener_position_ - done_at).norm() >= kEarlyStepM);
+    });
+    if (!early_running_) return;
+    if (walk != done_walk) {
+      // A new room starts with its early part at the simulated listener position.
+      done_walk = walk;
+      if (walk) done_at = walk->referenceListener();
       continue;
     }
-    // A new room starts with its early part at the simulated listener position.
-    if (walk != done_walk) {
-      done_walk = walk;
-      done_at = walk->referenceListener();
-    }
-    if (!position || (*position - done_at).norm() < kEarlyStepM) continue;
+    const Eigen::Vector3d position = *last_listener_position_;
+    lock.unlock();
+    std::shared_ptr<const PendingEarly> early;
+    bool refused = false;
     try {
-      core::AudioBuffer early = walk->earlyAt(*position);
-      std::lock_guard<std::mutex> lock(mutex_);
-      pending_early_ = std::make_shared<const PendingEarly>(PendingEarly{walk, std::move(early)});
-    } catch (const core::InputError& e) {
-      // Outside the room or in an object: the early part stays where it was, counted.
-      std::lock_guard<std::mutex> lock(mutex_);
-      ++counters_.listener_positions_clamped;
+      early = std::make_shared<const PendingEarly>(PendingEarly{walk, walk->earlyAt(position)});
+    } catch (const core::InputError&) {
+      refused = true;  // outside the room or in an object: the early part stays where it was
     }
-    done_at = *position;
+    lock.lock();
+    if (early) pending_early_ = std::move(early);
+    if (refused) ++counters_.listener_positions_clamped;
+    done_at = position;
   }
 }
 

@@ -118,6 +118,7 @@ void BinauralRendererServer::renderChunk() {
         current_room_ = room;
         ++counters_.room_changes;
       }
+      early_wake_.notify_one();
       note("now playing " + room->description + (warning.empty() ? "" : "; " + warning), !warning.empty());
     } catch (const std::exception& e) {
       rejectRoom(e.what());
@@ -252,13 +253,8 @@ bool BinauralRendererServer::renderToFile(room_reverb::RenderToFile::Request& re
       // A walkable simulated room: its image sources where the listener stands now (where
       // it was simulated until a pose arrives) over its late part.
       const core::SimulatedWalk& walk = *room->simulated_walk;
-      const core::AudioBuffer early = walk.earlyAt(listener ? *listener : walk.referenceListener());
       StreamRoom heard = *room;
-      for (std::size_t c = 0; c < heard.ambix.channelCount(); ++c) {
-        for (std::size_t n = 0; n < std::min(early.frameCount(), heard.ambix.frameCount()); ++n) {
-          heard.ambix.channels[c][n] += early.channels[c][n];
-        }
-      }
+      heard.ambix = walk.responseAt(listener ? *listener : walk.referenceListener());
       heard.description += listener ? ", heard where the listener stands" : "";
       room = std::make_shared<const StreamRoom>(std::move(heard));
     } else if (room->translation) {

@@ -45,12 +45,16 @@ StreamRoom walkableSimulatedRoom(const room_reverb::RoomScene& scene, const room
   room.early = walk->earlyAt(listener);
   // The image sources computed here and the simulator's late part add up to its response
   // only if both used the same materials and settings.
+  const core::AudioBuffer heard = walk->responseAt(listener);
+  if (heard.frameCount() != whole.frameCount()) {
+    throw core::InputError("the simulator's late part and its response differ in length");
+  }
   double energy = 0.0, residual = 0.0;
   for (std::size_t c = 0; c < whole.channelCount(); ++c) {
     for (std::size_t n = 0; n < whole.frameCount(); ++n) {
-      const double here = walk->late().channels[c][n] + (n < room.early.frameCount() ? room.early.channels[c][n] : 0.0f);
+      const double difference = static_cast<double>(whole.channels[c][n]) - heard.channels[c][n];
       energy += static_cast<double>(whole.channels[c][n]) * whole.channels[c][n];
-      residual += (whole.channels[c][n] - here) * (whole.channels[c][n] - here);
+      residual += difference * difference;
     }
   }
   const double residual_db = 10.0 * std::log10(std::max(residual, 1e-30) / std::max(energy, 1e-30));

@@ -64,10 +64,15 @@ TEST(SimulatedWalk, EarlyPlusLateIsTheSimulatedResponse) {
   ASSERT_EQ(early.channelCount(), 16u);
   ASSERT_EQ(walk.late().frameCount(), full.frameCount());
   ASSERT_LT(early.frameCount(), full.frameCount());
+  const AudioBuffer heard = walk.responseAt(kReference);
+  ASSERT_EQ(heard.channelCount(), 16u);
+  ASSERT_EQ(heard.frameCount(), full.frameCount());
   double worst = 0.0, peak = 0.0;
   for (std::size_t c = 0; c < 16; ++c) {
     for (std::size_t n = 0; n < full.frameCount(); ++n) {
       const double sum = walk.late().channels[c][n] + (n < early.frameCount() ? early.channels[c][n] : 0.0f);
+      EXPECT_EQ(heard.channels[c][n], static_cast<float>(sum)) << "channel " << c << ", frame " << n;
+      if (heard.channels[c][n] != static_cast<float>(sum)) return;
       worst = std::max(worst, std::abs(sum - full.channels[c][n]));
       peak = std::max(peak, static_cast<double>(std::abs(full.channels[c][n])));
     }
@@ -171,6 +176,9 @@ TEST(SimulatedWalk, BadPositionsAreRefusedInOneLine) {
   test::expectInputError([&] { walk.earlyAt(Eigen::Vector3d(7.0, 1.0, 1.0)); }, {"listener"});
   test::expectInputError([&] { walk.earlyAt(Eigen::Vector3d(std::nan(""), 1.0, 1.0)); }, {"not finite"});
   test::expectInputError([&] { walk.earlyAt(kSource + Eigen::Vector3d(0.01, 0.0, 0.0)); }, {"5 cm"});
+  test::expectInputError([&] { walk.requireListener(Eigen::Vector3d(1.0, 1.0, -0.5)); }, {"listener"});
+  test::expectInputError([&] { walk.responseAt(kSource); }, {"5 cm"});
+  walk.requireListener(kReference);
   ListenerPose outside;
   outside.position_m = Eigen::Vector3d(1.0, -1.0, 1.0);
   test::expectInputError([&] { renderSimulatedWalk(noise(0.1, 1), walk, test::sphericalHeadDecoder(1), {outside}); },

@@ -21,6 +21,7 @@
 #include <string>
 
 #include "room_scene_message.h"
+#include "stream_status_watch.h"
 #include "room_reverb/audio/audio_file.h"
 #include "room_reverb/audio/channel_mix.h"
 #include "room_reverb/audio/resample.h"
@@ -44,43 +45,23 @@ constexpr double kRate = 48000.0;
 
 // Collects what one renderer publishes.
 struct StreamListener {
-  explicit StreamListener(ros::NodeHandle& nh, const std::string& ns) {
+  explicit StreamListener(ros::NodeHandle& nh, const std::string& ns) : status(nh, ns + "/status") {
     audio_sub = nh.subscribe(ns + "/binaural", 1000, &StreamListener::onAudio, this);
-    status_sub = nh.subscribe(ns + "/status", 10, &StreamListener::onStatus, this);
   }
   void onAudio(const room_reverb::AudioBuffer::ConstPtr& m) {
     std::lock_guard<std::mutex> lock(mutex);
     chunks.push_back(*m);
     arrival_wall_s.push_back(ros::WallTime::now().toSec());
   }
-  void onStatus(const room_reverb::StreamStatus::ConstPtr& m) {
-    std::lock_guard<std::mutex> lock(mutex);
-    status = *m;
-    ++statuses;
-  }
-  room_reverb::StreamStatus latest() {
-    std::lock_guard<std::mutex> lock(mutex);
-    return status;
-  }
-  // Waits (spinning) until `done` holds for the latest status, or `timeout_s` passes.
+  room_reverb::StreamStatus latest() { return status.latest(); }
   bool waitFor(const std::function<bool(const room_reverb::StreamStatus&)>& done, double timeout_s) {
-    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
-    while (ros::WallTime::now() < end) {
-      ros::spinOnce();
-      {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (statuses > 0 && done(status)) return true;
-      }
-      ros::WallDuration(0.01).sleep();
-    }
-    return false;
+    return status.waitFor(done, timeout_s);
   }
   std::mutex mutex;
   std::vector<room_reverb::AudioBuffer> chunks;
   std::vector<double> arrival_wall_s;
-  room_reverb::StreamStatus status;
-  int statuses = 0;
-  ros::Subscriber audio_sub, status_sub;
+  room_reverb::test::StreamStatusWatch status;
+  ros::Subscriber audio_sub;
 };
 
 TEST(BinauralRenderer, StreamsTenSecondsInRealTimeEqualToTheOfflineRender) {

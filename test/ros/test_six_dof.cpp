@@ -28,6 +28,7 @@
 
 #include "reflection_rooms.h"
 #include "room_scene_message.h"
+#include "stream_status_watch.h"
 #include "room_reverb/ambisonics/bformat.h"
 #include "room_reverb/ros/room_conversions.h"
 #include "room_reverb/ros/rsao_conversions.h"
@@ -40,9 +41,8 @@ using namespace room_reverb;
 const std::string kNs = "/walking/binaural_renderer/";
 
 struct Ears {
-  explicit Ears(ros::NodeHandle& nh) {
+  explicit Ears(ros::NodeHandle& nh) : status(nh, kNs + "status") {
     audio_sub = nh.subscribe(kNs + "binaural", 2000, &Ears::onAudio, this);
-    status_sub = nh.subscribe(kNs + "status", 10, &Ears::onStatus, this);
   }
   void onAudio(const room_reverb::AudioBuffer::ConstPtr& m) {
     std::lock_guard<std::mutex> lock(mutex);
@@ -50,11 +50,6 @@ struct Ears {
     for (float v : m->samples) sum += static_cast<double>(v) * v;
     energy += sum;
     samples += m->samples.size();
-  }
-  void onStatus(const room_reverb::StreamStatus::ConstPtr& m) {
-    std::lock_guard<std::mutex> lock(mutex);
-    status = *m;
-    ++statuses;
   }
   // Mean square of what arrived since the last call.
   double takeMeanSquare() {
@@ -64,16 +59,12 @@ struct Ears {
     samples = 0;
     return ms;
   }
-  room_reverb::StreamStatus latest() {
-    std::lock_guard<std::mutex> lock(mutex);
-    return status;
-  }
+  room_reverb::StreamStatus latest() { return status.latest(); }
   std::mutex mutex;
   double energy = 0.0;
   std::size_t samples = 0;
-  room_reverb::StreamStatus status;
-  int statuses = 0;
-  ros::Subscriber audio_sub, status_sub;
+  room_reverb::test::StreamStatusWatch status;
+  ros::Subscriber audio_sub;
 };
 
 // Publishes white noise on ~source at the real-time rate and the listener's pose, in
@@ -112,16 +103,7 @@ struct Walker {
 
 template <typename Done>
 bool waitFor(Ears& ears, Done done, double timeout_s) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
-  while (ros::WallTime::now() < end) {
-    ros::spinOnce();
-    {
-      std::lock_guard<std::mutex> lock(ears.mutex);
-      if (ears.statuses > 0 && done(ears.status)) return true;
-    }
-    ros::WallDuration(0.01).sleep();
-  }
-  return false;
+  return ears.status.waitFor(done, timeout_s);
 }
 
 TEST(SixDof, AListenerWalkingTowardsTheSourceHearsItLouderWithoutAGap) {

@@ -32,6 +32,13 @@ class SimulatedWalk {
   AudioBuffer earlyAt(const Eigen::Vector3d& listener_m) const;
   // The image sources at `listener_m` (the paths earlyAt synthesises); the same checks.
   std::vector<SpecularPath> pathsAt(const Eigen::Vector3d& listener_m) const;
+  // The whole response heard at `listener_m`: earlyAt() over late(), the settings'
+  // duration long (at the reference position, simulateRoom()'s response).
+  AudioBuffer responseAt(const Eigen::Vector3d& listener_m) const;
+  // The checks earlyAt and pathsAt make of a listener position, without computing anything:
+  // InputError for a position that is not finite, outside the room, inside an object or
+  // within 5 cm of the source.
+  void requireListener(const Eigen::Vector3d& listener_m) const;
   // The late part at the reference position, the settings' duration long.
   const AudioBuffer& late() const { return late_; }
 

@@ -35,6 +35,7 @@
 
 #include <atomic>
 #include <memory>
+#include <condition_variable>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -164,6 +165,9 @@ class BinauralRendererServer {
   std::uint64_t rsao_generation_ = 0;
   Counters counters_;
   std::shared_ptr<core::JackOutput> pending_jack_;
+  // A client whose server went away, closed on the retry timer's thread (jack_client_close
+  // may block, and the audio thread must not).
+  std::shared_ptr<core::JackOutput> retired_jack_;
   // An image-source part for the audio thread, and the walk it belongs to.
   struct PendingEarly {
     std::shared_ptr<const core::SimulatedWalk> walk;
@@ -182,7 +186,8 @@ class BinauralRendererServer {
   bool walk_room_scenes_ = true;
   double walk_refresh_m_ = 2.0;
   core::MaterialLibrary library_;
-  std::atomic<bool> early_running_{false};
+  bool early_running_ = false;                 // under mutex_
+  std::condition_variable early_wake_;        // a pose, a room or stop() for earlyLoop
   std::thread early_thread_;
   std::thread audio_thread_;
 

@@ -7,10 +7,6 @@
 #include "room_reverb/common/error.h"
 
 namespace room_reverb::core {
-namespace {
-
-
-}  // namespace
 
 SimulatedWalk::SimulatedWalk(AcousticScene scene, const Eigen::Vector3d& source_m,
                              const Eigen::Vector3d& reference_listener_m, const SimulationSettings& settings)
@@ -32,14 +28,18 @@ SimulatedWalk::SimulatedWalk(AcousticScene scene, const Eigen::Vector3d& source_
   }
   if (!source_m_.allFinite()) throw InputError("the source position is not finite");
   scene_.requireInside(source_m_, "source");
-  pathsAt(reference_m_);
+  requireListener(reference_m_);
   synthesis_ = simulationSynthesisOptions(scene_, settings_);
 }
 
-std::vector<SpecularPath> SimulatedWalk::pathsAt(const Eigen::Vector3d& listener_m) const {
+void SimulatedWalk::requireListener(const Eigen::Vector3d& listener_m) const {
   if (!listener_m.allFinite()) throw InputError("the listener position is not finite");
   scene_.requireInside(listener_m, "listener");
   if ((listener_m - source_m_).norm() < 0.05) throw InputError("the listener is closer than 5 cm to the source");
+}
+
+std::vector<SpecularPath> SimulatedWalk::pathsAt(const Eigen::Vector3d& listener_m) const {
+  requireListener(listener_m);
   ImageSourceOptions options;
   options.max_order = settings_.image_source_order;
   return computeImageSources(scene_, source_m_, listener_m, PropagationModel::from(settings_.air, settings_.directivity),
@@ -55,6 +55,17 @@ AudioBuffer SimulatedWalk::earlyAt(const Eigen::Vector3d& listener_m) const {
   const double fir_half_s = static_cast<double>(kPathTapLength / 2 + 1) / options.sample_rate_hz;
   options.duration_s = std::min(last_s + fir_half_s, settings_.duration_s);
   return synthesizeImpulseResponse(paths, nullptr, options);
+}
+
+AudioBuffer SimulatedWalk::responseAt(const Eigen::Vector3d& listener_m) const {
+  const AudioBuffer early = earlyAt(listener_m);
+  AudioBuffer whole = late_;
+  // earlyAt is never longer than the settings' duration, which is the late part's length.
+  for (std::size_t c = 0; c < whole.channelCount(); ++c) {
+    const std::size_t frames = std::min(early.frameCount(), whole.frameCount());
+    for (std::size_t n = 0; n < frames; ++n) whole.channels[c][n] += early.channels[c][n];
+  }
+  return whole;
 }
 
 }  // namespace room_reverb::core

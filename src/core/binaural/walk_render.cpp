@@ -170,7 +170,7 @@ AudioBuffer renderSimulatedWalk(const AudioBuffer& dry, const SimulatedWalk& wal
   if (dry.channelCount() != 1 || dry.sample_rate_hz != kInternalSampleRateHz) {
     throw InputError("walk render: the dry source must be mono at 48000 Hz");
   }
-  for (const ListenerPose& pose : poses) walk.pathsAt(pose.position_m);
+  for (const ListenerPose& pose : poses) walk.requireListener(pose.position_m);
   const AudioBuffer& late = walk.late();
   BinauralStreamOptions options;
   options.block_size = kBlock;
