@@ -151,6 +151,25 @@ void BM_SwapThirdOrderRoomResponse(benchmark::State& state) {
 }
 BENCHMARK(BM_SwapThirdOrderRoomResponse)->Unit(benchmark::kMillisecond);
 
+// The same swap in two steps: prepare() (the transforms, off the audio thread) and
+// setFilters() of the prepared matrix (the share of the output in flight, on it).
+void BM_PrepareThirdOrderRoomResponse(benchmark::State& state) {
+  const PartitionedConvolver convolver(decayingNoiseFilters(1, 16, kRoomResponseTaps), kBlock);
+  const FilterMatrix next = decayingNoiseFilters(1, 16, kRoomResponseTaps);
+  for (auto _ : state) benchmark::DoNotOptimize(PartitionedConvolver::prepare(next, convolver.partitionPlan(), kBlock));
+}
+BENCHMARK(BM_PrepareThirdOrderRoomResponse)->Unit(benchmark::kMillisecond);
+
+void BM_SwapPreparedThirdOrderRoomResponse(benchmark::State& state) {
+  PartitionedConvolver convolver(decayingNoiseFilters(1, 16, kRoomResponseTaps), kBlock);
+  const auto next = PartitionedConvolver::prepare(decayingNoiseFilters(1, 16, kRoomResponseTaps), convolver.partitionPlan(), kBlock);
+  const AudioBuffer source = noiseBlock(1);
+  AudioBuffer field;
+  for (int k = 0; k < 100; ++k) convolver.process(source, field);
+  for (auto _ : state) convolver.setFilters(next);
+}
+BENCHMARK(BM_SwapPreparedThirdOrderRoomResponse)->Unit(benchmark::kMillisecond);
+
 void BM_ThirdOrderRotationMatrix(benchmark::State& state) {
   // A different orientation each time, as a head tracker delivers them.
   double yaw = 0.0;

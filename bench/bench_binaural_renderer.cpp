@@ -184,14 +184,15 @@ void BM_SimulatedEarlyAtPose(benchmark::State& state) {
 BENCHMARK(BM_SimulatedEarlyAtPose)->Unit(benchmark::kMillisecond)->Repetitions(3)->ReportAggregatesOnly(true);
 
 // The audio thread's share walking the simulated route: the late part convolved, a new
-// early part set every Arg chunks (the worker's pace; each set partitions it).
+// early part swapped in every Arg chunks (the worker's pace). The worker prepares each
+// (prepareEarlyResponse: its transforms), as the node does; the audio thread swaps it in.
 void BM_SimulatedWalkChunk(benchmark::State& state) {
   const HrtfSet hrtf = HrtfSet::loadSofa(HrtfSet::defaultSofaPath());
   BinauralStream stream(makeBinauralDecoder(hrtf, 3));
   const SimulatedWalk walk = simulatedRoom();
   stream.setRoom(walk.late());
-  std::vector<AudioBuffer> early;  // made beforehand: the worker's, not the audio thread's
-  for (int k = 0; k < 50; ++k) early.push_back(walk.earlyAt(walking(0.02 * k)));
+  std::vector<PreparedResponse> early;  // made beforehand: the worker's, not the audio thread's
+  for (int k = 0; k < 50; ++k) early.push_back(stream.prepareEarlyResponse(walk.earlyAt(walking(0.02 * k))));
   std::size_t block = 0, next = 0;
   const auto every = static_cast<std::size_t>(2 * state.range(0));
   streamChunks(state, stream, [&](double) {

@@ -67,6 +67,7 @@ BinauralRendererServer::BinauralRendererServer(::ros::NodeHandle& nh, ::ros::Nod
   for (const std::string& n : hrtf.notes()) ROS_INFO("binaural_renderer: %s", n.c_str());
   decoder_ = core::makeBinauralDecoder(hrtf, order, core::parseDecoderMethod(decoder_name));
   stream_ = std::make_unique<core::BinauralStream>(decoder_, stream_options);
+  no_early_ = stream_->prepareEarlyResponse(core::AudioBuffer());
   pacer_ = std::make_unique<core::StreamPacer>(pacer_options_);
   source_block_.assign(block_frames_, 0.0f);
   left_.assign(block_frames_ * chunk_blocks_, 0.0f);
@@ -154,7 +155,15 @@ void BinauralRendererServer::note(const std::string& message, bool warning) {
 }
 
 void BinauralRendererServer::offerRoom(StreamRoom room, std::optional<std::uint64_t> rsao_generation) {
-  // Its order is checked when the audio thread sets it (BinauralStream::setRoom).
+  // The transforms of a room change (some 11 ms for a 2 s third-order response) run here,
+  // on the caller's thread, and check its order; the audio thread swaps it in.
+  try {
+    room.prepared = stream_->prepareRoom(room.ambix);
+    if (room.simulated_walk) room.prepared_early = stream_->prepareEarlyResponse(room.early);
+  } catch (const core::InputError& e) {
+    rejectRoom(e.what());
+    return;
+  }
   auto shared = std::make_shared<const StreamRoom>(std::move(room));
   {
     std::lock_guard<std::mutex> lock(mutex_);

@@ -134,7 +134,8 @@ void BinauralRendererServer::earlyLoop() {
     std::shared_ptr<const PendingEarly> early;
     bool refused = false;
     try {
-      early = std::make_shared<const PendingEarly>(PendingEarly{walk, walk->earlyAt(position)});
+      // Transformed here too: the audio thread only swaps it in.
+      early = std::make_shared<const PendingEarly>(PendingEarly{walk, stream_->prepareEarlyResponse(walk->earlyAt(position))});
     } catch (const core::InputError&) {
       refused = true;  // outside the room or in an object: the early part stays where it was
     }

@@ -103,14 +103,14 @@ void BinauralRendererServer::renderChunk() {
   }
   if (room) {
     try {
-      const std::string warning = stream_->setRoom(room->ambix);
+      const std::string warning = stream_->setRoom(room->prepared);
       takeRoomTaps(*room);
       // A walkable simulated room brings its image-source part; any other room takes the
       // last one away.
       if (room->simulated_walk) {
-        stream_->setEarlyResponse(room->early);
+        stream_->setEarlyResponse(room->prepared_early);
       } else if (early_walk_) {
-        stream_->setEarlyResponse(core::AudioBuffer());
+        stream_->setEarlyResponse(no_early_);
       }
       early_walk_ = room->simulated_walk;
       {

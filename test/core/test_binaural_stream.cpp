@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <thread>
 
 #include "room_reverb/ambisonics/rotation.h"
 #include "room_reverb/ambisonics/spherical_harmonics.h"
@@ -248,4 +249,49 @@ TEST(BinauralStream, EarlyTapsAddToTheRoomAsTheirResponseWould) {
   first_order.order = 1;
   EXPECT_THROW(with_taps.setEarlyTaps(std::make_unique<ReflectionTapBank>(std::vector<EarlyReflection>{reflection}, first_order)),
                InputError);
+}
+
+TEST(BinauralStream, ResponsesPreparedOnAnotherThreadSwapInAsTheBuffersDo) {
+  // A room and an early part prepared on a second thread while the stream plays, then
+  // swapped in: the same samples as setRoom and setEarlyResponse of the buffers at that
+  // block.
+  const std::vector<float> source = room_reverb::test::whiteNoise(256 * 40, 12);
+  const AudioBuffer first = room(unit(20.0), 13, 0.5), second = room(unit(-70.0), 14, 0.5);
+  AudioBuffer early = room(unit(110.0), 15, 0.03);
+  BinauralStream direct(decoder()), prepared(decoder());
+  direct.setRoom(first);
+  prepared.setRoom(first);
+  const std::vector<float> head(source.begin(), source.begin() + 256 * 17), tail(source.begin() + 256 * 17, source.end());
+  auto [want_left, want_right] = stream(direct, head);
+  direct.setRoom(second);
+  direct.setEarlyResponse(early);
+  const auto [want_left_tail, want_right_tail] = stream(direct, tail);
+
+  PreparedResponse room_ready, early_ready;
+  std::thread worker([&] {
+    room_ready = prepared.prepareRoom(second);
+    early_ready = prepared.prepareEarlyResponse(early);
+  });
+  auto [left, right] = stream(prepared, head);
+  worker.join();
+  EXPECT_EQ(prepared.setRoom(room_ready), "");
+  EXPECT_EQ(prepared.setEarlyResponse(early_ready), "");
+  const auto [left_tail, right_tail] = stream(prepared, tail);
+  left.insert(left.end(), left_tail.begin(), left_tail.end());
+  right.insert(right.end(), right_tail.begin(), right_tail.end());
+  want_left.insert(want_left.end(), want_left_tail.begin(), want_left_tail.end());
+  want_right.insert(want_right.end(), want_right_tail.begin(), want_right_tail.end());
+  EXPECT_EQ(left, want_left);
+  EXPECT_EQ(right, want_right);
+  // A response prepared for the early convolver is not a room (another partition plan),
+  // nor one of a stream with other options; the stream keeps its room.
+  expectInputError([&] { prepared.setRoom(early_ready); }, {"another partition plan"});
+  BinauralStreamOptions shorter;
+  shorter.max_response_s = 0.2;
+  const BinauralStream other(decoder(), shorter);
+  const PreparedResponse truncated = other.prepareRoom(first);
+  EXPECT_NE(truncated.warning.find("truncated"), std::string::npos);
+  expectInputError([&] { prepared.setRoom(truncated); }, {"another partition plan"});
+  expectInputError([&] { prepared.setRoom(PreparedResponse()); }, {"no prepared filters"});
+  expectInputError([&] { prepared.prepareRoom(AudioBuffer()); }, {"room response"});
 }

@@ -4,7 +4,9 @@
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
+#include <memory>
 #include <new>
+#include <thread>
 
 #include "room_reverb/audio/convolution.h"
 #include "room_reverb/audio/partition_plan.h"
@@ -501,4 +503,62 @@ TEST(PartitionedConvolver, NonUniformResetForgetsTheInput) {
   convolver.reset();
   const auto out = stream(convolver, inputs);
   EXPECT_LT(errorDb(out, offline(filters, inputs), 0, inputs.front().size()), -100.0);
+}
+
+TEST(PartitionedConvolver, FiltersPreparedOnAnotherThreadSwapInAsTheMatrixDoes) {
+  // The transforms run on a second thread while the first keeps streaming; swapped in at
+  // the same block, the prepared matrix gives the output of setFilters(matrix), sample
+  // for sample, before, during and after the fade.
+  const std::size_t b = 64;
+  const auto old_filters = randomFilters(2, 2, 6000, 6000, 71);
+  const auto new_filters = randomFilters(2, 2, 5000, 6000, 72);
+  const auto inputs = noiseInputs(2, 240, b, 0);
+  const auto section = [&](std::size_t from_block, std::size_t to_block) {
+    Channels part(2);
+    for (std::size_t i = 0; i < 2; ++i) {
+      part[i].assign(inputs[i].begin() + from_block * b, inputs[i].begin() + to_block * b);
+    }
+    return part;
+  };
+  PartitionedConvolver direct(old_filters, b, 3), prepared(old_filters, b, 3);
+  ASSERT_GE(prepared.partitionPlan().size(), 3u);
+  Channels want = stream(direct, section(0, 131));
+  direct.setFilters(new_filters);
+  const auto want_rest = stream(direct, section(131, 240));
+
+  std::shared_ptr<const PreparedFilters> ready;
+  std::thread worker([&] { ready = PartitionedConvolver::prepare(new_filters, prepared.partitionPlan(), b); });
+  Channels got = stream(prepared, section(0, 131));
+  worker.join();
+  prepared.setFilters(ready);
+  const auto got_rest = stream(prepared, section(131, 240));
+  for (std::size_t o = 0; o < 2; ++o) {
+    want[o].insert(want[o].end(), want_rest[o].begin(), want_rest[o].end());
+    got[o].insert(got[o].end(), got_rest[o].begin(), got_rest[o].end());
+    ASSERT_EQ(got[o], want[o]) << "output " << o;
+  }
+  // One prepared matrix serves any convolver of its plan, from its first block.
+  PartitionedConvolver from_prepared(ready, 1);
+  EXPECT_LT(errorDb(stream(from_prepared, inputs), offline(new_filters, inputs), 0, inputs.front().size()), -100.0);
+}
+
+TEST(PartitionedConvolver, PreparedFiltersOfAnotherPlanAreRefused) {
+  const std::size_t b = 64;
+  const auto filters = randomFilters(1, 2, 6000, 6000, 81);
+  PartitionedConvolver convolver(filters, b);
+  const auto uniform = planPartitions(6000, b, b, 1, 2);
+  expectInputError([&] { convolver.setFilters(PartitionedConvolver::prepare(filters, uniform, b)); },
+                   {"another partition plan"});
+  expectInputError([&] { convolver.setFilters(PartitionedConvolver::prepare(filters, convolver.partitionPlan(), 2 * b)); },
+                   {"block size"});
+  expectInputError(
+      [&] { convolver.setFilters(PartitionedConvolver::prepare(randomFilters(2, 2, 100, 100, 82), convolver.partitionPlan(), b)); },
+      {"2 inputs x 2 outputs", "1 x 2"});
+  expectInputError([&] { convolver.setFilters(std::shared_ptr<const PreparedFilters>()); }, {"no prepared filters"});
+  expectInputError([&] { PartitionedConvolver(std::shared_ptr<const PreparedFilters>(), 1); }, {"no prepared filters"});
+  expectInputError([&] { PartitionedConvolver::prepare(filters, {}, b); }, {"partition plan"});
+  expectInputError([&] { PartitionedConvolver::prepare(FilterMatrix{}, convolver.partitionPlan(), b); }, {"no input channels"});
+  // The convolver keeps its filters.
+  const auto inputs = noiseInputs(1, 120, b, 0);
+  EXPECT_LT(errorDb(stream(convolver, inputs), offline(filters, inputs), 0, inputs.front().size()), -100.0);
 }

@@ -28,10 +28,13 @@
 // processed at its end and played during period k+1, so every input sample leaves exactly
 // B frames after it entered (not counting driver and converter latency).
 //
-// Filter swap. setFilters() transforms the new matrix and computes its share of the
-// larger levels' outputs already in flight (their input is in the FDLs), so it allocates
-// and costs about a hundred blocks' work (some 15 ms for a 1 x 16 matrix of 2 s filters):
-// call it outside the audio callback, or accept the cost there. The swap starts with the
+// Filter swap. A new matrix is first transformed (prepare(): the FFTs of its partitions,
+// most of a swap's cost, some 15 ms for a 1 x 16 matrix of 2 s filters), which touches no
+// convolver and may run on any thread. setFilters() of the prepared matrix then computes
+// its share of the larger levels' outputs already in flight (their input is in the FDLs)
+// and allocates its output ring: the part of a swap that needs the convolver's state,
+// a few blocks' work (bench_binaural_convolution, BM_SwapPreparedThirdOrderRoomResponse).
+// setFilters() of a FilterMatrix does both on the calling thread. The swap starts with the
 // next process() call: over `crossfade_blocks` blocks the outputs of both matrices,
 // computed on the same delay lines, are mixed with raised-cosine gains that sum to one
 // (an equal-gain fade: the two outputs are convolutions of one input and strongly
@@ -58,6 +61,11 @@ namespace room_reverb::core {
 // may differ in length; each needs at least one tap (a single 0 for "no path").
 using FilterMatrix = std::vector<std::vector<std::vector<float>>>;
 
+// A filter matrix in the frequency domain, for one partition plan and block size
+// (PartitionedConvolver::prepare). Immutable: made on one thread, used on another, shared
+// by any number of convolvers of that plan.
+struct PreparedFilters;
+
 class ConvolverLevel;
 class SampleRing;
 struct LevelTarget;
@@ -77,6 +85,16 @@ class PartitionedConvolver {
                                 std::size_t block_size = kDefaultBlockSize,
                                 std::size_t crossfade_blocks = 1,
                                 std::size_t max_partition_size = kDefaultMaxPartitionSize);
+  // Running the plan `first` was prepared for, from `first` (InputError for a null one or
+  // a crossfade of zero blocks).
+  PartitionedConvolver(std::shared_ptr<const PreparedFilters> first, std::size_t crossfade_blocks);
+
+  // `filters` transformed for `plan` (from planPartitions) at `block_size`: the work of a
+  // swap that needs no convolver. Thread-safe. The same InputErrors as the constructor's
+  // checks of a matrix, and for an empty plan.
+  static std::shared_ptr<const PreparedFilters> prepare(const FilterMatrix& filters,
+                                                        const std::vector<PartitionLevel>& plan,
+                                                        std::size_t block_size);
   ~PartitionedConvolver();
   PartitionedConvolver(const PartitionedConvolver&) = delete;
   PartitionedConvolver& operator=(const PartitionedConvolver&) = delete;
@@ -97,6 +115,10 @@ class PartitionedConvolver {
   // shorter. Filters longer than the plan covers get more partitions of its largest size,
   // whose delay line grows keeping the history it held (older input counts as silence).
   void setFilters(const FilterMatrix& filters);
+  // The same for a matrix prepared for this convolver's plan and block size (InputError
+  // for another plan, block size or channel counts, or a null one). It keeps a reference
+  // to the prepared spectra rather than copying them.
+  void setFilters(std::shared_ptr<const PreparedFilters> prepared);
 
   // One block: `input` has inputCount() channels of exactly blockSize() frames (InputError
   // otherwise). `output` is reshaped to outputCount() x blockSize() if it is not already
@@ -114,7 +136,8 @@ class PartitionedConvolver {
  private:
   struct FilterSet;
 
-  std::unique_ptr<FilterSet> makeSet(const FilterMatrix& filters);
+  void setUp(const std::vector<PartitionLevel>& plan);
+  std::unique_ptr<FilterSet> makeSet(std::shared_ptr<const PreparedFilters> prepared);
   void startPendingFade();
   std::size_t levelTargets(std::size_t level);
 

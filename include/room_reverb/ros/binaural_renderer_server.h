@@ -144,6 +144,7 @@ class BinauralRendererServer {
   std::shared_ptr<const core::ListenerTranslation> translation_;  // of the room playing
   std::shared_ptr<const core::RoomModel> taps_room_model_;
   std::shared_ptr<const core::SimulatedWalk> early_walk_;  // of the room playing
+  core::PreparedResponse no_early_;  // removes the early part of the last walkable room
   Eigen::Vector3d listener_from_ = Eigen::Vector3d::Zero(), listener_to_ = Eigen::Vector3d::Zero();
   bool listener_known_ = false;
   std::shared_ptr<core::JackOutput> jack_;
@@ -171,7 +172,7 @@ class BinauralRendererServer {
   // An image-source part for the audio thread, and the walk it belongs to.
   struct PendingEarly {
     std::shared_ptr<const core::SimulatedWalk> walk;
-    core::AudioBuffer early;
+    core::PreparedResponse early;
   };
   std::shared_ptr<const PendingEarly> pending_early_;
   room_reverb::RoomScene::ConstPtr last_scene_;

@@ -13,6 +13,7 @@
 
 #include "room_reverb/acoustics/material.h"
 #include "room_reverb/acoustics/room_model.h"
+#include "room_reverb/binaural/binaural_stream.h"
 #include "room_reverb/acoustics/simulated_walk.h"
 #include "room_reverb/audio/audio_buffer.h"
 #include "room_reverb/rsao/listener_translation.h"
@@ -33,6 +34,9 @@ struct StreamRoom {
   // part at the simulated listener position. Null otherwise.
   std::shared_ptr<const core::SimulatedWalk> simulated_walk;
   core::AudioBuffer early;
+  // `ambix` and `early` transformed for the stream (BinauralStream::prepareRoom and
+  // prepareEarlyResponse) by whoever offers the room, so the audio thread only swaps them in.
+  core::PreparedResponse prepared, prepared_early;
 };
 
 // An ImpulseResponse message: its audio.channel_layout says the convention ("fuma",

@@ -27,32 +27,37 @@ ConvolverLevel::ConvolverLevel(const PartitionLevel& plan, bool open_ended, std:
   reserve(plan.partitions);
 }
 
-LevelSpectra ConvolverLevel::transform(const FilterMatrix& filters, std::size_t longest) {
-  const std::size_t p = plan_.partition_size;
+LevelSpectra ConvolverLevel::transform(const PartitionLevel& plan, bool open_ended, std::size_t inputs,
+                                       std::size_t outputs, const FilterMatrix& filters, std::size_t longest) {
+  const std::size_t p = plan.partition_size;
+  const std::size_t bins = p + 1, stride = rowStride(bins);
+  RealFft fft(2 * p);
+  std::vector<float> time(2 * p);
+  std::vector<std::complex<float>> spectrum(bins);
   LevelSpectra spectra;
-  spectra.partitions = longest > plan_.first_tap ? (longest - plan_.first_tap + p - 1) / p : 0;
-  if (!open_ended_) spectra.partitions = std::min(spectra.partitions, plan_.partitions);
-  spectra.rows.assign(outputs_ * inputs_ * spectra.partitions * 2 * stride_, 0.0f);
+  spectra.partitions = longest > plan.first_tap ? (longest - plan.first_tap + p - 1) / p : 0;
+  if (!open_ended) spectra.partitions = std::min(spectra.partitions, plan.partitions);
+  spectra.rows.assign(outputs * inputs * spectra.partitions * 2 * stride, 0.0f);
   // Partition q holds taps [D + qP, D + (q+1)P), zero-padded to 2P: against the 2P input
   // window the last P samples of the circular convolution are then the linear convolution.
-  spectra.used.assign(outputs_ * inputs_, 0);
-  spectra.output_used.assign(outputs_, 0);
+  spectra.used.assign(outputs * inputs, 0);
+  spectra.output_used.assign(outputs, 0);
   float* row = spectra.rows.data();
-  for (std::size_t o = 0; o < outputs_; ++o) {
-    for (std::size_t i = 0; i < inputs_; ++i) {
+  for (std::size_t o = 0; o < outputs; ++o) {
+    for (std::size_t i = 0; i < inputs; ++i) {
       const auto& taps = filters[i][o];
       std::size_t length = taps.size();
       while (length > 0 && taps[length - 1] == 0.0f) --length;
-      const std::size_t used = length > plan_.first_tap ? (length - plan_.first_tap + p - 1) / p : 0;
-      spectra.used[o * inputs_ + i] = std::min(used, spectra.partitions);
-      spectra.output_used[o] = std::max(spectra.output_used[o], spectra.used[o * inputs_ + i]);
-      for (std::size_t q = 0; q < spectra.partitions; ++q, row += 2 * stride_) {
-        const std::size_t begin = std::min(taps.size(), plan_.first_tap + q * p);
+      const std::size_t used = length > plan.first_tap ? (length - plan.first_tap + p - 1) / p : 0;
+      spectra.used[o * inputs + i] = std::min(used, spectra.partitions);
+      spectra.output_used[o] = std::max(spectra.output_used[o], spectra.used[o * inputs + i]);
+      for (std::size_t q = 0; q < spectra.partitions; ++q, row += 2 * stride) {
+        const std::size_t begin = std::min(taps.size(), plan.first_tap + q * p);
         const std::size_t end = std::min(taps.size(), begin + p);
-        std::fill(time_.begin(), time_.end(), 0.0f);
-        std::copy(taps.begin() + begin, taps.begin() + end, time_.begin());
-        fft_.forward(time_.data(), spectrum_.data());
-        splitSpectrum(spectrum_.data(), bins_, row, stride_);
+        std::fill(time.begin(), time.end(), 0.0f);
+        std::copy(taps.begin() + begin, taps.begin() + end, time.begin());
+        fft.forward(time.data(), spectrum.data());
+        splitSpectrum(spectrum.data(), bins, row, stride);
       }
     }
   }

@@ -65,9 +65,11 @@ class ConvolverLevel {
     return block * static_cast<std::int64_t>(plan_.partition_size) + static_cast<std::int64_t>(plan_.first_tap);
   }
 
-  // This level's share of `filters` (longest: the longest filter's taps). Allocates; the
-  // caller then reserve()s the FDL for its partitions.
-  LevelSpectra transform(const FilterMatrix& filters, std::size_t longest);
+  // A level's share of `filters` (longest: the longest filter's taps), for a level of
+  // `plan` (open-ended: the last). Allocates, and touches no level, so it may run on any
+  // thread; the level that runs it then reserve()s its FDL for the partitions.
+  static LevelSpectra transform(const PartitionLevel& plan, bool open_ended, std::size_t inputs, std::size_t outputs,
+                                const FilterMatrix& filters, std::size_t longest);
   // Grows the FDL, keeping its history, so sets of `partitions` partitions can run.
   void reserve(std::size_t partitions);
 

@@ -11,16 +11,24 @@
 
 namespace room_reverb::core {
 
+struct PreparedFilters {
+  std::vector<PartitionLevel> plan;
+  std::size_t block_size = 0;
+  std::size_t inputs = 0;
+  std::size_t outputs = 0;
+  std::vector<LevelSpectra> levels;  // per level of the plan
+  std::size_t partitions = 0;        // over all levels
+};
+
 // One filter matrix in the frequency domain, per level, and where its output goes.
 struct PartitionedConvolver::FilterSet {
-  std::vector<LevelSpectra> levels;
+  std::shared_ptr<const PreparedFilters> prepared;
   std::vector<std::int64_t> first_block;            // per level: the first block process() runs for it
   std::vector<std::vector<float>> accumulators;     // per level: the output spectrum being summed
   std::unique_ptr<SampleRing> output;               // per output: the levels' sum, by stream frame
-  std::size_t partitions = 0;
 
   LevelTarget target(std::size_t level) {
-    return {&levels[level], accumulators[level].data(), output.get()};
+    return {&prepared->levels[level], accumulators[level].data(), output.get()};
   }
 };
 
@@ -72,8 +80,24 @@ PartitionedConvolver::PartitionedConvolver(const FilterMatrix& filters, std::siz
       crossfade_blocks_(crossfade_blocks),
       fade_block_(crossfade_blocks) {
   if (block_size == 0) throw InputError("convolver block size is 0; use a positive size such as 256 frames");
-  if (crossfade_blocks == 0) throw InputError("convolver crossfade is 0 blocks; use at least 1 so a filter swap does not click");
-  plan_ = planPartitions(longestFilter(filters), block_size, max_partition_size, input_count_, output_count_);
+  setUp(planPartitions(longestFilter(filters), block_size, max_partition_size, input_count_, output_count_));
+  current_ = makeSet(prepare(filters, plan_, block_size_));
+}
+
+PartitionedConvolver::PartitionedConvolver(std::shared_ptr<const PreparedFilters> first, std::size_t crossfade_blocks)
+    : input_count_(first ? first->inputs : 0),
+      output_count_(first ? first->outputs : 0),
+      block_size_(first ? first->block_size : 0),
+      crossfade_blocks_(crossfade_blocks),
+      fade_block_(crossfade_blocks) {
+  if (!first) throw InputError("convolver: no prepared filters");
+  setUp(first->plan);
+  current_ = makeSet(std::move(first));
+}
+
+void PartitionedConvolver::setUp(const std::vector<PartitionLevel>& plan) {
+  if (crossfade_blocks_ == 0) throw InputError("convolver crossfade is 0 blocks; use at least 1 so a filter swap does not click");
+  plan_ = plan;
   std::size_t largest = 0;
   for (std::size_t l = 0; l < plan_.size(); ++l) {
     levels_.push_back(std::make_unique<ConvolverLevel>(plan_[l], l + 1 == plan_.size(), block_size_, input_count_,
@@ -95,34 +119,58 @@ PartitionedConvolver::PartitionedConvolver(const FilterMatrix& filters, std::siz
   for (std::size_t n = 0; n < fade_length; ++n) {
     fade_in_gain_[n] = static_cast<float>(0.5 - 0.5 * std::cos(M_PI * (n + 0.5) / fade_length));
   }
-
-  current_ = makeSet(filters);
 }
 
 PartitionedConvolver::~PartitionedConvolver() = default;
 
-std::size_t PartitionedConvolver::partitionCount() const { return current_->partitions; }
+std::size_t PartitionedConvolver::partitionCount() const { return current_->prepared->partitions; }
 
-std::unique_ptr<PartitionedConvolver::FilterSet> PartitionedConvolver::makeSet(const FilterMatrix& filters) {
+std::shared_ptr<const PreparedFilters> PartitionedConvolver::prepare(const FilterMatrix& filters,
+                                                                     const std::vector<PartitionLevel>& plan,
+                                                                     std::size_t block_size) {
   const std::size_t outputs = validateMatrix(filters);
-  if (filters.size() != input_count_ || outputs != output_count_) {
+  if (plan.empty() || block_size == 0) throw InputError("convolver: prepared filters need a partition plan and a block size");
+  auto prepared = std::make_shared<PreparedFilters>();
+  prepared->plan = plan;
+  prepared->block_size = block_size;
+  prepared->inputs = filters.size();
+  prepared->outputs = outputs;
+  const std::size_t longest = longestFilter(filters);
+  for (std::size_t l = 0; l < plan.size(); ++l) {
+    prepared->levels.push_back(
+        ConvolverLevel::transform(plan[l], l + 1 == plan.size(), filters.size(), outputs, filters, longest));
+    prepared->partitions += prepared->levels.back().partitions;
+  }
+  return prepared;
+}
+
+std::unique_ptr<PartitionedConvolver::FilterSet> PartitionedConvolver::makeSet(
+    std::shared_ptr<const PreparedFilters> prepared) {
+  if (!prepared) throw InputError("convolver: no prepared filters");
+  if (prepared->inputs != input_count_ || prepared->outputs != output_count_) {
     std::ostringstream os;
-    os << "new filter matrix is " << filters.size() << " inputs x " << outputs << " outputs but the convolver runs "
-       << input_count_ << " x " << output_count_ << "; make a new convolver to change the channel counts";
+    os << "new filter matrix is " << prepared->inputs << " inputs x " << prepared->outputs
+       << " outputs but the convolver runs " << input_count_ << " x " << output_count_
+       << "; make a new convolver to change the channel counts";
     throw InputError(os.str());
   }
-  const std::size_t longest = longestFilter(filters);
+  const auto same_level = [](const PartitionLevel& a, const PartitionLevel& b) {
+    return a.partition_size == b.partition_size && a.first_tap == b.first_tap && a.partitions == b.partitions;
+  };
+  if (prepared->block_size != block_size_ ||
+      !std::equal(prepared->plan.begin(), prepared->plan.end(), plan_.begin(), plan_.end(), same_level)) {
+    throw InputError("convolver: the filters were prepared for another partition plan or block size");
+  }
   auto set = std::make_unique<FilterSet>();
   // A level writes up to D + B frames ahead of the frame being played (catchUp() up to D).
   std::size_t ahead = 0;
   for (const auto& level : plan_) ahead = std::max(ahead, level.first_tap + level.partition_size);
   set->output = std::make_unique<SampleRing>(output_count_, ahead + 2 * block_size_);
-  for (auto& level : levels_) {
-    set->levels.push_back(level->transform(filters, longest));
-    level->reserve(set->levels.back().partitions);
-    set->accumulators.emplace_back(2 * level->stride(), 0.0f);
-    set->partitions += set->levels.back().partitions;
+  for (std::size_t l = 0; l < levels_.size(); ++l) {
+    levels_[l]->reserve(prepared->levels[l].partitions);
+    set->accumulators.emplace_back(2 * levels_[l]->stride(), 0.0f);
   }
+  set->prepared = std::move(prepared);
   // The new set joins the stream now: it gets the outputs of every block already under
   // way, and process() runs the later blocks for it.
   for (std::size_t l = 0; l < levels_.size(); ++l) {
@@ -133,7 +181,11 @@ std::unique_ptr<PartitionedConvolver::FilterSet> PartitionedConvolver::makeSet(c
 }
 
 void PartitionedConvolver::setFilters(const FilterMatrix& filters) {
-  pending_ = makeSet(filters);  // frees a stale set here, never in process()
+  setFilters(prepare(filters, plan_, block_size_));
+}
+
+void PartitionedConvolver::setFilters(std::shared_ptr<const PreparedFilters> prepared) {
+  pending_ = makeSet(std::move(prepared));  // frees a stale set here, never in process()
   swap_waiting_ = true;
   if (!crossfading()) startPendingFade();
 }

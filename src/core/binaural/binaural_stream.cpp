@@ -1,5 +1,6 @@
 #include "room_reverb/binaural/binaural_stream.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -32,6 +33,13 @@ BinauralStream::BinauralStream(BinauralDecoder decoder, const BinauralStreamOpti
   channels_ = static_cast<std::size_t>(ambisonicChannelCount(decoder_.order));
   if (decoder_.filters.size() != channels_) throw InputError("binaural stream: the decoder's filter count does not match its order");
   decoder_convolver_ = std::make_unique<PartitionedConvolver>(decoderMatrix(decoder_), options_.block_size, 1);
+  const auto planned = [&](double seconds) {
+    const auto frames = static_cast<std::size_t>(std::ceil(seconds * kInternalSampleRateHz));
+    return planPartitions(std::max<std::size_t>(frames, 1), options_.block_size,
+                          PartitionedConvolver::kDefaultMaxPartitionSize, 1, channels_);
+  };
+  room_plan_ = planned(options_.max_response_s);
+  early_plan_ = planned(std::min(kPlannedEarlyResponseS, options_.max_response_s));
   rotation_from_ = rotation_to_ = Eigen::MatrixXd::Identity(static_cast<Eigen::Index>(channels_), static_cast<Eigen::Index>(channels_));
   source_block_.assign(options_.block_size, 0.0f);
   field_.assign(channels_, std::vector<float>(options_.block_size, 0.0f));
@@ -75,34 +83,50 @@ FilterMatrix BinauralStream::responseFilters(const AudioBuffer& response, const 
   return filters;
 }
 
-std::string BinauralStream::setRoom(const AudioBuffer& response) {
-  std::string warning;
-  const FilterMatrix filters = responseFilters(response, "room response", warning);
+PreparedResponse BinauralStream::prepareRoom(const AudioBuffer& response) const {
+  PreparedResponse prepared;
+  prepared.filters =
+      PartitionedConvolver::prepare(responseFilters(response, "room response", prepared.warning), room_plan_, options_.block_size);
+  return prepared;
+}
+
+PreparedResponse BinauralStream::prepareEarlyResponse(const AudioBuffer& response) const {
+  PreparedResponse prepared;
+  prepared.empty = response.frameCount() == 0;
+  // None: faded out like any change, then left silent (a single zero tap costs nothing).
+  const FilterMatrix filters = response.frameCount() == 0
+                                   ? FilterMatrix(1, std::vector<std::vector<float>>(channels_, std::vector<float>{0.0f}))
+                                   : responseFilters(response, "early response", prepared.warning);
+  prepared.filters = PartitionedConvolver::prepare(filters, early_plan_, options_.block_size);
+  return prepared;
+}
+
+std::string BinauralStream::setRoom(const AudioBuffer& response) { return setRoom(prepareRoom(response)); }
+
+std::string BinauralStream::setRoom(const PreparedResponse& prepared) {
   if (room_) {
-    room_->setFilters(filters);
+    room_->setFilters(prepared.filters);
   } else {
-    room_ = std::make_unique<PartitionedConvolver>(filters, options_.block_size, options_.crossfade_blocks);
+    room_ = std::make_unique<PartitionedConvolver>(prepared.filters, options_.crossfade_blocks);
   }
-  return warning;
+  return prepared.warning;
 }
 
 std::string BinauralStream::setEarlyResponse(const AudioBuffer& response) {
-  std::string warning;
-  if (response.frameCount() == 0) {
-    // Faded out like any change, then left silent: a single zero tap costs nothing.
-    if (early_) early_->setFilters(FilterMatrix(1, std::vector<std::vector<float>>(channels_, std::vector<float>{0.0f})));
-    return warning;
-  }
-  const FilterMatrix filters = responseFilters(response, "early response", warning);
+  return setEarlyResponse(prepareEarlyResponse(response));
+}
+
+std::string BinauralStream::setEarlyResponse(const PreparedResponse& prepared) {
+  if (!early_ && prepared.empty) return prepared.warning;
   if (early_) {
-    early_->setFilters(filters);
+    early_->setFilters(prepared.filters);
   } else {
-    early_ = std::make_unique<PartitionedConvolver>(filters, options_.block_size, options_.early_crossfade_blocks);
+    early_ = std::make_unique<PartitionedConvolver>(prepared.filters, options_.early_crossfade_blocks);
     early_field_.assign(channels_, std::vector<float>(options_.block_size, 0.0f));
     early_out_.clear();
     for (auto& channel : early_field_) early_out_.push_back(channel.data());
   }
-  return warning;
+  return prepared.warning;
 }
 
 void BinauralStream::setHeadOrientation(const Eigen::Quaterniond& head_in_room) {
