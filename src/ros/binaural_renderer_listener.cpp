@@ -122,7 +122,7 @@ void BinauralRendererServer::publishMarkers() {
     head = last_head_;
   }
   const ::ros::Time stamp = ::ros::Time::now();
-  if (!room || !room->translation) {
+  if (!room || (!room->translation && !room->simulated_walk)) {
     if (markers_shown_) {  // the walkable room stopped playing: take its markers away
       visualization_msgs::MarkerArray clear;
       clear.markers.push_back(baseMarker(room_frame_, stamp, "", 0, visualization_msgs::Marker::SPHERE));
@@ -132,16 +132,22 @@ void BinauralRendererServer::publishMarkers() {
     }
     return;
   }
-  const core::ListenerTranslation& translation = *room->translation;
-  const Eigen::Vector3d at = listener ? *listener : translation.rigPosition();
-  std::vector<core::ReflectionPath> paths;
+  // The paths cost some image-source work (about a millisecond): only for a viewer.
+  if (marker_publisher_.getNumSubscribers() == 0) return;
+  const Eigen::Vector3d source = room->translation ? room->translation->sourcePosition()
+                                                   : room->simulated_walk->sourcePosition();
+  const Eigen::Vector3d at = listener ? *listener
+                                      : (room->translation ? room->translation->rigPosition()
+                                                           : room->simulated_walk->referenceListener());
+  std::vector<DrawnPath> paths;
   try {
-    paths = translation.heardPathsAt(at);
+    paths = room->translation ? drawnPaths(*room->translation, room->translation->heardPathsAt(at))
+                              : drawnPaths(*room->simulated_walk, at);
   } catch (const core::InputError&) {
     // Outside the room or inside an object: the head is drawn where the tracker says, with
     // no paths (the audio thread says why, counted in ~status).
   }
-  marker_publisher_.publish(listenerMarkers(translation, paths, at, head, room_frame_, stamp));
+  marker_publisher_.publish(listenerMarkers(source, paths, at, head, room_frame_, stamp));
   markers_shown_ = true;
 }
 

@@ -34,8 +34,43 @@ std::array<float, 3> anchorColor(core::ReflectionAnchor anchor) {
 
 }  // namespace
 
-visualization_msgs::MarkerArray listenerMarkers(const core::ListenerTranslation& translation,
-                                                const std::vector<core::ReflectionPath>& paths,
+std::vector<DrawnPath> drawnPaths(const core::ListenerTranslation& translation,
+                                  const std::vector<core::ReflectionPath>& paths) {
+  std::vector<DrawnPath> drawn;
+  for (const core::ReflectionPath& path : paths) {
+    DrawnPath d;
+    d.rgb = anchorColor(path.anchor);
+    d.level = path.level;
+    d.direct = path.anchor == core::ReflectionAnchor::kSource;
+    if (!d.direct) d.image_source_m = translation.anchors()[path.index].image_source_m;
+    d.points = path.points;
+    drawn.push_back(std::move(d));
+  }
+  return drawn;
+}
+
+std::vector<DrawnPath> drawnPaths(const core::SimulatedWalk& walk, const Eigen::Vector3d& listener_m) {
+  std::vector<DrawnPath> drawn;
+  for (const core::SpecularPath& path : walk.pathsAt(listener_m)) {
+    // pathsAt keeps only valid paths, so the points exist; a path that lost them to
+    // rounding is left out of the drawing rather than drawn wrong.
+    auto points = core::specularPathPoints(walk.scene(), walk.sourcePosition(), listener_m, path);
+    if (!points) continue;
+    DrawnPath d;
+    d.direct = path.order == 0;
+    d.rgb = anchorColor(d.direct ? core::ReflectionAnchor::kSource
+                                 : (path.order == 1 ? core::ReflectionAnchor::kSurface : core::ReflectionAnchor::kModelled));
+    double sum = 0.0;
+    for (double g : path.pressure_gain) sum += g * g;
+    d.level = std::sqrt(sum / static_cast<double>(path.pressure_gain.size()));
+    if (!d.direct) d.image_source_m = path.image_position;
+    d.points = std::move(*points);
+    drawn.push_back(std::move(d));
+  }
+  return drawn;
+}
+
+visualization_msgs::MarkerArray listenerMarkers(const Eigen::Vector3d& source_m, const std::vector<DrawnPath>& paths,
                                                 const Eigen::Vector3d& listener_m, const Eigen::Quaterniond& head,
                                                 const std::string& frame, const ::ros::Time& stamp) {
   visualization_msgs::MarkerArray out;
@@ -60,7 +95,7 @@ visualization_msgs::MarkerArray listenerMarkers(const core::ListenerTranslation&
   out.markers.push_back(facing);
 
   Marker source = baseMarker(frame, stamp, "source", 0, Marker::SPHERE);
-  source.pose.position = toPoint(translation.sourcePosition());
+  source.pose.position = toPoint(source_m);
   source.scale.x = source.scale.y = source.scale.z = 0.25;
   source.color = rgba(anchorColor(core::ReflectionAnchor::kSource), 1.0f);
   out.markers.push_back(source);
@@ -69,13 +104,19 @@ visualization_msgs::MarkerArray listenerMarkers(const core::ListenerTranslation&
   images.scale.x = images.scale.y = images.scale.z = 0.12;
   Marker lines = baseMarker(frame, stamp, "reflection_paths", 0, Marker::LINE_LIST);
   lines.scale.x = 0.015;
-  const double direct_level = paths.empty() ? 1.0 : std::max(std::abs(paths.front().level), 1e-12);
-  for (const core::ReflectionPath& path : paths) {
-    const double db = 20.0 * std::log10(std::max(std::abs(path.level), 1e-12) / direct_level);
+  // Faded from the direct sound's level (the loudest path's when it is not heard).
+  double reference = 0.0, loudest = 0.0;
+  for (const DrawnPath& path : paths) {
+    if (path.direct) reference = std::abs(path.level);
+    loudest = std::max(loudest, std::abs(path.level));
+  }
+  reference = std::max(reference > 0.0 ? reference : loudest, 1e-12);
+  for (const DrawnPath& path : paths) {
+    const double db = 20.0 * std::log10(std::max(std::abs(path.level), 1e-12) / reference);
     const auto alpha = static_cast<float>(std::clamp(1.0 + db / 40.0 * 0.85, 0.15, 1.0));
-    const std_msgs::ColorRGBA color = rgba(anchorColor(path.anchor), alpha);
-    if (path.anchor != core::ReflectionAnchor::kSource) {
-      images.points.push_back(toPoint(translation.anchors()[path.index].image_source_m));
+    const std_msgs::ColorRGBA color = rgba(path.rgb, alpha);
+    if (path.image_source_m) {
+      images.points.push_back(toPoint(*path.image_source_m));
       images.colors.push_back(color);
     }
     for (std::size_t i = 1; i < path.points.size(); ++i) {

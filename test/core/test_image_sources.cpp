@@ -1,6 +1,7 @@
 // Image sources in a shoebox against the analytic image lattice (Allen & Berkley 1979).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 
@@ -147,4 +148,39 @@ TEST(ImageSources, RenderedTapSitsAtTheFractionalDelay) {
   // First-order harmonics of +x: X (ACN 3) equals W, Y and Z vanish.
   EXPECT_NEAR(ir.channels[3][1926], ir.channels[0][1926], 1e-6);
   EXPECT_NEAR(ir.channels[1][1926], 0.0, 1e-6);
+}
+
+TEST(ImageSources, EveryPathsPolylineGoesThroughItsReflectionPoints) {
+  // Each computed path, drawn: from the source through one point per reflection to the
+  // listener, its length the path's unfolded distance, each point on the box's face of the
+  // plane it reflects in; a path is not drawn for a listener it does not reach.
+  const Eigen::Vector3d size(6.2, 4.3, 2.9);
+  const Eigen::Vector3d source(1.7, 1.1, 1.3), listener(4.4, 3.05, 1.6);
+  const AcousticScene scene(room_reverb::test::shoeboxMesh(size), room_reverb::test::uniformLibrary(0.2, 0.0));
+  const auto paths = computeImageSources(scene, source, listener, PropagationModel());
+  ASSERT_EQ(paths.size(), 63u);
+  for (const SpecularPath& path : paths) {
+    const auto points = specularPathPoints(scene, source, listener, path);
+    ASSERT_TRUE(points.has_value()) << "order " << path.order;
+    ASSERT_EQ(points->size(), static_cast<std::size_t>(path.order) + 2);
+    EXPECT_LT((points->front() - source).norm(), 1e-12);
+    EXPECT_LT((points->back() - listener).norm(), 1e-12);
+    double length = 0.0;
+    for (std::size_t i = 1; i < points->size(); ++i) length += ((*points)[i] - (*points)[i - 1]).norm();
+    EXPECT_NEAR(length, path.distance_m, 1e-9);
+    for (std::size_t k = 0; k < path.triangles.size(); ++k) {
+      const ScenePlane& plane = scene.planes()[scene.planeOf(path.triangles[k])];
+      EXPECT_NEAR(plane.normal.dot((*points)[k + 1]) - plane.offset, 0.0, 1e-9);
+    }
+  }
+  // The floor's first-order path does not reach a listener below the floor (the wrong
+  // side of its plane), and a triangle the scene does not have gives no path.
+  const auto floor = std::find_if(paths.begin(), paths.end(), [&](const SpecularPath& p) {
+    return p.order == 1 && std::abs(p.image_position.z() + source.z()) < 1e-9;
+  });
+  ASSERT_NE(floor, paths.end());
+  EXPECT_FALSE(specularPathPoints(scene, source, Eigen::Vector3d(4.4, 3.05, -0.5), *floor).has_value());
+  SpecularPath unknown = *floor;
+  unknown.triangles = {scene.mesh().triangleCount()};
+  EXPECT_FALSE(specularPathPoints(scene, source, listener, unknown).has_value());
 }

@@ -20,6 +20,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <mutex>
@@ -291,6 +292,50 @@ TEST(SixDof, AListenerWalkingInASimulatedRoomHearsTheSourceLouder) {
   // The late part simulated again on the way (2 m on) may land as the walk ends.
   EXPECT_TRUE(waitFor(ears, [&](const room_reverb::StreamStatus& s) { return s.room_changes > before.room_changes; }, 10.0))
       << "the late part was not simulated again on the way";
+
+  // rviz sees the simulated route too: the listener where it stands, the source, and the
+  // box's six first-order reflections, each through its point on its wall (the line from
+  // the listener to the source mirrored in that wall, where it crosses the wall).
+  visualization_msgs::MarkerArray::ConstPtr markers =
+      ros::topic::waitForMessage<visualization_msgs::MarkerArray>(kNs + "markers", nh, ros::Duration(5.0));
+  ASSERT_TRUE(markers);
+  const Eigen::Vector3d size(6.0, 4.0, 2.8);
+  std::vector<Eigen::Vector3d> line_points, image_points;
+  bool listener_seen = false, source_seen = false;
+  const auto at = [](const geometry_msgs::Point& p) { return Eigen::Vector3d(p.x, p.y, p.z); };
+  for (const visualization_msgs::Marker& m : markers->markers) {
+    if (m.ns == "listener" && m.type == visualization_msgs::Marker::SPHERE) {
+      listener_seen = true;
+      EXPECT_LT((at(m.pose.position) - near).norm(), 1e-9);
+    }
+    if (m.ns == "source") {
+      source_seen = true;
+      EXPECT_LT((at(m.pose.position) - source).norm(), 1e-9);
+    }
+    if (m.ns == "reflection_paths") {
+      for (const geometry_msgs::Point& p : m.points) line_points.push_back(at(p));
+    }
+    if (m.ns == "image_sources") {
+      for (const geometry_msgs::Point& p : m.points) image_points.push_back(at(p));
+    }
+  }
+  EXPECT_TRUE(listener_seen);
+  EXPECT_TRUE(source_seen);
+  const auto holds = [](const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& want) {
+    return std::any_of(points.begin(), points.end(), [&](const Eigen::Vector3d& p) { return (p - want).norm() < 1e-6; });
+  };
+  for (int axis = 0; axis < 3; ++axis) {
+    for (const double wall : {0.0, size[axis]}) {
+      Eigen::Vector3d image = source;
+      image[axis] = 2.0 * wall - source[axis];
+      const Eigen::Vector3d point = near + (wall - near[axis]) / (image[axis] - near[axis]) * (image - near);
+      EXPECT_TRUE(holds(image_points, image)) << "image source " << image.transpose();
+      EXPECT_TRUE(holds(line_points, point)) << "reflection point " << point.transpose();
+    }
+  }
+  // A line list: pairs of points, the direct sound's among them.
+  EXPECT_EQ(line_points.size() % 2, 0u);
+  EXPECT_TRUE(holds(line_points, source) && holds(line_points, near));
 }
 
 }  // namespace

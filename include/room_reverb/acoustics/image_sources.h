@@ -54,6 +54,10 @@ std::optional<std::vector<Eigen::Vector3d>> specularReflectionPoints(const Acous
                                                                      const Eigen::Vector3d& source,
                                                                      const Eigen::Vector3d& listener,
                                                                      const std::vector<std::size_t>& planes);
+// A computed path's polyline: `source`, its reflection points (from the planes of its
+// triangles), `listener`; nothing where it is not valid between these two.
+std::optional<std::vector<Eigen::Vector3d>> specularPathPoints(const AcousticScene& scene, const Eigen::Vector3d& source,
+                                                               const Eigen::Vector3d& listener, const SpecularPath& path);
 
 // Pressure gains are relative to the direct sound of an omni source at 1 m (gain 1).
 std::vector<SpecularPath> computeImageSources(const AcousticScene& scene, const Eigen::Vector3d& source,

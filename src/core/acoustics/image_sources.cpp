@@ -143,6 +143,20 @@ std::optional<std::vector<Eigen::Vector3d>> specularReflectionPoints(const Acous
   return points;
 }
 
+std::optional<std::vector<Eigen::Vector3d>> specularPathPoints(const AcousticScene& scene, const Eigen::Vector3d& source,
+                                                               const Eigen::Vector3d& listener, const SpecularPath& path) {
+  std::vector<std::size_t> planes;
+  for (std::size_t triangle : path.triangles) {
+    if (triangle >= scene.mesh().triangleCount()) return std::nullopt;
+    planes.push_back(scene.planeOf(triangle));
+  }
+  auto points = specularReflectionPoints(scene, source, listener, planes);
+  if (!points) return std::nullopt;
+  points->insert(points->begin(), source);
+  points->push_back(listener);
+  return points;
+}
+
 bool specularPathValid(const AcousticScene& scene, const Eigen::Vector3d& source, const Eigen::Vector3d& listener,
                        const std::vector<std::size_t>& planes) {
   return specularReflectionPoints(scene, source, listener, planes).has_value();
