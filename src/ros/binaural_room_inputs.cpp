@@ -77,14 +77,16 @@ StreamRoom roomFromRsao(const core::Rsao& rsao, std::uint32_t seed, const std::s
   options.seed = seed;
   StreamRoom room;
   std::string kind = what + ", " + std::to_string(rsao.reflections.size()) + " reflections";
+  core::Rsao played = rsao;
   if (walkable) {
     room.translation = std::make_shared<const core::ListenerTranslation>(rsao, walkable->rig_position_m,
                                                                          walkable->rig_rotation, *walkable);
     room.room_model = walkable;
     options.include_early = false;
+    played.late = room.translation->late();  // its course yields to the completed reflections
     kind += ", walkable";
   }
-  room.ambix = core::resynthesizeRsao(rsao, options);
+  room.ambix = core::resynthesizeRsao(played, options);
   room.description = describe(kind, room.ambix);
   return room;
 }

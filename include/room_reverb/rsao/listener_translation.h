@@ -16,7 +16,8 @@
 // no plane explains keeps its measured time and direction and fades with the listener's
 // distance from the capture point. Without a room model every image source moves
 // unchecked, as published extrapolation from one spatial RIR does (Mueller & Zotter
-// 2020). The late reverb is a diffuse field and stays as measured.
+// 2020). The late reverb is a diffuse field and stays as measured, but for the early
+// energy of the reflections the model completes, which its fitted onset course gives up.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <memory>
@@ -137,9 +138,13 @@ class ListenerTranslation {
   // The reflections at the rig, as anchors(): measured, then modelled.
   const std::vector<EarlyReflection>& reflectionsAtRig() const { return reflections_; }
   const Rsao& measured() const { return measured_; }
+  // The late reverb played at every position: the measured one, its early course lowered
+  // by the energy of the reflections the room model completes (yieldOnsetEnergy).
+  const LateReverb& late() const { return late_; }
 
  private:
   Rsao measured_;
+  LateReverb late_;
   Eigen::Vector3d rig_m_;
   Eigen::Quaterniond rig_rotation_;
   ListenerTranslationOptions options_;

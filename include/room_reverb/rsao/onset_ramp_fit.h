@@ -35,4 +35,19 @@ struct OnsetRampFitOptions {
 // was estimated from). Does nothing when the late part has no bands or no span.
 void fitOnsetRamps(const std::vector<float>& w_channel_48k, Rsao& rsao, const OnsetRampFitOptions& options = {});
 
+// Reflections added to an RSAO after its onsets were fitted (the ones a room model
+// completes, listener_translation.h) bring early energy the fitted course already holds,
+// since it was fitted to the measured early energy, theirs included. Each band's course
+// gives it up: its onset level is set so that the envelope between the first reflection
+// and the course's end holds E_late,b - E_added,b, E_added,b what the added taps bring to
+// the band over that span as the resynthesis plays them beside the RSAO's own (the band
+// energy of all the taps less that of the RSAO's alone: close taps add coherently in the
+// low bands), as fitOnsetRamps would have fitted it had those taps been measured. Where a band's course cannot give that much (it would fall
+// below max_onset_gain_db under its level), the added reflections are too loud for the
+// measurement: their levels are scaled down together until every band of 125 Hz-4 kHz can
+// (the bands where both the taps' spectra and the late levels are well estimated; the
+// others give what they can). Returns that gain (1 when none is needed). Does nothing, and
+// returns 1, without added reflections, late bands or an onset span.
+double yieldOnsetEnergy(std::vector<EarlyReflection>& added, Rsao& rsao, const OnsetRampFitOptions& options = {});
+
 }  // namespace room_reverb::core

@@ -145,7 +145,9 @@ AudioBuffer renderWalk(const AudioBuffer& dry, const ListenerTranslation& transl
   ResynthesisOptions late_only;
   late_only.seed = seed;
   late_only.include_early = false;
-  const AudioBuffer late = resynthesizeRsao(translation.measured(), late_only);
+  Rsao late_part = translation.measured();
+  late_part.late = translation.late();
+  const AudioBuffer late = resynthesizeRsao(late_part, late_only);
   BinauralStreamOptions options;
   options.block_size = kBlock;
   options.max_response_s = std::max(late.durationS(), 0.01);

@@ -9,6 +9,7 @@
 #include "room_reverb/acoustics/image_sources.h"
 #include "room_reverb/acoustics/room_shape.h"
 #include "room_reverb/common/error.h"
+#include "room_reverb/rsao/onset_ramp_fit.h"
 #include "room_reverb/rsao/reflection_tap.h"
 
 namespace room_reverb::core {
@@ -132,7 +133,7 @@ ListenerTranslation& ListenerTranslation::operator=(ListenerTranslation&&) noexc
 ListenerTranslation::ListenerTranslation(Rsao measured, const Eigen::Vector3d& rig_position_m,
                                          const Eigen::Quaterniond& rig_rotation, const std::optional<RoomModel>& room,
                                          const ListenerTranslationOptions& options)
-    : measured_(std::move(measured)), rig_m_(rig_position_m), rig_rotation_(rig_rotation.normalized()),
+    : measured_(std::move(measured)), late_(measured_.late), rig_m_(rig_position_m), rig_rotation_(rig_rotation.normalized()),
       options_(options) {
   validateListenerTranslationOptions(options_);
   if (measured_.reflections.empty()) throw InputError("the RSAO has no direct sound to place the source by");
@@ -280,6 +281,15 @@ void ListenerTranslation::completeFromModel(const std::vector<SpecularPath>& pat
     anchors_.push_back(std::move(a));
     reflections_.push_back(std::move(r));
   }
+  // The completed reflections' early energy is in the late part's fitted course already
+  // (it was fitted to the measured early energy, theirs included): the course gives it up,
+  // and where it holds less than they bring, their levels come down to what it holds.
+  const auto first_modelled = reflections_.begin() + static_cast<std::ptrdiff_t>(measured_.reflections.size());
+  std::vector<EarlyReflection> modelled(first_modelled, reflections_.end());
+  Rsao yielding = measured_;
+  yieldOnsetEnergy(modelled, yielding);
+  std::copy(modelled.begin(), modelled.end(), first_modelled);
+  late_ = yielding.late;
 }
 
 std::vector<HeardReflection> ListenerTranslation::reflectionsAt(const Eigen::Vector3d& listener_m) const {
@@ -357,6 +367,7 @@ std::vector<ReflectionPath> ListenerTranslation::heardPathsAt(const Eigen::Vecto
 
 Rsao ListenerTranslation::at(const Eigen::Vector3d& listener_m) const {
   Rsao out = measured_;
+  out.late = late_;
   out.reflections.clear();
   for (HeardReflection& h : reflectionsAt(listener_m)) {
     if (h.heard || out.reflections.empty()) out.reflections.push_back(std::move(h.reflection));
