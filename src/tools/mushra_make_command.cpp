@@ -56,7 +56,7 @@ int runMushraMake(const std::vector<std::string>& raw) {
   const std::vector<MushraPage> pages = mushraPages(plan);
   writeMushraTest(plan, stimuli, pages, args.value("out", ""));
 
-  for (const std::string& note : stimuli.notes) std::cerr << "room_reverb mushra make: note: " << note << "\n";
+  for (const std::string& note : stimuli.notes) std::cout << "room_reverb mushra make: note: " << note << "\n";
   double quietest = stimuli.stimuli.front().loudness_lufs, loudest = quietest;
   for (const MushraStimulus& s : stimuli.stimuli) {
     quietest = std::min(quietest, s.loudness_lufs);

@@ -78,7 +78,7 @@ Exit status: 0 on success, 2 with one line on stderr for bad input.
 AudioBuffer monoSource(const std::string& path) {
   std::vector<std::string> notes;
   AudioBuffer source = loadDrySource(path, notes);
-  for (const std::string& note : notes) std::cerr << "room_reverb render: note: " << note << "\n";
+  for (const std::string& note : notes) std::cout << "room_reverb render: note: " << note << "\n";
   return source;
 }
 
@@ -99,7 +99,7 @@ AudioBuffer roomResponse(const Arguments& args) {
   } else {
     response = ambixRoomResponse(readAudioFile(args.value("ambisonic-rir", "")), "ambix", notes);
   }
-  for (const std::string& note : notes) std::cerr << "room_reverb render: note: " << note << "\n";
+  for (const std::string& note : notes) std::cout << "room_reverb render: note: " << note << "\n";
   return response;
 }
 
@@ -107,13 +107,22 @@ AudioBuffer roomResponse(const Arguments& args) {
 // (as every render for listening is).
 void writeWalk(const std::string& path, AudioBuffer& out) {
   float peak = 0.0f;
-  for (const auto& channel : out.channels)
-    for (float v : channel) peak = std::max(peak, std::abs(v));
+  bool finite = true;
+  for (const auto& channel : out.channels) {
+    for (float v : channel) {
+      finite = finite && std::isfinite(v);
+      peak = std::max(peak, std::abs(v));
+    }
+  }
+  if (!finite) {
+    throw InputError("the walk's render overflows 32-bit float: the source holds values far beyond full scale "
+                     "(is the file corrupt?)");
+  }
   if (peak > 1.0f) {
     const float gain = std::pow(10.0f, -1.0f / 20.0f) / peak;
     for (auto& channel : out.channels)
       for (float& v : channel) v *= gain;
-    std::cerr << "room_reverb render: note: the peak was above full scale; scaled by " << 20.0 * std::log10(gain)
+    std::cout << "room_reverb render: note: the peak was above full scale; scaled by " << 20.0 * std::log10(gain)
               << " dB to -1 dBFS\n";
   }
   writeAudioFile(path, out, SampleEncoding::kFloat32);
@@ -135,7 +144,7 @@ int runWalk(const Arguments& args, const std::optional<Eigen::Vector3d>& rig) {
   for (const ListenerPose& pose : poses) translation.reflectionsAt(pose.position_m);
   const AudioBuffer source = monoSource(args.value("source", ""));
   const HrtfSet hrtf = HrtfSet::loadSofa(args.value("hrtf", HrtfSet::defaultSofaPath()));
-  for (const std::string& note : hrtf.notes()) std::cerr << "room_reverb render: note: " << note << "\n";
+  for (const std::string& note : hrtf.notes()) std::cout << "room_reverb render: note: " << note << "\n";
   AudioBuffer out = renderWalk(source, translation, makeBinauralDecoder(hrtf, 3, method), poses);
   writeWalk(args.value("out", ""), out);
   std::cout << "wrote " << args.value("out", "") << ": " << out.durationS() << " s, binaural, a listener walking "
@@ -159,7 +168,7 @@ int runSimulatedWalk(const Arguments& args, const Eigen::Vector3d& source_at) {
   const SimulatedWalk walk(std::move(scene), source_at, poses.front().position_m, settings);
   const AudioBuffer source = monoSource(args.value("source", ""));
   const HrtfSet hrtf = HrtfSet::loadSofa(args.value("hrtf", HrtfSet::defaultSofaPath()));
-  for (const std::string& note : hrtf.notes()) std::cerr << "room_reverb render: note: " << note << "\n";
+  for (const std::string& note : hrtf.notes()) std::cout << "room_reverb render: note: " << note << "\n";
   AudioBuffer out = renderSimulatedWalk(source, walk, makeBinauralDecoder(hrtf, 3, method), poses);
   writeWalk(args.value("out", ""), out);
   std::cout << "wrote " << args.value("out", "") << ": " << out.durationS() << " s, binaural, the simulated room ("
@@ -203,7 +212,7 @@ int runRender(const std::vector<std::string>& raw) {
   const std::optional<Rsao> rsao = args.has("rsao") ? std::optional<Rsao>(loadRsaoYaml(args.value("rsao", ""))) : std::nullopt;
   const AudioBuffer response = rsao ? AudioBuffer{} : roomResponse(args);
   const HrtfSet hrtf = HrtfSet::loadSofa(args.value("hrtf", HrtfSet::defaultSofaPath()));
-  for (const std::string& note : hrtf.notes()) std::cerr << "room_reverb render: note: " << note << "\n";
+  for (const std::string& note : hrtf.notes()) std::cout << "room_reverb render: note: " << note << "\n";
   AudioBuffer brir;
   std::string how;
   if (rsao) {
@@ -218,7 +227,7 @@ int runRender(const std::vector<std::string>& raw) {
   }
   const BinauralRender render = convolveBinaural(source, brir);
   if (render.gain_db < 0.0) {
-    std::cerr << "room_reverb render: note: the peak was above full scale; scaled by " << render.gain_db
+    std::cout << "room_reverb render: note: the peak was above full scale; scaled by " << render.gain_db
               << " dB to -1 dBFS\n";
   }
   const AudioBuffer& out = render.audio;

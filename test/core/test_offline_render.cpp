@@ -104,4 +104,10 @@ TEST(OfflineRender, BadInput) {
   expectInputError([&] { binauralRoomResponse(planeWave(0, 1, 44100.0), d1, Eigen::Quaterniond::Identity()); }, {"44100"});
   expectInputError([&] { binauralRoomResponse(planeWave(0, 1), d1, Eigen::Quaterniond(2, 0, 0, 0)); }, {"quaternion"});
   expectInputError([&] { convolveBinaural(makeSilentBuffer(2, 4, 48000.0), makeSilentBuffer(2, 4, 48000.0)); }, {"mono"});
+  // A corrupt float source: finite, but far beyond full scale, so the render overflows.
+  AudioBuffer huge = makeSilentBuffer(1, 64, 48000.0);
+  for (float& v : huge.channels[0]) v = 3e38f;
+  AudioBuffer brir = makeSilentBuffer(2, 32, 48000.0);
+  for (auto& ear : brir.channels) std::fill(ear.begin(), ear.end(), 0.5f);
+  expectInputError([&] { convolveBinaural(huge, brir); }, {"overflows", "3e+38", "corrupt"});
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 #include "room_reverb/ambisonics/bformat.h"
@@ -90,9 +91,29 @@ BinauralRender convolveBinaural(const AudioBuffer& mono_source, const AudioBuffe
   BinauralRender render;
   render.audio = makeSilentBuffer(2, 0, brir.sample_rate_hz);
   float peak = 0.0f;
+  bool finite = true;
   for (std::size_t ear = 0; ear < 2; ++ear) {
     render.audio.channels[ear] = fftConvolve(mono_source.channels[0], brir.channels[ear]);
-    for (float v : render.audio.channels[ear]) peak = std::max(peak, std::abs(v));
+    for (float v : render.audio.channels[ear]) {
+      finite = finite && std::isfinite(v);
+      peak = std::max(peak, std::abs(v));
+    }
+  }
+  // Finite inputs far beyond full scale (a corrupt float file holds values up to 3e38)
+  // overflow the convolution; say which input is out of range rather than write noise.
+  if (!finite) {
+    const auto largest = [](const std::vector<float>& x) {
+      float m = 0.0f;
+      for (float v : x) m = std::max(m, std::abs(v));
+      return m;
+    };
+    char text[240];
+    std::snprintf(text, sizeof text,
+                  "the render overflows 32-bit float: the source peaks at %.3g and the binaural response at %.3g "
+                  "(full scale is 1); is one of the files corrupt?",
+                  static_cast<double>(largest(mono_source.channels[0])),
+                  static_cast<double>(std::max(largest(brir.channels[0]), largest(brir.channels[1]))));
+    throw InputError(text);
   }
   if (peak > 1.0f) {
     const float gain = 0.891f / peak;  // -1 dBFS
