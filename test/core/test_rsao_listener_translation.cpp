@@ -326,6 +326,48 @@ TEST(ListenerTranslation, TheRoomModelCompletesSecondOrderReflectionsFromTheMeas
   EXPECT_EQ(plain.at(there.geometry.receiver_m).reflections.size(), 7u);
 }
 
+TEST(ListenerTranslation, AMissedFirstOrderReflectionIsCompletedAsTheTypicalWall) {
+  // One first-order reflection left out of the measured RSAO (the estimator missed it): the
+  // model adds it at its true time and direction, its level from the median of the other
+  // walls' measured reflection factors, and the second-order images off that wall stay out
+  // (their factor would be a guess twice over).
+  const ReflectionRoom capture = reflectionRoom(ReflectionRoomSet::kDevelopment, 0);
+  Rsao measured = exactRsao(capture, 1);
+  ASSERT_EQ(measured.reflections.size(), 7u);
+  const EarlyReflection missed = measured.reflections[3];
+  measured.reflections.erase(measured.reflections.begin() + 3);
+  const double reach = measured.reflections[0].level * measured.reflections[0].distance_m;
+  std::vector<double> factors;
+  for (std::size_t k = 1; k < measured.reflections.size(); ++k) {
+    factors.push_back(measured.reflections[k].level * measured.reflections[k].distance_m / reach);
+  }
+  std::sort(factors.begin(), factors.end());
+  const double typical = factors[factors.size() / 2];
+  const ListenerTranslation translation(measured, capture.geometry.receiver_m, Eigen::Quaterniond::Identity(),
+                                        modelOf(capture.geometry));
+  int first_order_completed = 0;
+  for (std::size_t k = 0; k < translation.anchors().size(); ++k) {
+    const AnchoredReflection& a = translation.anchors()[k];
+    if (a.anchor != ReflectionAnchor::kModelled) continue;
+    const EarlyReflection& r = translation.reflectionsAtRig()[k];
+    if (a.planes.size() == 1) {
+      ++first_order_completed;
+      EXPECT_NEAR(r.time_of_arrival_s, missed.time_of_arrival_s, 1e-7);
+      EXPECT_LT(angleDeg(directionOf(r), directionOf(missed)), 0.01);
+      EXPECT_NEAR(r.level, typical * reach / r.distance_m, 1e-9 * r.level);
+    }
+  }
+  EXPECT_EQ(first_order_completed, 1);
+  // Only the first order completed, when asked; the other walls' second-order images
+  // besides it by default.
+  ListenerTranslationOptions first_only;
+  first_only.complete_order = 1;
+  const ListenerTranslation only_first(measured, capture.geometry.receiver_m, Eigen::Quaterniond::Identity(),
+                                       modelOf(capture.geometry), first_only);
+  EXPECT_EQ(only_first.reflectionsAtRig().size(), 7u);
+  EXPECT_GT(translation.reflectionsAtRig().size(), 7u);
+}
+
 TEST(ListenerTranslation, AReflectionIsGoneWhereItsPointLeavesThePanel) {
   const ReflectionRoom capture = reflectionRoom(ReflectionRoomSet::kHeldOut, 9);  // a reflector room
   ASSERT_TRUE(capture.geometry.panel.has_value()) << capture.name;

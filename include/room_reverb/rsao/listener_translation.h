@@ -48,13 +48,15 @@ struct ListenerTranslationOptions {
   // per reflection, best pairs first.
   double match_path_m = 0.12;
   double match_angle_deg = 30.0;
-  // Complete the RSAO from the room model: an image of order 2 to complete_order whose
-  // planes all have a matched first-order reflection, valid at the rig but not measured
-  // (missed by the estimator: close to another arrival or to the direct sound) and
-  // arriving before the mixing time, is added, its level from the measured reflection
-  // factors of its planes (level * distance of each plane's first-order reflection over
-  // the direct sound's) and its spectral shape that of its dullest plane's reflection.
-  // 0 or 1: no completion.
+  // Complete the RSAO from the room model: an image of order 1 to complete_order, valid
+  // at the rig but not measured (missed by the estimator: close to another arrival or to
+  // the direct sound) and arriving before the mixing time, is added. A second- or higher-
+  // order image needs a matched first-order reflection from each of its planes: its level
+  // comes from their measured reflection factors (level * distance of each plane's
+  // first-order reflection over the direct sound's) and its spectral shape is that of its
+  // dullest plane's reflection. A first-order image of a plane with none takes the median
+  // measured plane's factor and reflection (the room's typical wall, from the same
+  // measurement). Nothing is completed when no plane was measured. 0: no completion.
   int complete_order = 2;
   // An unmatched reflection's gain at distance d from the capture point:
   // exp(-(d / unmatched_fade_m)^2).
@@ -70,7 +72,7 @@ enum class ReflectionAnchor {
   kSurface,    // matched to planes of the room model: moved, heard while its path is valid
   kUnchecked,  // no room model: moved as its measured image source, always heard
   kUnmatched,  // a room model, but no plane explains it: kept, fading with distance
-  kModelled,   // not measured: added from the room model's planes that were (complete_order)
+  kModelled,   // not measured: added from the room model's planes (complete_order)
 };
 const char* anchorName(ReflectionAnchor anchor);
 

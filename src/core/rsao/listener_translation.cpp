@@ -229,7 +229,7 @@ ListenerTranslation::ListenerTranslation(Rsao measured, const Eigen::Vector3d& r
 
 void ListenerTranslation::completeFromModel(const std::vector<SpecularPath>& paths, const std::vector<bool>& path_taken,
                                             const RoomModel& room) {
-  if (options_.complete_order < 2) return;
+  if (options_.complete_order < 1) return;
   // Each plane with a matched first-order reflection: its pressure reflection factor as
   // measured (the reflection's level times its path length over the direct sound's), and
   // that reflection.
@@ -244,11 +244,20 @@ void ListenerTranslation::completeFromModel(const std::vector<SpecularPath>& pat
     if (anchors_[k].anchor != ReflectionAnchor::kSurface || anchors_[k].planes.size() != 1) continue;
     measured_planes[anchors_[k].planes[0]] = {reflections_[k].level * anchors_[k].rig_distance_m / direct_reach, k};
   }
+  if (measured_planes.empty()) return;
+  // A plane whose first-order reflection the estimator missed (close to the direct sound
+  // or to another arrival) takes the median of the measured planes' factors, and the
+  // spectrum of that plane's reflection: the room's typical wall, from the same
+  // measurement.
+  std::vector<const MeasuredPlane*> by_factor;
+  for (const auto& [plane, m] : measured_planes) by_factor.push_back(&m);
+  std::sort(by_factor.begin(), by_factor.end(), [](const MeasuredPlane* a, const MeasuredPlane* b) { return a->factor < b->factor; });
+  const MeasuredPlane typical = *by_factor[by_factor.size() / 2];
   const double c = options_.speed_of_sound_m_s;
   const double end_s = measured_.late.mixing_time_s > 0.0 ? measured_.late.mixing_time_s : 0.0;
   for (std::size_t p = 0; p < paths.size(); ++p) {
     const SpecularPath& path = paths[p];
-    if (path_taken[p] || path.order < 2 || path.order > options_.complete_order) continue;
+    if (path_taken[p] || path.order < 1 || path.order > options_.complete_order) continue;
     const double distance = (path.image_position - rig_m_).norm();
     const double time = time_offset_s_ + distance / c;
     if (end_s > 0.0 && time >= end_s) continue;
@@ -257,12 +266,15 @@ void ListenerTranslation::completeFromModel(const std::vector<SpecularPath>& pat
     const MeasuredPlane* dullest = nullptr;
     for (std::size_t plane : planes) {
       const auto it = measured_planes.find(plane);
-      if (it == measured_planes.end()) {
+      // Only a first-order reflection takes the typical wall: a higher order needs each of
+      // its planes measured.
+      const MeasuredPlane* m = it != measured_planes.end() ? &it->second : (path.order == 1 ? &typical : nullptr);
+      if (!m) {
         dullest = nullptr;
         break;
       }
-      factor *= it->second.factor;
-      if (!dullest || it->second.factor < dullest->factor) dullest = &it->second;
+      factor *= m->factor;
+      if (!dullest || m->factor < dullest->factor) dullest = m;
     }
     if (!dullest) continue;
     EarlyReflection r = reflections_[dullest->reflection];
