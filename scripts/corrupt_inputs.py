@@ -159,6 +159,8 @@ def run_one(command, timeout_s):
         p = subprocess.run(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, timeout=timeout_s)
     except subprocess.TimeoutExpired:
         return "hang", f"no answer in {timeout_s:.0f} s", time.monotonic() - start
+    except OSError as e:  # the tool itself missing or being rebuilt
+        return "failed", f"could not run the tool: {e}", time.monotonic() - start
     elapsed = time.monotonic() - start
     stderr = p.stderr.decode("utf-8", "replace")
     lines = [l for l in stderr.split("\n") if l.strip()]
@@ -224,7 +226,7 @@ def main():
             results[name] = (counts, failures, slowest)
             bad = counts["failed"] + counts["signal"] + counts["hang"]
             print(f"{name}: {args.runs} inputs, {counts['ok']} accepted, {counts['refused']} refused in one line, "
-                  f"{bad} failed (slowest {slowest:.1f} s)")
+                  f"{bad} failed (slowest {slowest:.1f} s)", flush=True)
             for line in failures:
                 print("  " + line)
         if args.junit:

@@ -6,6 +6,8 @@
 #include <complex>
 
 #include "room_reverb/acoustics/acoustic_scene.h"
+#include "room_reverb/acoustics/edge_diffraction.h"
+#include "room_reverb/acoustics/room_model.h"
 #include "room_reverb/acoustics/image_sources.h"
 #include "room_reverb/acoustics/impulse_response_synthesis.h"
 #include "room_reverb/audio/fft.h"
@@ -183,4 +185,107 @@ TEST(ImageSources, EveryPathsPolylineGoesThroughItsReflectionPoints) {
   SpecularPath unknown = *floor;
   unknown.triangles = {scene.mesh().triangleCount()};
   EXPECT_FALSE(specularPathPoints(scene, source, listener, unknown).has_value());
+}
+
+TEST(EdgeDiffraction, KurzeAndersonLossIsContinuousThroughTheShadowBoundary) {
+  EXPECT_NEAR(barrierLossDb(0.0), 5.0, 1e-9);
+  EXPECT_NEAR(barrierLossDb(1e-9), 5.0, 1e-3);
+  EXPECT_NEAR(barrierLossDb(-1e-9), 5.0, 1e-3);
+  // N = 1: 5 + 20 log10(sqrt(2 pi) / tanh sqrt(2 pi)) = 13.1 dB (Maekawa's chart: 13 dB).
+  EXPECT_NEAR(barrierLossDb(1.0), 5.0 + 20.0 * std::log10(std::sqrt(2.0 * M_PI) / std::tanh(std::sqrt(2.0 * M_PI))), 1e-9);
+  EXPECT_NEAR(barrierLossDb(1.0), 13.1, 0.05);
+  EXPECT_EQ(barrierLossDb(100.0), 20.0);  // one edge takes at most 20 dB
+  EXPECT_GT(barrierLossDb(-0.05), 0.0);
+  EXPECT_LT(barrierLossDb(-0.05), 5.0);
+  EXPECT_EQ(barrierLossDb(-0.3), 0.0);
+  // Monotone from the lit side into the shadow.
+  double last = 0.0;
+  for (double n = -0.25; n < 3.0; n += 0.001) {
+    EXPECT_GE(barrierLossDb(n) + 1e-9, last) << n;
+    last = barrierLossDb(n);
+  }
+}
+
+TEST(EdgeDiffraction, TheDetourGoesOverTheNearestEdgeOrAcrossTheTop) {
+  CuboidObject screen;  // a thin screen 2 m wide, 1 m high, standing on the floor at x = 3
+  screen.center_m = {3.0, 2.0, 0.5};
+  screen.size_m = {0.02, 2.0, 1.0};
+  const Eigen::Vector3d source(1.0, 2.0, 0.6), listener(5.0, 2.0, 0.6);
+  const auto over = shortestEdgeDetour(screen, source, listener);
+  ASSERT_TRUE(over.has_value());
+  EXPECT_TRUE(over->shadowed);
+  // Over the top edge: up 0.4 m over 2 m each way (the screen's 1 cm half-thickness aside).
+  const double expected = 2.0 * std::hypot(2.0 - 0.01, 0.4) + 0.02;
+  EXPECT_NEAR(over->length_m, expected, 1e-4);
+  EXPECT_NEAR(over->path_difference_m, expected - 4.0, 1e-4);
+  ASSERT_FALSE(over->turns.empty());
+  for (const Eigen::Vector3d& turn : over->turns) EXPECT_NEAR(turn.z(), 1.0, 1e-6);
+  // A thick cabinet: across its top, over two edges.
+  CuboidObject cabinet = screen;
+  cabinet.size_m = {1.0, 2.0, 1.0};
+  const auto across = shortestEdgeDetour(cabinet, source, listener);
+  ASSERT_TRUE(across.has_value());
+  EXPECT_NEAR(across->length_m, 2.0 * std::hypot(1.5, 0.4) + 1.0, 1e-4);
+  // In view, above the screen: not shadowed, the path difference small.
+  const auto lit = shortestEdgeDetour(screen, Eigen::Vector3d(1.0, 2.0, 1.1), Eigen::Vector3d(5.0, 2.0, 1.1));
+  ASSERT_TRUE(lit.has_value());
+  EXPECT_FALSE(lit->shadowed);
+  EXPECT_LT(lit->path_difference_m, 0.01);
+  EXPECT_FALSE(shortestEdgeDetour(screen, Eigen::Vector3d(3.0, 2.0, 0.5), listener).has_value());  // inside it
+}
+
+TEST(ImageSources, TheDirectSoundBendsAroundAnObjectAndFadesIntoItsShadow) {
+  // A 6 x 4 x 3 m room model with a 1.2 m high screen between source and listener: the
+  // direct sound arrives over its top edge, later and weaker in the higher bands; raising
+  // the listener through the shadow's edge, the direct sound's level changes smoothly.
+  RoomModel model;
+  model.size_m = {6.0, 4.0, 3.0};
+  for (const char* name : kRoomSurfaceNames) model.surfaces[name] = SurfaceAssignment{"plaster_smooth", 1.0};
+  CuboidObject screen;
+  screen.label = "screen";
+  screen.material = "plywood_panel";
+  screen.center_m = {3.0, 2.0, 0.6};
+  screen.size_m = {0.02, 3.0, 1.2};
+  model.objects.push_back(screen);
+  const AcousticScene scene = roomModelToScene(model, MaterialLibrary::loadDefault());
+  AirConditions no_air;
+  no_air.enabled = false;
+  const PropagationModel propagation = PropagationModel::from(no_air, {});
+  const Eigen::Vector3d source(1.0, 2.0, 0.6);
+  const auto direct = [&](double height) {
+    ImageSourceOptions options;
+    options.max_order = 0;
+    const auto paths = computeImageSources(scene, source, {5.0, 2.0, height}, propagation, options);
+    return paths.empty() ? std::optional<SpecularPath>() : std::optional<SpecularPath>(paths.front());
+  };
+  const auto behind = direct(0.6);
+  ASSERT_TRUE(behind.has_value()) << "the direct sound is heard behind the screen";
+  const double detour = 2.0 * std::hypot(2.0 - 0.01, 0.6) + 0.02;
+  EXPECT_NEAR(behind->distance_m, detour, 1e-4);
+  EXPECT_NEAR(behind->delay_s, detour / propagation.speed_of_sound_m_s, 1e-9);
+  EXPECT_LT(behind->pressure_gain[7], behind->pressure_gain[2]);  // 8 kHz below 250 Hz
+  const double n_1k = 2.0 * (detour - 4.0) * 1000.0 / propagation.speed_of_sound_m_s;
+  EXPECT_NEAR(20.0 * std::log10(behind->pressure_gain[4] * detour), -barrierLossDb(n_1k), 1e-6);
+  ImageSourceOptions plain;
+  plain.max_order = 0;
+  plain.diffract_direct_sound = false;
+  EXPECT_TRUE(computeImageSources(scene, source, {5.0, 2.0, 0.6}, propagation, plain).empty());
+  // Through the shadow's edge (the line of sight grazes the top at z = 1.2 m for a listener
+  // at 1.8 m): no step larger than the slope around it.
+  double last_db = 0.0, largest_step = 0.0;
+  for (double z = 1.6; z <= 2.0; z += 0.002) {
+    const auto path = direct(z);
+    ASSERT_TRUE(path.has_value()) << z;
+    const double db = 20.0 * std::log10(path->pressure_gain[4] * (Eigen::Vector3d(5.0, 2.0, z) - source).norm());
+    if (z > 1.6) largest_step = std::max(largest_step, std::abs(db - last_db));
+    last_db = db;
+  }
+  EXPECT_LT(largest_step, 0.5);
+  // 0.2 m above the shadow's edge the screen is still inside the first Fresnel zone at
+  // 1 kHz (about 0.6 m across here), and takes less than at grazing; at 16 kHz it is clear.
+  EXPECT_GT(last_db, -5.0);
+  EXPECT_LT(last_db, -0.5);
+  const auto clear = direct(2.0);
+  ASSERT_TRUE(clear.has_value());
+  EXPECT_NEAR(clear->pressure_gain[8] * (Eigen::Vector3d(5.0, 2.0, 2.0) - source).norm(), 1.0, 1e-9);
 }

@@ -23,6 +23,12 @@ struct ImageSourceOptions {
   // minute at that rate) is refused up front with an error naming the highest order that
   // fits.
   double max_candidates = 2e8;
+  // In a scene built from a room model (its objects known as cuboids): the direct sound
+  // blocked by an object is heard around the object's nearest edge, weaker and duller
+  // (edge_diffraction.h), instead of not at all; one heard close to an object's shadow
+  // is weakened as it approaches it, so that crossing the shadow's edge changes nothing
+  // abruptly. Scenes from meshes keep the plain visibility test.
+  bool diffract_direct_sound = true;
 };
 
 // The number of candidate images the search visits up to `order`: counted exactly to

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "room_reverb/acoustics/edge_diffraction.h"
+#include "room_reverb/acoustics/room_shape.h"
 #include "room_reverb/common/error.h"
 
 namespace room_reverb::core {
@@ -60,10 +62,85 @@ bool validatePath(const Search& s, std::vector<std::size_t>& triangles, Eigen::V
   return true;
 }
 
+// Per band, what air and the source's directivity (leaving along `leaving`) make of a path
+// `distance_m` long, times the reflections' factors along `triangles`.
+OctaveBandValues pathGains(const Search& s, const Eigen::Vector3d& leaving, double distance_m,
+                           const std::vector<std::size_t>& triangles) {
+  OctaveBandValues gains{};
+  const double directivity = s.model.directivity.pressureGain(leaving);
+  for (int b = 0; b < kOctaveBandCount; ++b) {
+    double gain = directivity / distance_m;
+    for (std::size_t triangle : triangles) {
+      const AcousticMaterial& material = s.scene.material(triangle);
+      gain *= std::sqrt(1.0 - material.absorption[b]);
+      if (s.options.specular_share_only) gain *= std::sqrt(1.0 - material.scattering[b]);
+    }
+    // Air absorbs energy as exp(-m d): pressure as exp(-m d / 2).
+    gain *= std::exp(-0.5 * s.model.air_attenuation_per_m[b] * distance_m);
+    gains[static_cast<std::size_t>(b)] = gain;
+  }
+  return gains;
+}
+
+// The direct sound in a scene with known objects (diffract_direct_sound): blocked by
+// objects, bent around the edge of the one that takes the most; in view, weakened by the
+// object whose shadow it is nearest. False when it is blocked and no single edge clears it.
+bool addDirectSound(Search& s, bool in_view) {
+  const RoomShape& shape = *s.scene.roomShape();
+  const double c = s.model.speed_of_sound_m_s;
+  std::optional<EdgeDetour> chosen;
+  OctaveBandValues chosen_gains;
+  chosen_gains.fill(1.0);
+  for (const CuboidObject& object : shape.objects) {
+    const std::optional<EdgeDetour> detour = shortestEdgeDetour(object, s.source, s.listener);
+    if (!detour || detour->shadowed == in_view) continue;
+    if (!in_view) {
+      // Around this object's edge, no other object in the way.
+      bool clear = true;
+      Eigen::Vector3d from = s.source;
+      for (std::size_t leg = 0; leg <= detour->turns.size(); ++leg) {
+        const Eigen::Vector3d to = leg < detour->turns.size() ? detour->turns[leg] : s.listener;
+        for (const CuboidObject& other : shape.objects) clear = clear && !segmentCrossesCuboid(other, from, to);
+        from = to;
+      }
+      if (!clear) continue;
+    }
+    const OctaveBandValues gains = edgeDiffractionGains(*detour, c);
+    if (in_view && gains[0] == 1.0) continue;  // clear of its shadow in every band (the lowest the last)
+    // The one that takes the most (at 1 kHz).
+    if (!chosen || gains[4] < chosen_gains[4]) {
+      chosen = detour;
+      chosen_gains = gains;
+    }
+  }
+  if (!in_view && !chosen) return false;
+  SpecularPath path;
+  path.order = 0;
+  // Around the object it leaves the source towards the first edge and reaches the
+  // listener from the last.
+  const bool bent = !in_view && chosen;
+  const Eigen::Vector3d first = bent ? chosen->turns.front() : s.listener;
+  const Eigen::Vector3d last = bent ? chosen->turns.back() : s.source;
+  path.distance_m = bent ? chosen->length_m : (s.source - s.listener).norm();
+  path.arrival_direction = (last - s.listener).normalized();
+  path.image_position = s.listener + path.distance_m * path.arrival_direction;
+  path.delay_s = path.distance_m / c;
+  path.pressure_gain = pathGains(s, (first - s.source).normalized(), path.distance_m, {});
+  for (int b = 0; b < kOctaveBandCount; ++b) path.pressure_gain[b] *= chosen_gains[b];
+  s.paths.push_back(std::move(path));
+  return true;
+}
+
 void addPath(Search& s) {
   std::vector<std::size_t> triangles;
   Eigen::Vector3d leaving;
-  if (!validatePath(s, triangles, leaving)) return;
+  const bool valid = validatePath(s, triangles, leaving);
+  if (s.planes.empty() && s.options.diffract_direct_sound && s.scene.roomShape() != nullptr &&
+      !s.scene.roomShape()->objects.empty()) {
+    addDirectSound(s, valid);
+    return;
+  }
+  if (!valid) return;
   SpecularPath path;
   path.order = static_cast<int>(s.planes.size());
   path.image_position = s.planes.empty() ? s.source : s.images.back();
@@ -72,18 +149,7 @@ void addPath(Search& s) {
   path.delay_s = path.distance_m / s.model.speed_of_sound_m_s;
   path.arrival_direction = to_image / path.distance_m;
   path.triangles = triangles;
-  const double directivity = s.model.directivity.pressureGain(leaving);
-  for (int b = 0; b < kOctaveBandCount; ++b) {
-    double gain = directivity / path.distance_m;
-    for (std::size_t triangle : triangles) {
-      const AcousticMaterial& material = s.scene.material(triangle);
-      gain *= std::sqrt(1.0 - material.absorption[b]);
-      if (s.options.specular_share_only) gain *= std::sqrt(1.0 - material.scattering[b]);
-    }
-    // Air absorbs energy as exp(-m d): pressure as exp(-m d / 2).
-    gain *= std::exp(-0.5 * s.model.air_attenuation_per_m[b] * path.distance_m);
-    path.pressure_gain[b] = gain;
-  }
+  path.pressure_gain = pathGains(s, leaving, path.distance_m, triangles);
   s.paths.push_back(std::move(path));
 }
 
