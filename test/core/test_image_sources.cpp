@@ -13,6 +13,7 @@
 #include "room_reverb/audio/fft.h"
 #include "shoebox.h"
 #include "test_files.h"
+#include "test_rooms.h"
 
 using namespace room_reverb::core;
 
@@ -238,15 +239,8 @@ TEST(ImageSources, TheDirectSoundBendsAroundAnObjectAndFadesIntoItsShadow) {
   // A 6 x 4 x 3 m room model with a 1.2 m high screen between source and listener: the
   // direct sound arrives over its top edge, later and weaker in the higher bands; raising
   // the listener through the shadow's edge, the direct sound's level changes smoothly.
-  RoomModel model;
-  model.size_m = {6.0, 4.0, 3.0};
-  for (const char* name : kRoomSurfaceNames) model.surfaces[name] = SurfaceAssignment{"plaster_smooth", 1.0};
-  CuboidObject screen;
-  screen.label = "screen";
-  screen.material = "plywood_panel";
-  screen.center_m = {3.0, 2.0, 0.6};
-  screen.size_m = {0.02, 3.0, 1.2};
-  model.objects.push_back(screen);
+  RoomModel model = room_reverb::test::plasterRoom({6.0, 4.0, 3.0});
+  model.objects.push_back(room_reverb::test::woodCuboid("screen", {3.0, 2.0, 0.6}, {0.02, 3.0, 1.2}));
   const AcousticScene scene = roomModelToScene(model, MaterialLibrary::loadDefault());
   AirConditions no_air;
   no_air.enabled = false;
