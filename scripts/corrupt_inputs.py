@@ -1,6 +1,7 @@
 """Corrupted inputs through the room_reverb tool, end to end (docs/reliability.md).
 
-Each target is a file a user hands to a subcommand: its seed is a file of the project's
+Each target is a file a user hands to a subcommand (metrics, rsao, render, simulate,
+compare): its seed is a file of the project's
 own (bundled data, a config file, or one the tool writes at the start of the run), and
 every run mutates a copy (bit flips, overwritten or inserted bytes, truncation, a range
 zeroed or duplicated; in text files also lines dropped or repeated and numbers replaced by
@@ -121,6 +122,10 @@ def targets(work):
     for command in setup:
         subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
     meshes = shoebox_meshes(work)
+    measurements = os.path.join(work, "measurements.yaml")
+    with open(measurements, "w") as f:
+        f.write(f"room: {room}\npairs:\n  - {{label: rig, file: {small_ir}, format: ambix, source_m: [4.6, 2.9, 1.5], "
+                "receiver_m: [2.7, 2.1, 1.4]}\n")
     poses = os.path.join(work, "poses.csv")
     with open(poses, "w") as f:
         f.write("t_s,x_m,y_m,z_m,qx,qy,qz,qw\n0,2.7,2.1,1.4,0,0,0,1\n0.3,3.2,2.3,1.4,0,0,0.3826834,0.9238795\n")
@@ -150,6 +155,8 @@ def targets(work):
         "mesh_ac_simulate": (meshes["ac"], True, [TOOL, "simulate", "--mesh", "{in}"] + simulate_tail),
         "mesh_obj_simulate": (meshes["obj"], True, [TOOL, "simulate", "--mesh", "{in}"] + simulate_tail),
         "mesh_ply_simulate": (meshes["ply"], True, [TOOL, "simulate", "--mesh", "{in}"] + simulate_tail),
+        "measurements_compare": (measurements, True, [TOOL, "compare", "--measurements", "{in}", "--mode", "eyring",
+                                                      "--order", "1", "--duration", "0.3", "--threads", "1"]),
     }
 
 
