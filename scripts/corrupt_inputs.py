@@ -1,7 +1,7 @@
 """Corrupted inputs through the room_reverb tool, end to end (docs/reliability.md).
 
 Each target is a file a user hands to a subcommand (metrics, rsao, render, simulate,
-compare): its seed is a file of the project's
+compare, room-model, make-capture): its seed is a file of the project's
 own (bundled data, a config file, or one the tool writes at the start of the run), and
 every run mutates a copy (bit flips, overwritten or inserted bytes, truncation, a range
 zeroed or duplicated; in text files also lines dropped or repeated and numbers replaced by
@@ -119,8 +119,18 @@ def targets(work):
         [TOOL, "simulate", "--room", room, "--source", "4.6", "2.9", "1.5", "--listener", "2.7", "2.1", "1.4",
          "--mode", "eyring", "--order", "1", "--duration", "0.3", "--out", small_ir],
     ]
+    capture = os.path.join(work, "capture")
+    scene = os.path.join(data, "captures", "plain_office.yaml")
+    setup += [
+        [TOOL, "make-capture", "--scene", scene, "--out", capture, "--width", "256"],
+        [TOOL, "room-model", "--top", os.path.join(capture, "top.png"), "--bottom", os.path.join(capture, "bottom.png"),
+         "--out", os.path.join(work, "captured_room.yaml"), "--cloud", os.path.join(work, "cloud.pcd")],
+    ]
     for command in setup:
-        subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
+        made = subprocess.run(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+        if made.returncode != 0:
+            raise RuntimeError(f"making a seed failed: {' '.join(command)}: {made.stderr.decode(errors='replace')}")
+    top = os.path.join(capture, "top.png")
     meshes = shoebox_meshes(work)
     measurements = os.path.join(work, "measurements.yaml")
     with open(measurements, "w") as f:
@@ -157,6 +167,14 @@ def targets(work):
         "mesh_ply_simulate": (meshes["ply"], True, [TOOL, "simulate", "--mesh", "{in}"] + simulate_tail),
         "measurements_compare": (measurements, True, [TOOL, "compare", "--measurements", "{in}", "--mode", "eyring",
                                                       "--order", "1", "--duration", "0.3", "--threads", "1"]),
+        "top_png_room_model": (top, False, [TOOL, "room-model", "--top", "{in}", "--bottom",
+                                            os.path.join(capture, "bottom.png"), "--out", "{out}.yaml"]),
+        "cloud_pcd_room_model": (os.path.join(work, "cloud.pcd"), False, [TOOL, "room-model", "--top", top, "--depth",
+                                                                          "{in}", "--out", "{out}.yaml"]),
+        "range_tiff_room_model": (os.path.join(capture, "top_range.tiff"), False,
+                                  [TOOL, "room-model", "--top", top, "--depth", "{in}", "--out", "{out}.yaml"]),
+        "scene_yaml_make_capture": (scene, True, [TOOL, "make-capture", "--scene", "{in}", "--out", "{out}.d",
+                                                  "--width", "128"]),
     }
 
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -139,6 +140,17 @@ TEST(RoomModelTool, BadInputIsOneLineAndExitTwo) {
   expectOneLineError(runTool("room-model --top /nonexistent.png --bottom " + bottom + out), "no such image");
   expectOneLineError(runTool("room-model --top " + top + out), "--bottom");
 
+  // A PNG whose image data is corrupt: libpng's own complaint folded into the one line
+  // (it writes to stderr itself).
+  {
+    std::ifstream in(top, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_GT(bytes.size(), 2000u);
+    for (std::size_t i = 200; i < 1200; ++i) bytes[i] = static_cast<char>(0xA5);
+    const std::string broken = tempPath("rm_broken.png").string();
+    std::ofstream(broken, std::ios::binary) << bytes;
+    expectOneLineError(runTool("room-model --top " + broken + " --bottom " + bottom + out), "not an image OpenCV can read");
+  }
   const cv::Mat image = cv::imread(top);
   cv::Mat small;
   cv::resize(image, small, cv::Size(512, 256));
