@@ -325,6 +325,15 @@ TEST(RoomModel, BadInputNamesTheKeyAtFault) {
   expectInputError(
       [] { parseRoomModel(std::string(kMinimal) + "objects:\n  - {label: box, material: f, center_m: [1, 1, 1], size_m: [1, 0, 1]}\n"); },
       {"objects[0] (box).size_m", "positive"});
+  // A corrupt number that is finite but no place in a room (the ray tracer, in single
+  // precision, would turn it into infinity).
+  expectInputError(
+      [] { parseRoomModel(std::string(kMinimal) + "objects:\n  - {label: box, material: f, center_m: [-1e308, 1, 1], size_m: [1, 1, 1]}\n"); },
+      {"objects[0] (box).center_m", "1000 m outside"});
+  expectInputError(
+      [] { parseRoomModel(std::string(kMinimal) + "objects:\n  - {label: box, material: f, center_m: [1, 1, 1], size_m: [1, 1e30, 1]}\n"); },
+      {"objects[0] (box).size_m", "at most 1000"});
+  expectInputError([] { parseRoomModel(minimalWith("[4, 3, 2.5]", "[4, 3e12, 2.5]")); }, {"room_box.size_m", "not a room"});
   expectInputError(
       [] { parseRoomModel(std::string(kMinimal) + "objects:\n  - {label: box, center_m: [1, 1, 1], size_m: [1, 1, 1]}\n"); },
       {"objects[0] (box).material", "missing"});

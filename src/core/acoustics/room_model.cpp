@@ -63,6 +63,8 @@ std::string objectKey(std::size_t index, const std::string& label) {
   return "objects[" + std::to_string(index) + "]" + (label.empty() ? "" : " (" + label + ")");
 }
 
+constexpr double kLargestRoomM = 1000.0;
+
 // Checks what a RoomModel must satisfy however it was made (parsed or built in code), with
 // the key of room.yaml that holds the fault.
 void checkModel(const RoomModel& model, const std::string& source) {
@@ -73,6 +75,15 @@ void checkModel(const RoomModel& model, const std::string& source) {
     std::ostringstream os;
     os << "must be three positive, finite lengths in metres (got " << model.size_m.transpose() << ")";
     fail("room_box.size_m", os.str());
+  }
+  // Lengths and places beyond kLargestRoomM are not a room but a corrupt file: the ray
+  // tracer works in single precision, where a finite 1e308 becomes infinite and its rays
+  // invalid.
+  const auto within = [&](const Eigen::Vector3d& point) {
+    return (point.array() >= -kLargestRoomM).all() && (point.array() <= model.size_m.array() + kLargestRoomM).all();
+  };
+  if ((model.size_m.array() > kLargestRoomM).any()) {
+    fail("room_box.size_m", "a side longer than " + std::to_string(static_cast<int>(kLargestRoomM)) + " m is not a room");
   }
   if (model.frame.empty()) fail("frame", "must be a frame name (room)");
   auto checkConfidence = [&](double confidence, const std::string& key) {
@@ -98,8 +109,10 @@ void checkModel(const RoomModel& model, const std::string& source) {
     if (object.label.empty()) fail(key + ".label", "missing");
     if (object.material.empty()) fail(key + ".material", "missing");
     if (!object.center_m.allFinite()) fail(key + ".center_m", "must be finite");
-    if (!object.size_m.allFinite() || (object.size_m.array() <= 0.0).any()) {
-      fail(key + ".size_m", "must be three positive, finite lengths in metres");
+    if (!within(object.center_m)) fail(key + ".center_m", "lies more than 1000 m outside the room box");
+    if (!object.size_m.allFinite() || (object.size_m.array() <= 0.0).any() ||
+        (object.size_m.array() > kLargestRoomM).any()) {
+      fail(key + ".size_m", "must be three positive, finite lengths in metres, at most 1000");
     }
     if (!std::isfinite(object.yaw_rad)) fail(key + ".yaw_rad", "must be finite");
     checkConfidence(object.confidence, key);
@@ -115,6 +128,7 @@ void checkModel(const RoomModel& model, const std::string& source) {
     }
   }
   if (!model.rig_position_m.allFinite()) fail("rig_in_room.position_m", "must be finite");
+  if (!within(model.rig_position_m)) fail("rig_in_room.position_m", "lies more than 1000 m outside the room box");
   if (!model.rig_rotation.coeffs().allFinite() || std::abs(model.rig_rotation.norm() - 1.0) > 1e-3) {
     fail("rig_in_room.rotation_xyzw", "must be a unit quaternion");
   }
