@@ -8,7 +8,8 @@
 // BM_WalkingRendererChunk is the same with the listener walking (docs/six_dof.md): a
 // room's direct sound and 24 early reflections as taps, moved for every block
 // (ListenerTranslation::reflectionsAt in a room model, then the taps' targets), its late
-// part as the 2 s room response. BM_ReflectionsAtPose is one pose's move alone.
+// part as the 2 s room response. BM_MovingTapsBlock is the taps alone for one block,
+// BM_ReflectionsAtPose one pose's move alone.
 // Run: scripts/bench (all benchmarks) or .ws/devel/lib/room_reverb/bench_binaural_renderer
 //   cpu_share  thread CPU time per chunk / chunk duration: the share of one core.
 #include <benchmark/benchmark.h>
@@ -28,6 +29,7 @@
 #include "room_reverb/binaural/source_feed.h"
 #include "room_reverb/binaural/walk_render.h"
 #include "room_reverb/rsao/listener_translation.h"
+#include "room_reverb/rsao/lpc.h"
 #include "bench_clock.h"
 
 namespace {
@@ -90,7 +92,8 @@ BENCHMARK(BM_RendererChunk)->Arg(16)->Arg(4)->Unit(benchmark::kMicrosecond)->Rep
 
 // A 9 x 7 x 3 m room with a table, its source 3 m from the microphone: the RSAO is the
 // room's own image sources to second order (25 arrivals, each matched to its walls, so
-// every pose checks every path), as an estimate with a room model gives.
+// every pose checks every path), as an estimate with a room model gives, each with a
+// spectral shape of the estimator's order (9: five sections), as estimated reflections have.
 RoomModel roomWithATable() {
   RoomModel model;
   model.size_m = {9.0, 7.0, 3.0};
@@ -112,6 +115,8 @@ ListenerTranslation walkableRoom() {
   ImageSourceOptions search;
   search.max_order = 2;
   Rsao rsao;
+  std::mt19937 rng(5);
+  std::normal_distribution<double> normal;
   for (const SpecularPath& path : computeImageSources(scene, source, model.rig_position_m, PropagationModel{}, search)) {
     EarlyReflection r;
     r.time_of_arrival_s = path.delay_s;
@@ -119,6 +124,16 @@ ListenerTranslation walkableRoom() {
     r.azimuth_rad = std::atan2(path.arrival_direction.y(), path.arrival_direction.x());
     r.elevation_rad = std::asin(path.arrival_direction.z());
     r.distance_m = 343.2 * path.delay_s;
+    std::vector<double> segment(96);  // 2 ms of a low-passed noise, Hann-windowed
+    double y = 0.0;
+    for (std::size_t n = 0; n < segment.size(); ++n) {
+      y = 0.6 * y + normal(rng);
+      segment[n] = y * (0.5 - 0.5 * std::cos(2.0 * 3.141592653589793 * static_cast<double>(n) / 95.0));
+    }
+    const LpcModel shape = fitLpc(segment, kDefaultLpcOrder);
+    r.lpc = shape.a;
+    r.lpc_gain = shape.gain;
+    r.sos = allPoleToSections(shape.a, shape.gain);
     rsao.reflections.push_back(r);
   }
   std::sort(rsao.reflections.begin(), rsao.reflections.end(),
@@ -146,6 +161,31 @@ void BM_WalkingRendererChunk(benchmark::State& state) {
 }
 // Arg as above; the node's walkable RSAO rooms have a first-order late part (4).
 BENCHMARK(BM_WalkingRendererChunk)->Arg(16)->Arg(4)->Unit(benchmark::kMicrosecond)->Repetitions(3)->ReportAggregatesOnly(true);
+
+// The taps alone: one block of the 24 walking taps (filters of order 9) into a third-order
+// field, their targets moved by a few centimetres each block (setTargets included).
+void BM_MovingTapsBlock(benchmark::State& state) {
+  const ListenerTranslation translation = walkableRoom();
+  ReflectionTapBankOptions options;
+  options.order = 3;
+  options.block_size = kBlock;
+  ReflectionTapBank bank(translation.reflectionsAtRig(), options);
+  std::vector<std::vector<TapTarget>> targets;
+  for (int k = 0; k < 64; ++k) targets.push_back(tapTargetsAt(translation, walking(0.005 * k)));
+  LoopedSource source(decayingNoise(1, 3.0, 2));
+  std::vector<float> block(kBlock);
+  std::vector<std::vector<float>> field(bank.channels(), std::vector<float>(kBlock));
+  std::vector<float*> out;
+  for (auto& c : field) out.push_back(c.data());
+  std::size_t next = 0;
+  for (auto _ : state) {
+    bank.setTargets(targets[next++ % targets.size()]);
+    source.read(block.data(), kBlock);
+    bank.process(block.data(), out.data());
+    benchmark::DoNotOptimize(out.data());
+  }
+}
+BENCHMARK(BM_MovingTapsBlock)->Unit(benchmark::kMicrosecond)->Repetitions(3)->ReportAggregatesOnly(true);
 
 void BM_ReflectionsAtPose(benchmark::State& state) {
   const ListenerTranslation translation = walkableRoom();

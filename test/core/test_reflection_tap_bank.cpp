@@ -6,12 +6,15 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <random>
 #include <vector>
 
 #include "room_reverb/ambisonics/bformat.h"
 #include "room_reverb/audio/audio_file.h"
 #include "room_reverb/binaural/reflection_tap_bank.h"
 #include "room_reverb/common/error.h"
+#include "room_reverb/ambisonics/spherical_harmonics.h"
+#include "room_reverb/rsao/lpc.h"
 #include "room_reverb/rsao/reflection_tap.h"
 #include "room_reverb/rsao/rsao_estimator.h"
 #include "room_reverb/rsao/rsao_resynthesis.h"
@@ -151,6 +154,100 @@ TEST(ReflectionTapBank, AMovingTapReadsTheSourceAtItsDelay) {
   }
   ASSERT_GT(std::abs(gain), 0.1);
   EXPECT_LT(worst, 1e-3 * std::abs(gain));
+}
+
+TEST(ReflectionTapBank, ManyFilteredMovingTapsMatchAPerSampleReference) {
+  // 27 taps (the filters run four taps per vector: groups of sixteen, eight and four, and
+  // a partly filled last vector), each with a ninth-order spectral shape, moving at
+  // walking pace in delay, level and direction, into a third-order field: every channel
+  // equals the sum of the taps computed one sample at a time (the source read at
+  // n - delay(n) by cubic Lagrange interpolation, the shape's sections, the gliding
+  // amplitude and encoding gains).
+  std::mt19937 rng(11);
+  std::normal_distribution<double> normal;
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::vector<EarlyReflection> reflections(27);
+  for (std::size_t k = 0; k < reflections.size(); ++k) {
+    EarlyReflection& r = reflections[k];
+    r.time_of_arrival_s = 0.002 + 0.03 * uniform(rng);
+    r.level = 0.2 + uniform(rng);
+    std::vector<double> segment(96);
+    double y = 0.0;
+    for (std::size_t n = 0; n < segment.size(); ++n) {
+      y = 0.6 * y + normal(rng);
+      segment[n] = y * (0.5 - 0.5 * std::cos(2.0 * kPi * static_cast<double>(n) / 95.0));
+    }
+    const LpcModel shape = fitLpc(segment, kDefaultLpcOrder);
+    r.lpc = shape.a;
+    r.lpc_gain = shape.gain;
+    if (k % 3 != 0) r.sos = allPoleToSections(shape.a, shape.gain);
+  }
+  ReflectionTapBankOptions options;
+  options.block_size = kBlock;
+  ReflectionTapBank bank(reflections, options);
+  constexpr std::size_t kBlocks = 60;
+  std::vector<float> source(kBlocks * kBlock);
+  for (float& x : source) x = static_cast<float>(normal(rng));
+  // Tap k's target at the end of block b: it walks at up to 1.5 m/s and turns.
+  const auto target = [&](std::size_t k, std::size_t b) {
+    const double t = static_cast<double>(b * kBlock) / kFs;
+    const double turn = 0.3 * t + static_cast<double>(k);
+    return TapTarget{reflections[k].time_of_arrival_s + 1.5 / 343.0 * t * std::sin(3.0 * t + static_cast<double>(k)),
+                     reflections[k].level * (1.0 + 0.3 * std::sin(5.0 * t + static_cast<double>(k))),
+                     Eigen::Vector3d(std::cos(turn), std::sin(turn), 0.4)};
+  };
+  const auto field = run(bank, source, kBlocks, [&](std::size_t b) {
+    std::vector<TapTarget> targets;
+    for (std::size_t k = 0; k < reflections.size(); ++k) targets.push_back(target(k, b));
+    bank.setTargets(targets);
+  });
+
+  std::vector<std::vector<double>> expected(16, std::vector<double>(source.size(), 0.0));
+  for (std::size_t k = 0; k < reflections.size(); ++k) {
+    EarlyReflection unit = reflections[k];
+    unit.level = 1.0;
+    unit.time_of_arrival_s = 0.0;
+    const double unit_gain = shapeReflectionTap(unit, k, 0.002, 0.020, "test").gain;
+    std::vector<double> read(source.size()), amplitude(source.size());
+    std::vector<std::vector<double>> gains(source.size());
+    for (std::size_t b = 0; b < kBlocks; ++b) {
+      const TapTarget from = target(k, b == 0 ? 0 : b - 1), to = target(k, b);
+      const std::vector<double> g_from = sn3dHarmonics(3, from.direction.normalized());
+      const std::vector<double> g_to = sn3dHarmonics(3, to.direction.normalized());
+      for (std::size_t n = 0; n < kBlock; ++n) {
+        const double u = static_cast<double>(n + 1) / static_cast<double>(kBlock);
+        const std::size_t i = b * kBlock + n;
+        const double position = static_cast<double>(i) - kFs * (from.delay_s + u * (to.delay_s - from.delay_s));
+        const double whole = std::floor(position), t = position - whole;
+        const auto at = [&](double m) {
+          const long j = static_cast<long>(whole + m);
+          return j >= 0 && j < static_cast<long>(source.size()) ? static_cast<double>(source[static_cast<std::size_t>(j)]) : 0.0;
+        };
+        read[i] = -t * (t - 1.0) * (t - 2.0) / 6.0 * at(-1) + (t + 1.0) * (t - 1.0) * (t - 2.0) / 2.0 * at(0) -
+                  (t + 1.0) * t * (t - 2.0) / 2.0 * at(1) + (t + 1.0) * t * (t - 1.0) / 6.0 * at(2);
+        // The first block fades in from silence.
+        amplitude[i] = unit_gain * (b == 0 ? u * to.level : from.level + u * (to.level - from.level));
+        gains[i].resize(16);
+        for (std::size_t c = 0; c < 16; ++c) gains[i][c] = b == 0 ? g_to[c] : g_from[c] + u * (g_to[c] - g_from[c]);
+      }
+    }
+    const std::vector<double> shaped =
+        filterSections(!reflections[k].sos.empty() ? reflections[k].sos
+                                                   : allPoleToSections(reflections[k].lpc, reflections[k].lpc_gain),
+                       read);
+    for (std::size_t i = 0; i < source.size(); ++i) {
+      for (std::size_t c = 0; c < 16; ++c) expected[c][i] += gains[i][c] * amplitude[i] * shaped[i];
+    }
+  }
+  double peak = 0.0, worst = 0.0;
+  for (std::size_t c = 0; c < 16; ++c) {
+    for (std::size_t i = 0; i < source.size(); ++i) {
+      peak = std::max(peak, std::abs(expected[c][i]));
+      worst = std::max(worst, std::abs(field[c][i] - expected[c][i]));
+    }
+  }
+  ASSERT_GT(peak, 1.0);
+  EXPECT_LT(worst, 1e-5 * peak);
 }
 
 TEST(ReflectionTapBank, ATapThatGoesFadesOverOneBlockAndComesBackWithoutAGlide) {

@@ -58,25 +58,33 @@ class ReflectionTapBank {
   std::size_t clampedTargets() const { return clamped_targets_; }
 
  private:
-  struct Section {
-    double b0, b1, b2, a1, a2;
-    double s1 = 0.0, s2 = 0.0;  // transposed direct form II state
-  };
   struct Tap {
-    std::vector<Section> sections;
     double unit_gain = 0.0;  // the shape's scale per unit level
     double delay_from = 0.0, delay_to = 0.0;  // samples
     double amplitude_from = 0.0, amplitude_to = 0.0;
     std::vector<double> gains_from, gains_to;  // encoding gains, channels_
   };
 
+  // Tap k's read of the source for this block into lane k of samples_.
+  void readTap(std::size_t k, std::size_t block_start);
+  // Restarts tap k's filter from rest.
+  void clearFilterState(std::size_t k);
+
   ReflectionTapBankOptions options_;
   std::size_t channels_ = 0;
   std::vector<Tap> taps_;
+  // The taps' filters side by side (tap_kernels.h): section s of tap k at s * lanes_ + k;
+  // lanes_ is the tap count rounded up to whole SIMD vectors, a tap with fewer sections
+  // and the spare lanes pass their input through (b0 = 1).
+  std::size_t lanes_ = 0, sections_ = 0;
+  std::vector<double> b0_, b1_, b2_, a1_, a2_, s1_, s2_;
+  std::vector<double> samples_;  // the block's tap signals, tap k's sample n at k * block_size + n
+  std::vector<double> lane_scratch_;  // the same, sample-major, for the filters
   std::vector<float> history_;  // the source, a ring of history_size_ samples, stored twice
   std::size_t history_size_ = 0;
   std::size_t write_ = 0;       // where the next source sample goes
-  std::vector<float> tap_signal_;
+  std::vector<float> tap_signal_;                 // the heard taps' scaled signals, one block each
+  std::vector<float> gains_from_, gains_change_;  // their encoding glides, channels_ each
   std::vector<float> ramp_;  // (n + 1) / block_size: the glide's weight at sample n
   std::size_t clamped_targets_ = 0;
 };

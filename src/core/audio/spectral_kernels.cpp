@@ -1,16 +1,12 @@
 #include "spectral_kernels.h"
 
+#include "../common/simd_clones.h"
+
 namespace room_reverb::core {
 
-// The multiply-adds are most of the convolver's time. Built for baseline x86-64 (SSE2) they
-// run at 4 lanes; target_clones adds an AVX2/FMA copy chosen when the library loads, which
-// measured 10-20 % faster overall for 2 s filters (less where the spectra stream from
-// memory, which bounds both), while the library still runs on any x86-64.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-#define ROOM_REVERB_SIMD_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#else
-#define ROOM_REVERB_SIMD_CLONES
-#endif
+// The multiply-adds are most of the convolver's time: ROOM_REVERB_SIMD_CLONES adds an
+// AVX2/FMA copy, which measured 10-20 % faster overall for 2 s filters (less where the
+// spectra stream from memory, which bounds both).
 
 // restrict lets the compiler vectorise: rows of the delay line, the filters and the
 // accumulator never overlap.

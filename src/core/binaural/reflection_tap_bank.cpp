@@ -9,6 +9,7 @@
 #include "room_reverb/common/error.h"
 #include "room_reverb/rsao/lpc.h"
 #include "room_reverb/rsao/reflection_tap.h"
+#include "tap_kernels.h"
 
 namespace room_reverb::core {
 namespace {
@@ -34,12 +35,12 @@ ReflectionTapBank::ReflectionTapBank(const std::vector<EarlyReflection>& reflect
   // interpolation reads are always contiguous and need no wrap test per sample.
   history_size_ = capacity + options_.block_size + 8;
   history_.assign(2 * history_size_, 0.0f);
-  tap_signal_.assign(options_.block_size, 0.0f);
   ramp_.resize(options_.block_size);
   for (std::size_t n = 0; n < ramp_.size(); ++n) {
     ramp_[n] = static_cast<float>(static_cast<double>(n + 1) / static_cast<double>(options_.block_size));
   }
   taps_.resize(reflections.size());
+  std::vector<std::vector<BiquadSection>> filters(reflections.size());
   for (std::size_t k = 0; k < reflections.size(); ++k) {
     EarlyReflection unit = reflections[k];
     unit.level = 1.0;
@@ -47,13 +48,37 @@ ReflectionTapBank::ReflectionTapBank(const std::vector<EarlyReflection>& reflect
     const ReflectionTap shaped = shapeReflectionTap(unit, k, options_.analysis_window_s, 0.020, "reflection taps");
     Tap& tap = taps_[k];
     tap.unit_gain = shaped.gain;
-    const std::vector<BiquadSection> sections =
-        !unit.sos.empty() ? unit.sos
-                          : (unit.lpc.size() > 1 ? allPoleToSections(unit.lpc, unit.lpc_gain) : std::vector<BiquadSection>{});
-    for (const BiquadSection& s : sections) tap.sections.push_back({s.b0, s.b1, s.b2, s.a1, s.a2});
+    filters[k] = !unit.sos.empty()
+                     ? unit.sos
+                     : (unit.lpc.size() > 1 ? allPoleToSections(unit.lpc, unit.lpc_gain) : std::vector<BiquadSection>{});
+    sections_ = std::max(sections_, filters[k].size());
     tap.gains_from.assign(channels_, 0.0);
     tap.gains_to.assign(channels_, 0.0);
   }
+  lanes_ = (taps_.size() + kTapLanes - 1) / kTapLanes * kTapLanes;
+  const std::size_t coefficients = sections_ * lanes_;
+  b0_.assign(coefficients, 1.0);
+  for (auto* c : {&b1_, &b2_, &a1_, &a2_, &s1_, &s2_}) c->assign(coefficients, 0.0);
+  for (std::size_t k = 0; k < filters.size(); ++k) {
+    for (std::size_t s = 0; s < filters[k].size(); ++s) {
+      const BiquadSection& f = filters[k][s];
+      const std::size_t at = s * lanes_ + k;
+      b0_[at] = f.b0;
+      b1_[at] = f.b1;
+      b2_[at] = f.b2;
+      a1_[at] = f.a1;
+      a2_[at] = f.a2;
+    }
+  }
+  samples_.assign(options_.block_size * lanes_, 0.0);
+  lane_scratch_.assign(options_.block_size * lanes_, 0.0);
+  tap_signal_.assign(taps_.size() * options_.block_size, 0.0f);
+  gains_from_.assign(taps_.size() * channels_, 0.0f);
+  gains_change_.assign(taps_.size() * channels_, 0.0f);
+}
+
+void ReflectionTapBank::clearFilterState(std::size_t k) {
+  for (std::size_t s = 0; s < sections_; ++s) s1_[s * lanes_ + k] = s2_[s * lanes_ + k] = 0.0;
 }
 
 void ReflectionTapBank::setTargets(const std::vector<TapTarget>& targets) {
@@ -87,13 +112,59 @@ void ReflectionTapBank::setTargets(const std::vector<TapTarget>& targets) {
     if (tap.amplitude_from == 0.0) {
       tap.delay_from = tap.delay_to;
       tap.gains_from = tap.gains_to;
-      for (Section& s : tap.sections) s.s1 = s.s2 = 0.0;
+      clearFilterState(k);
     }
   }
 }
 
 void ReflectionTapBank::fadeOut() {
   for (Tap& tap : taps_) tap.amplitude_to = 0.0;
+}
+
+void ReflectionTapBank::readTap(std::size_t k, std::size_t block_start) {
+  const Tap& tap = taps_[k];
+  const std::size_t frames = options_.block_size;
+  const auto size = static_cast<long>(history_size_);
+  double* out = samples_.data() + k * frames;
+  const float* history = history_.data();
+  // Sample n is read at n - delay(n), delay(n) = from + (n + 1) step: at block position
+  // start + n - n step. Between the moments its whole part changes, the read is
+  // x[n + j] at a fraction that moves by -step per sample, a contiguous run that
+  // interpolateCubic vectorises; a listener slower than sound (|step| < 1) makes a run of
+  // most of the block.
+  const double step = (tap.delay_to - tap.delay_from) / static_cast<double>(frames);
+  const double start = -(tap.delay_from + step);
+  const double last = start - static_cast<double>(frames - 1) * step;
+  long base = static_cast<long>(block_start) + size;  // the block's first sample, in the doubled ring
+  const long lowest = base + static_cast<long>(std::floor(std::min(start, last))) - 1;
+  const long highest = base + static_cast<long>(std::floor(std::max(start, last))) + static_cast<long>(frames) + 2;
+  const long shift = highest >= 2 * size ? size : 0;
+  if (std::abs(step) < 1.0 && lowest - shift >= 0 && highest - shift < 2 * size) {
+    base -= shift;
+    std::size_t n = 0;
+    while (n < frames) {
+      const double q = start - static_cast<double>(n) * step;
+      const double whole = std::floor(q);
+      // The run lasts while start - m step stays within [whole, whole + 1).
+      double end = static_cast<double>(frames);
+      if (step > 0.0) end = std::min(end, std::floor((start - whole) / step) + 1.0);
+      if (step < 0.0) end = std::min(end, std::ceil((whole + 1.0 - start) / -step));
+      const std::size_t run_end = std::max(n + 1, static_cast<std::size_t>(std::max(end, 0.0)));
+      interpolateCubic(history + base + static_cast<long>(whole) + static_cast<long>(n), q - whole, -step, run_end - n,
+                       out + n);
+      n = run_end;
+    }
+    return;
+  }
+  // A jump of more than a sample per sample (a tap set far from where it was): each
+  // read placed on its own.
+  for (std::size_t n = 0; n < frames; ++n) {
+    const double position = start + static_cast<double>(n) * (1.0 - step);
+    const double whole = std::floor(position);
+    long index = static_cast<long>(block_start) + size + static_cast<long>(whole);
+    if (index + 2 >= 2 * size) index -= size;
+    interpolateCubic(history + index, position - whole, 0.0, 1, out + n);
+  }
 }
 
 void ReflectionTapBank::process(const float* source, float* const* field) {
@@ -106,66 +177,44 @@ void ReflectionTapBank::process(const float* source, float* const* field) {
     history_[write_ + size] = v;
     write_ = write_ + 1 == size ? 0 : write_ + 1;
   }
-  const float* history = history_.data();
-  const double inverse_frames = 1.0 / static_cast<double>(frames);
-  for (Tap& tap : taps_) {
+  bool any = false;
+  for (std::size_t k = 0; k < taps_.size(); ++k) {
+    const Tap& tap = taps_[k];
+    if (tap.amplitude_from == 0.0 && tap.amplitude_to == 0.0) {
+      std::fill_n(samples_.data() + k * frames, frames, 0.0);
+      continue;
+    }
+    readTap(k, block_start);
+    any = true;
+  }
+  if (!any) return;
+  if (sections_ > 0) {
+    runLaneSections({b0_.data(), b1_.data(), b2_.data(), a1_.data(), a2_.data(), s1_.data(), s2_.data(), sections_, lanes_},
+                    samples_.data(), lane_scratch_.data(), frames);
+  }
+  // The heard taps' signals scaled by their gliding amplitudes and their encoding glides,
+  // in single precision as the field is, packed for encodeGliding.
+  const float* ramp = ramp_.data();
+  std::size_t heard = 0;
+  for (std::size_t k = 0; k < taps_.size(); ++k) {
+    Tap& tap = taps_[k];
     if (tap.amplitude_from == 0.0 && tap.amplitude_to == 0.0) continue;
-    // The read position n - delay(n) with delay(n) = from + (n + 1) (to - from) / frames
-    // advances by a constant per sample. Where it advances by 0 to 2 samples (any listener
-    // slower than sound) it is stepped, its whole part kept as an index into the ring,
-    // instead of taking a floor per sample; the ring's doubling is chosen once for the block.
-    const double delay_step = (tap.delay_to - tap.delay_from) * inverse_frames;
-    const double advance = 1.0 - delay_step;
-    const double start = -(tap.delay_from + delay_step);
-    const double start_whole = std::floor(start);
-    long index = static_cast<long>(block_start) + static_cast<long>(size) + static_cast<long>(start_whole);
-    const long reach = static_cast<long>(2 * frames) + 4;  // the furthest the index moves, and the read's span
-    if (index + reach >= static_cast<long>(2 * size)) index -= static_cast<long>(size);
-    const bool stepped = advance >= 0.0 && advance < 2.0 && index >= 1 && index + reach < static_cast<long>(2 * size);
-    double t = start - start_whole;
     const double amplitude_change = tap.amplitude_to - tap.amplitude_from;
+    const double* __restrict in = samples_.data() + k * frames;
+    float* __restrict signal = tap_signal_.data() + heard * frames;
     for (std::size_t n = 0; n < frames; ++n) {
-      if (!stepped) {
-        const double u = static_cast<double>(n + 1) * inverse_frames;
-        const double position = static_cast<double>(n) - (tap.delay_from + u * (tap.delay_to - tap.delay_from));
-        const double whole = std::floor(position);
-        t = position - whole;
-        index = static_cast<long>(block_start) + static_cast<long>(size) + static_cast<long>(whole);
-        if (index + 2 >= static_cast<long>(2 * size)) index -= static_cast<long>(size);
-      }
-      const float* x = history + index;
-      double y = -t * (t - 1.0) * (t - 2.0) / 6.0 * x[-1] + (t + 1.0) * (t - 1.0) * (t - 2.0) / 2.0 * x[0] -
-                 (t + 1.0) * t * (t - 2.0) / 2.0 * x[1] + (t + 1.0) * t * (t - 1.0) / 6.0 * x[2];
-      for (Section& s : tap.sections) {
-        const double out = s.b0 * y + s.s1;
-        s.s1 = s.b1 * y - s.a1 * out + s.s2;
-        s.s2 = s.b2 * y - s.a2 * out;
-        y = out;
-      }
-      tap_signal_[n] = static_cast<float>(y * (tap.amplitude_from + static_cast<double>(ramp_[n]) * amplitude_change));
-      if (stepped) {
-        t += advance;
-        while (t >= 1.0) {
-          t -= 1.0;
-          ++index;
-        }
-      }
+      signal[n] = static_cast<float>(in[n] * (tap.amplitude_from + static_cast<double>(ramp[n]) * amplitude_change));
     }
-    // In single precision, as the field is, with the glide's weights from a table and
-    // the buffers declared unaliased: so the loop vectorises (a sample index converted to
-    // float in the loop kept it scalar, and it was half the taps' cost).
-    const float* __restrict signal = tap_signal_.data();
-    const float* __restrict ramp = ramp_.data();
     for (std::size_t c = 0; c < channels_; ++c) {
-      const auto from = static_cast<float>(tap.gains_from[c]);
-      const auto change = static_cast<float>(tap.gains_to[c] - tap.gains_from[c]);
-      float* __restrict out = field[c];
-      for (std::size_t n = 0; n < frames; ++n) out[n] += (from + change * ramp[n]) * signal[n];
+      gains_from_[heard * channels_ + c] = static_cast<float>(tap.gains_from[c]);
+      gains_change_[heard * channels_ + c] = static_cast<float>(tap.gains_to[c] - tap.gains_from[c]);
     }
+    ++heard;
     tap.delay_from = tap.delay_to;
     tap.amplitude_from = tap.amplitude_to;
     tap.gains_from = tap.gains_to;
   }
+  encodeGliding(tap_signal_.data(), heard, gains_from_.data(), gains_change_.data(), channels_, ramp, field, frames);
 }
 
 }  // namespace room_reverb::core
