@@ -41,6 +41,7 @@ class EnergyDecay {
   LundebyResult lundeby_;
   std::vector<double> backward_;  // backward_[n]: sum of energy from n to the crosspoint, / fs
   double first_moment_ = 0.0;     // sum of t * energy up to the crosspoint, / fs
+  double tail_energy_ = 0.0;      // tailEnergy(), computed once: energyAfter() is read per sample
 };
 
 }  // namespace room_reverb::core

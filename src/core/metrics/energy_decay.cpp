@@ -24,18 +24,16 @@ EnergyDecay::EnergyDecay(const std::vector<float>& signal, std::size_t onset, do
     backward_[n] = backward_[n + 1] + (energy[n] - noise) / fs;
     first_moment_ += (n / fs) * (energy[n] - noise) / fs;
   }
+  const double crosspoint_s = lundeby_.crosspoint / fs_;
+  tail_energy_ = std::pow(10.0, (lundeby_.intercept_db + lundeby_.slope_db_per_s * crosspoint_s) / 10.0) /
+                 decayRatePerS();
 }
 
 double EnergyDecay::decayRatePerS() const {
   return -lundeby_.slope_db_per_s * std::log(10.0) / 10.0;
 }
 
-double EnergyDecay::tailEnergy() const {
-  const double crosspoint_s = lundeby_.crosspoint / fs_;
-  const double power_at_crosspoint =
-      std::pow(10.0, (lundeby_.intercept_db + lundeby_.slope_db_per_s * crosspoint_s) / 10.0);
-  return power_at_crosspoint / decayRatePerS();
-}
+double EnergyDecay::tailEnergy() const { return tail_energy_; }
 
 double EnergyDecay::energyAfter(double t_s) const {
   if (!valid()) return 0.0;
