@@ -104,7 +104,7 @@ def shoebox_meshes(work):
 
 
 def targets(work):
-    """name -> (seed file, is text, command with {in} and {out})."""
+    """name -> (seed file, is text, command with {in} and {out}, an output path without its extension)."""
     data = os.path.join(REPO, "data")
     dry = os.path.join(work, "dry.wav")
     rsao_yaml = os.path.join(work, "rsao.yaml")
@@ -140,28 +140,28 @@ def targets(work):
     with open(poses, "w") as f:
         f.write("t_s,x_m,y_m,z_m,qx,qy,qz,qw\n0,2.7,2.1,1.4,0,0,0,1\n0.3,3.2,2.3,1.4,0,0,0.3826834,0.9238795\n")
     simulate_tail = ["--source", "1.2", "1.1", "1.5", "--listener", "3.4", "2.6", "1.6", "--mode", "eyring",
-                     "--order", "1", "--duration", "0.2", "--ambisonic-order", "0", "--out", "{out}"]
+                     "--order", "1", "--duration", "0.2", "--ambisonic-order", "0", "--out", "{out}.wav"]
     return {
         "wav_metrics": (os.path.join(data, "rirs", "omni", "clap_seminar_room.wav"), False,
                         [TOOL, "metrics", "{in}"]),
-        "bformat_rsao": (church, False, [TOOL, "rsao", "{in}", "--format", "fuma", "--yaml", "{out}"]),
+        "bformat_rsao": (church, False, [TOOL, "rsao", "{in}", "--format", "fuma", "--yaml", "{out}.yaml"]),
         "ambisonic_rir_render": (small_ir, False, [TOOL, "render", "--source", dry, "--ambisonic-rir", "{in}",
-                                                   "--out", "{out}"]),
+                                                   "--out", "{out}.wav"]),
         "dry_source_render": (dry, False, [TOOL, "render", "--source", "{in}", "--ambisonic-rir", small_ir,
-                                           "--out", "{out}"]),
+                                           "--out", "{out}.wav"]),
         "sofa_render": (os.path.join(data, "hrtf", "FHK_HRIR_L2354.sofa"), False,
                         [TOOL, "render", "--source", dry, "--ambisonic-rir", small_ir, "--hrtf", "{in}",
-                         "--out", "{out}"]),
-        "rsao_yaml_render": (rsao_yaml, True, [TOOL, "render", "--source", dry, "--rsao", "{in}", "--out", "{out}"]),
+                         "--out", "{out}.wav"]),
+        "rsao_yaml_render": (rsao_yaml, True, [TOOL, "render", "--source", dry, "--rsao", "{in}", "--out", "{out}.wav"]),
         "poses_csv_render": (poses, True, [TOOL, "render", "--source", dry, "--rsao", rsao_yaml, "--rig", "2.7",
-                                           "2.1", "1.4", "--poses", "{in}", "--out", "{out}"]),
+                                           "2.1", "1.4", "--poses", "{in}", "--out", "{out}.wav"]),
         "room_yaml_simulate": (room, True, [TOOL, "simulate", "--room", "{in}", "--source", "4.6", "2.9", "1.5",
                                             "--listener", "2.7", "2.1", "1.4", "--mode", "eyring", "--order", "1",
-                                            "--duration", "0.2", "--ambisonic-order", "0", "--out", "{out}"]),
+                                            "--duration", "0.2", "--ambisonic-order", "0", "--out", "{out}.wav"]),
         "materials_yaml_simulate": (os.path.join(REPO, "config", "materials.yaml"), True,
                                     [TOOL, "simulate", "--room", room, "--materials", "{in}", "--source", "4.6",
                                      "2.9", "1.5", "--listener", "2.7", "2.1", "1.4", "--mode", "eyring", "--order",
-                                     "1", "--duration", "0.2", "--ambisonic-order", "0", "--out", "{out}"]),
+                                     "1", "--duration", "0.2", "--ambisonic-order", "0", "--out", "{out}.wav"]),
         "mesh_ac_simulate": (meshes["ac"], True, [TOOL, "simulate", "--mesh", "{in}"] + simulate_tail),
         "mesh_obj_simulate": (meshes["obj"], True, [TOOL, "simulate", "--mesh", "{in}"] + simulate_tail),
         "mesh_ply_simulate": (meshes["ply"], True, [TOOL, "simulate", "--mesh", "{in}"] + simulate_tail),
@@ -238,7 +238,7 @@ def main():
                 corrupt = os.path.join(work, f"{name}_{k}{suffix}")
                 with open(corrupt, "wb") as f:
                     f.write(mutate(seed_data, rng, text))
-                out = os.path.join(work, f"{name}_out{'.yaml' if name == 'bformat_rsao' else '.wav'}")
+                out = os.path.join(work, f"{name}_out")  # each command adds its own extension
                 command = [a.replace("{in}", corrupt).replace("{out}", out) for a in template]
                 outcome, detail, elapsed = run_one(command, args.timeout)
                 slowest = max(slowest, elapsed)

@@ -45,7 +45,7 @@ StreamRoom walkableSimulatedRoom(const room_reverb::RoomScene& scene, const room
   room.early = walk->earlyAt(listener);
   // The image sources computed here and the simulator's late part add up to its response
   // only if both used the same materials and settings.
-  const core::AudioBuffer heard = walk->responseAt(listener);
+  const core::AudioBuffer heard = walk->responseWith(room.early);
   if (heard.frameCount() != whole.frameCount()) {
     throw core::InputError("the simulator's late part and its response differ in length");
   }

@@ -66,6 +66,8 @@ TEST(SimulatedWalk, EarlyPlusLateIsTheSimulatedResponse) {
   ASSERT_LT(early.frameCount(), full.frameCount());
   const AudioBuffer heard = walk.responseAt(kReference);
   ASSERT_EQ(heard.channelCount(), 16u);
+  // The same from the early part already computed (what the renderer node checks).
+  EXPECT_EQ(walk.responseWith(early).channels, heard.channels);
   ASSERT_EQ(heard.frameCount(), full.frameCount());
   double worst = 0.0, peak = 0.0;
   for (std::size_t c = 0; c < 16; ++c) {
@@ -178,6 +180,8 @@ TEST(SimulatedWalk, BadPositionsAreRefusedInOneLine) {
   test::expectInputError([&] { walk.earlyAt(kSource + Eigen::Vector3d(0.01, 0.0, 0.0)); }, {"5 cm"});
   test::expectInputError([&] { walk.requireListener(Eigen::Vector3d(1.0, 1.0, -0.5)); }, {"listener"});
   test::expectInputError([&] { walk.responseAt(kSource); }, {"5 cm"});
+  test::expectInputError([&] { walk.responseWith(makeSilentBuffer(4, 100, kInternalSampleRateHz)); },
+                         {"4 channels", "16"});
   walk.requireListener(kReference);
   ListenerPose outside;
   outside.position_m = Eigen::Vector3d(1.0, -1.0, 1.0);

@@ -35,6 +35,8 @@ class SimulatedWalk {
   // The whole response heard at `listener_m`: earlyAt() over late(), the settings'
   // duration long (at the reference position, simulateRoom()'s response).
   AudioBuffer responseAt(const Eigen::Vector3d& listener_m) const;
+  // The same from an early part earlyAt() has already given.
+  AudioBuffer responseWith(const AudioBuffer& early) const;
   // The checks earlyAt and pathsAt make of a listener position, without computing anything:
   // InputError for a position that is not finite, outside the room, inside an object or
   // within 5 cm of the source.

@@ -79,11 +79,12 @@ void checkModel(const RoomModel& model, const std::string& source) {
   // Lengths and places beyond kLargestRoomM are not a room but a corrupt file: the ray
   // tracer works in single precision, where a finite 1e308 becomes infinite and its rays
   // invalid.
+  const std::string largest = std::to_string(static_cast<int>(kLargestRoomM));
   const auto within = [&](const Eigen::Vector3d& point) {
     return (point.array() >= -kLargestRoomM).all() && (point.array() <= model.size_m.array() + kLargestRoomM).all();
   };
   if ((model.size_m.array() > kLargestRoomM).any()) {
-    fail("room_box.size_m", "a side longer than " + std::to_string(static_cast<int>(kLargestRoomM)) + " m is not a room");
+    fail("room_box.size_m", "a side longer than " + largest + " m is not a room");
   }
   if (model.frame.empty()) fail("frame", "must be a frame name (room)");
   auto checkConfidence = [&](double confidence, const std::string& key) {
@@ -109,10 +110,10 @@ void checkModel(const RoomModel& model, const std::string& source) {
     if (object.label.empty()) fail(key + ".label", "missing");
     if (object.material.empty()) fail(key + ".material", "missing");
     if (!object.center_m.allFinite()) fail(key + ".center_m", "must be finite");
-    if (!within(object.center_m)) fail(key + ".center_m", "lies more than 1000 m outside the room box");
+    if (!within(object.center_m)) fail(key + ".center_m", "lies more than " + largest + " m outside the room box");
     if (!object.size_m.allFinite() || (object.size_m.array() <= 0.0).any() ||
         (object.size_m.array() > kLargestRoomM).any()) {
-      fail(key + ".size_m", "must be three positive, finite lengths in metres, at most 1000");
+      fail(key + ".size_m", "must be three positive, finite lengths in metres, at most " + largest);
     }
     if (!std::isfinite(object.yaw_rad)) fail(key + ".yaw_rad", "must be finite");
     checkConfidence(object.confidence, key);
@@ -128,7 +129,7 @@ void checkModel(const RoomModel& model, const std::string& source) {
     }
   }
   if (!model.rig_position_m.allFinite()) fail("rig_in_room.position_m", "must be finite");
-  if (!within(model.rig_position_m)) fail("rig_in_room.position_m", "lies more than 1000 m outside the room box");
+  if (!within(model.rig_position_m)) fail("rig_in_room.position_m", "lies more than " + largest + " m outside the room box");
   if (!model.rig_rotation.coeffs().allFinite() || std::abs(model.rig_rotation.norm() - 1.0) > 1e-3) {
     fail("rig_in_room.rotation_xyzw", "must be a unit quaternion");
   }

@@ -58,7 +58,14 @@ AudioBuffer SimulatedWalk::earlyAt(const Eigen::Vector3d& listener_m) const {
 }
 
 AudioBuffer SimulatedWalk::responseAt(const Eigen::Vector3d& listener_m) const {
-  const AudioBuffer early = earlyAt(listener_m);
+  return responseWith(earlyAt(listener_m));
+}
+
+AudioBuffer SimulatedWalk::responseWith(const AudioBuffer& early) const {
+  if (early.channelCount() != late_.channelCount()) {
+    throw InputError("simulated walk: an early part of " + std::to_string(early.channelCount()) +
+                     " channels for a late part of " + std::to_string(late_.channelCount()));
+  }
   AudioBuffer whole = late_;
   // earlyAt is never longer than the settings' duration, which is the late part's length.
   for (std::size_t c = 0; c < whole.channelCount(); ++c) {
