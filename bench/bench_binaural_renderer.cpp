@@ -90,6 +90,19 @@ void BM_RendererChunk(benchmark::State& state) {
 // Arg: the room response's channels, 16 (third order) or 4 (a measured first-order RIR).
 BENCHMARK(BM_RendererChunk)->Arg(16)->Arg(4)->Unit(benchmark::kMicrosecond)->Repetitions(3)->ReportAggregatesOnly(true);
 
+// The third-order room as a mixed-order one (binaural/late_order.h): all orders for the
+// first 0.1 s, orders 0-1 after it.
+void BM_MixedOrderRendererChunk(benchmark::State& state) {
+  const HrtfSet hrtf = HrtfSet::loadSofa(HrtfSet::defaultSofaPath());
+  BinauralStreamOptions options;
+  options.mixed_order_late = true;
+  options.full_order_s = 0.1;
+  BinauralStream stream(makeBinauralDecoder(hrtf, 3), options);
+  stream.setRoom(decayingNoise(16, 2.0, 1));
+  streamChunks(state, stream, {});
+}
+BENCHMARK(BM_MixedOrderRendererChunk)->Unit(benchmark::kMicrosecond)->Repetitions(3)->ReportAggregatesOnly(true);
+
 // A 9 x 7 x 3 m room with a table, its source 3 m from the microphone: the RSAO is the
 // room's own image sources to second order (25 arrivals, each matched to its walls, so
 // every pose checks every path), as an estimate with a room model gives, each with a

@@ -32,6 +32,8 @@ BinauralRendererServer::BinauralRendererServer(::ros::NodeHandle& nh, ::ros::Nod
   stream_options.block_size = block_frames_;
   stream_options.crossfade_blocks = static_cast<std::size_t>(positiveIntParam(private_nh, "crossfade_blocks", 4));
   typedParam(private_nh, "max_response_s", stream_options.max_response_s, 4.0);
+  typedParam(private_nh, "mixed_order_late", stream_options.mixed_order_late, false);
+  typedParam(private_nh, "full_order_s", stream_options.full_order_s, 0.1);
   const double chunk_period_s = static_cast<double>(block_frames_ * chunk_blocks_) / core::kInternalSampleRateHz;
   pacer_options_.chunk_period_s = chunk_period_s;
   typedParam(private_nh, "late_tolerance_s", pacer_options_.late_tolerance_s, chunk_period_s);

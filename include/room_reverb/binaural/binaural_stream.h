@@ -37,6 +37,11 @@ struct BinauralStreamOptions {
   // setEarlyResponse's changes fade over this many blocks (a walking listener's early
   // part changes every few blocks).
   std::size_t early_crossfade_blocks = 2;
+  // A mixed-order room (late_order.h): the room response's orders above 1 end after
+  // full_order_s, orders 0-1 diffuse-field equalised after it; a 2 s third-order room then
+  // costs about two thirds as much (docs/rendering.md). Off: every order throughout.
+  bool mixed_order_late = false;
+  double full_order_s = 0.1;  // s after the response's start, with mixed_order_late
 };
 
 // A response transformed for one stream's room or early convolver (prepareRoom,

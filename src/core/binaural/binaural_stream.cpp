@@ -7,6 +7,7 @@
 #include "room_reverb/ambisonics/bformat.h"
 #include "room_reverb/ambisonics/rotation.h"
 #include "room_reverb/ambisonics/spherical_harmonics.h"
+#include "room_reverb/binaural/late_order.h"
 #include "room_reverb/common/error.h"
 
 namespace room_reverb::core {
@@ -29,6 +30,9 @@ BinauralStream::BinauralStream(BinauralDecoder decoder, const BinauralStreamOpti
   if (options_.block_size == 0 || options_.crossfade_blocks == 0 || options_.early_crossfade_blocks == 0 ||
       !(options_.max_response_s > 0.0)) {
     throw InputError("binaural stream: block_size and the crossfades' blocks must be positive, max_response_s too");
+  }
+  if (!std::isfinite(options_.full_order_s) || options_.full_order_s < 0.0) {
+    throw InputError("binaural stream: full_order_s must be a finite time >= 0 s");
   }
   channels_ = static_cast<std::size_t>(ambisonicChannelCount(decoder_.order));
   if (decoder_.filters.size() != channels_) throw InputError("binaural stream: the decoder's filter count does not match its order");
@@ -85,8 +89,14 @@ FilterMatrix BinauralStream::responseFilters(const AudioBuffer& response, const 
 
 PreparedResponse BinauralStream::prepareRoom(const AudioBuffer& response) const {
   PreparedResponse prepared;
-  prepared.filters =
-      PartitionedConvolver::prepare(responseFilters(response, "room response", prepared.warning), room_plan_, options_.block_size);
+  // Cut only a response the checks will accept (responseFilters says why not otherwise).
+  const std::size_t count = response.channelCount();
+  const bool cut = options_.mixed_order_late && (count == 9 || count == 16) && count <= channels_ &&
+                   response.sample_rate_hz == kInternalSampleRateHz;
+  const FilterMatrix filters = cut ? responseFilters(reduceLateOrder(response, decoder_, options_.full_order_s),
+                                                     "room response", prepared.warning)
+                                   : responseFilters(response, "room response", prepared.warning);
+  prepared.filters = PartitionedConvolver::prepare(filters, room_plan_, options_.block_size);
   return prepared;
 }
 
