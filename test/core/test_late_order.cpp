@@ -74,17 +74,16 @@ OctaveStatistics octave(const std::vector<std::vector<float>>& ears, std::size_t
   std::vector<std::complex<float>> l(fft.spectrumSize()), r(fft.spectrumSize());
   double ll = 0.0, rr = 0.0;
   std::complex<double> lr = 0.0;
+  const auto windowed = [&](const std::vector<float>& ear, std::size_t start, std::complex<float>* spectrum) {
+    for (std::size_t i = 0; i < kSegment; ++i) {
+      const double w = 0.5 - 0.5 * std::cos(2.0 * M_PI * static_cast<double>(i) / kSegment);
+      segment[i] = static_cast<float>(w * ear[start + i]);
+    }
+    fft.forward(segment.data(), spectrum);
+  };
   for (std::size_t start = from; start + kSegment <= to; start += kSegment / 2) {
-    for (std::size_t i = 0; i < kSegment; ++i) {
-      const double w = 0.5 - 0.5 * std::cos(2.0 * M_PI * static_cast<double>(i) / kSegment);
-      segment[i] = static_cast<float>(w * ears[0][start + i]);
-    }
-    fft.forward(segment.data(), l.data());
-    for (std::size_t i = 0; i < kSegment; ++i) {
-      const double w = 0.5 - 0.5 * std::cos(2.0 * M_PI * static_cast<double>(i) / kSegment);
-      segment[i] = static_cast<float>(w * ears[1][start + i]);
-    }
-    fft.forward(segment.data(), r.data());
+    windowed(ears[0], start, l.data());
+    windowed(ears[1], start, r.data());
     for (std::size_t k = 1; k < l.size(); ++k) {
       const double f = static_cast<double>(k) * kFs / kSegment;
       if (f < centre_hz / std::sqrt(2.0) || f >= centre_hz * std::sqrt(2.0)) continue;

@@ -112,9 +112,11 @@ class BinauralStream {
   std::size_t nonFiniteSamples() const { return non_finite_samples_; }
 
  private:
-  // The response as the convolver's 1 x channels_ matrix, padded and truncated; its
-  // warning ("" when none). InputError as setRoom says.
-  FilterMatrix responseFilters(const AudioBuffer& response, const char* what, std::string& warning) const;
+  // The response as the convolver's 1 x channels_ matrix, padded and truncated (and, with
+  // mixed_order, cut as options_.mixed_order_late says); its warning ("" when none).
+  // InputError as setRoom says.
+  FilterMatrix responseFilters(const AudioBuffer& response, const char* what, bool mixed_order,
+                               std::string& warning) const;
 
   BinauralDecoder decoder_;
   BinauralStreamOptions options_;

@@ -62,17 +62,21 @@ BinauralStream::BinauralStream(BinauralDecoder decoder, const BinauralStreamOpti
 
 BinauralStream::~BinauralStream() = default;
 
-FilterMatrix BinauralStream::responseFilters(const AudioBuffer& response, const char* what, std::string& warning) const {
-  validateAudioBuffer(response, std::string("binaural stream: the ") + what);
-  if (response.sample_rate_hz != kInternalSampleRateHz) {
-    throw InputError(std::string("binaural stream: the ") + what + " is at " + std::to_string(response.sample_rate_hz) +
+FilterMatrix BinauralStream::responseFilters(const AudioBuffer& checked, const char* what, bool mixed_order,
+                                             std::string& warning) const {
+  validateAudioBuffer(checked, std::string("binaural stream: the ") + what);
+  if (checked.sample_rate_hz != kInternalSampleRateHz) {
+    throw InputError(std::string("binaural stream: the ") + what + " is at " + std::to_string(checked.sample_rate_hz) +
                      " Hz; resample it to 48000 Hz");
   }
-  const int order = ambixOrder(response, std::string("the ") + what);
+  const int order = ambixOrder(checked, std::string("the ") + what);
   if (order > decoder_.order) {
     throw InputError("binaural stream: an order-" + std::to_string(order) + " " + what +
                      " cannot go through the order-" + std::to_string(decoder_.order) + " decoder");
   }
+  // A mixed-order room is cut once the response has passed the checks (late_order.h).
+  const AudioBuffer cut = mixed_order && order >= 2 ? reduceLateOrder(checked, decoder_, options_.full_order_s) : AudioBuffer{};
+  const AudioBuffer& response = cut.channelCount() > 0 ? cut : checked;
   const std::size_t count = response.channelCount();
   const auto limit = static_cast<std::size_t>(options_.max_response_s * kInternalSampleRateHz);
   FilterMatrix filters(1, std::vector<std::vector<float>>(channels_, std::vector<float>{0.0f}));
@@ -90,13 +94,9 @@ FilterMatrix BinauralStream::responseFilters(const AudioBuffer& response, const 
 PreparedResponse BinauralStream::prepareRoom(const AudioBuffer& response) const {
   PreparedResponse prepared;
   // Cut only a response the checks will accept (responseFilters says why not otherwise).
-  const std::size_t count = response.channelCount();
-  const bool cut = options_.mixed_order_late && (count == 9 || count == 16) && count <= channels_ &&
-                   response.sample_rate_hz == kInternalSampleRateHz;
-  const FilterMatrix filters = cut ? responseFilters(reduceLateOrder(response, decoder_, options_.full_order_s),
-                                                     "room response", prepared.warning)
-                                   : responseFilters(response, "room response", prepared.warning);
-  prepared.filters = PartitionedConvolver::prepare(filters, room_plan_, options_.block_size);
+  prepared.filters = PartitionedConvolver::prepare(
+      responseFilters(response, "room response", options_.mixed_order_late, prepared.warning), room_plan_,
+      options_.block_size);
   return prepared;
 }
 
@@ -106,7 +106,7 @@ PreparedResponse BinauralStream::prepareEarlyResponse(const AudioBuffer& respons
   // None: faded out like any change, then left silent (a single zero tap costs nothing).
   const FilterMatrix filters = response.frameCount() == 0
                                    ? FilterMatrix(1, std::vector<std::vector<float>>(channels_, std::vector<float>{0.0f}))
-                                   : responseFilters(response, "early response", prepared.warning);
+                                   : responseFilters(response, "early response", false, prepared.warning);
   prepared.filters = PartitionedConvolver::prepare(filters, early_plan_, options_.block_size);
   return prepared;
 }

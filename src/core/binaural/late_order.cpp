@@ -18,12 +18,6 @@ constexpr std::size_t kFadeFrames = 256;       // 5.3 ms at 48 kHz
 constexpr std::size_t kEqualiserTaps = 255;    // odd: zero phase about the middle tap
 constexpr double kLargestGain = 4.0;           // +12 dB: a decoder's notch is not filled
 
-int orderOfChannels(std::size_t channels) {
-  for (int l = 0; l <= 3; ++l) {
-    if (static_cast<std::size_t>((l + 1) * (l + 1)) == channels) return l;
-  }
-  return -1;
-}
 
 }  // namespace
 
@@ -72,8 +66,8 @@ AudioBuffer reduceLateOrder(const AudioBuffer& ambix, const BinauralDecoder& dec
   if (!std::isfinite(full_order_s) || full_order_s < 0.0) {
     throw InputError("late order: the time to keep all orders must be a finite number of seconds >= 0");
   }
-  const int order = orderOfChannels(ambix.channelCount());
-  if (order < 0 || order > decoder.order) {
+  const int order = ambixOrder(ambix, "late order: the response");
+  if (order > decoder.order) {
     throw InputError("late order: a response of " + std::to_string(ambix.channelCount()) +
                      " channels for a decoder of order " + std::to_string(decoder.order));
   }
