@@ -56,6 +56,9 @@ class BandFilterBank {
   std::vector<float> extract(const PaddedSpectrum& spectrum, std::size_t band) const;
 
  private:
+  // gain() with the logarithms of the frequency and of the band's edges given.
+  double gainAtLog2(std::size_t band, double f_log2, double lower_log2, double upper_log2) const;
+
   std::vector<FrequencyBand> bands_;
   double sample_rate_hz_;
   Complementarity complementarity_;

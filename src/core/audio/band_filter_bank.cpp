@@ -53,11 +53,14 @@ bool BandFilterBank::bandBelowNyquist(std::size_t band) const {
 double BandFilterBank::gain(std::size_t band, double frequency_hz) const {
   if (frequency_hz <= 0.0) return 0.0;
   const FrequencyBand& b = bands_.at(band);
-  const double f = std::log2(frequency_hz);
+  return gainAtLog2(band, std::log2(frequency_hz), std::log2(b.lower_hz), std::log2(b.upper_hz));
+}
+
+double BandFilterBank::gainAtLog2(std::size_t band, double f_log2, double lower_log2, double upper_log2) const {
   // Rising (sin) crossover at the lower edge, falling (cos) one at the upper edge: the
   // upper band's sin and this band's cos at a shared edge are power complementary.
-  const double rise = std::sin(kHalfPi * crossoverPosition(f, std::log2(b.lower_hz), lower_crossover_octaves_[band]));
-  const double fall = std::cos(kHalfPi * crossoverPosition(f, std::log2(b.upper_hz), upper_crossover_octaves_[band]));
+  const double rise = std::sin(kHalfPi * crossoverPosition(f_log2, lower_log2, lower_crossover_octaves_[band]));
+  const double fall = std::cos(kHalfPi * crossoverPosition(f_log2, upper_log2, upper_crossover_octaves_[band]));
   const double amplitude = rise * fall;
   return complementarity_ == Complementarity::kPower ? amplitude : amplitude * amplitude;
 }
@@ -85,8 +88,19 @@ std::vector<float> BandFilterBank::extract(const PaddedSpectrum& spectrum, std::
   std::vector<std::complex<float>> band_spectrum(spectrum.bins.size(), std::complex<float>(0.0f, 0.0f));
   const auto first = static_cast<std::size_t>(std::floor(low / bin_hz));
   const auto last = std::min(spectrum.bins.size() - 1, static_cast<std::size_t>(std::ceil(high / bin_hz)));
-  for (std::size_t k = first; k <= last; ++k) {
-    band_spectrum[k] = spectrum.bins[k] * static_cast<float>(gain(band, k * bin_hz));
+  // Between the crossovers the gain is exactly one; the logarithm and the trigonometry are
+  // spent on the crossovers' bins only (they dominated the split's cost otherwise).
+  const double lower_log2 = std::log2(bands_[band].lower_hz);
+  const double upper_log2 = std::log2(bands_[band].upper_hz);
+  const double flat_low = bands_[band].lower_hz * std::pow(2.0, 0.5 * lower_crossover_octaves_[band]);
+  const double flat_high = bands_[band].upper_hz * std::pow(2.0, -0.5 * upper_crossover_octaves_[band]);
+  for (std::size_t k = std::max<std::size_t>(first, 1); k <= last; ++k) {
+    const double f = k * bin_hz;
+    if (f > flat_low && f < flat_high) {
+      band_spectrum[k] = spectrum.bins[k];
+    } else {
+      band_spectrum[k] = spectrum.bins[k] * static_cast<float>(gainAtLog2(band, std::log2(f), lower_log2, upper_log2));
+    }
   }
   std::vector<float> band_signal = fft.inverse(band_spectrum);
   band_signal.resize(spectrum.signal_length);
