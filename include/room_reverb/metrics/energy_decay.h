@@ -9,6 +9,14 @@
 
 namespace room_reverb::core {
 
+// Least-squares line level(t) = intercept_db + slope_db_per_s * t through a decay curve in
+// dB re its total energy, t in seconds from the onset.
+struct DecayLine {
+  bool valid = false;  // at least two points and a falling slope
+  double slope_db_per_s = 0.0;
+  double intercept_db = 0.0;
+};
+
 class EnergyDecay {
  public:
   // `signal`: a (band-filtered) impulse response; analysis starts at `onset`.
@@ -32,6 +40,8 @@ class EnergyDecay {
   // and `end_db` (e.g. -5 and -25 for T20), scaled to 60 dB. Negative if the curve never
   // reaches `end_db`.
   double decayTimeS(double start_db, double end_db) const;
+  // The line itself, through every sample of the curve from `start_db` down to `end_db`.
+  DecayLine fitLine(double start_db, double end_db) const;
 
  private:
   double tailEnergy() const;    // compensation: energy past the crosspoint

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 
 namespace room_reverb::core {
 namespace {
@@ -22,20 +21,32 @@ struct Envelope {
   double timeS(std::size_t i, double fs) const { return (i + 0.5) * block / fs; }
 };
 
+// Sums of the energy from each sample to the end: every block sum and tail mean below is
+// a difference of two of them, so the iterations cost one pass over the response instead
+// of one each. Summed from the end, a late block is the difference of two small sums and
+// keeps its precision however far it lies below the peak.
+std::vector<double> tailSums(const std::vector<double>& energy) {
+  std::vector<double> sums(energy.size() + 1, 0.0);
+  for (std::size_t n = energy.size(); n-- > 0;) sums[n] = sums[n + 1] + energy[n];
+  return sums;
+}
+
 // Mean-square level per block; `noise` is subtracted from each block's mean first.
-Envelope smooth(const std::vector<double>& energy, std::size_t block, double noise = 0.0) {
+Envelope smooth(const std::vector<double>& tail_sums, std::size_t block, double noise = 0.0) {
   Envelope env;
   env.block = std::max<std::size_t>(1, block);
-  for (std::size_t start = 0; start + env.block <= energy.size(); start += env.block) {
-    const double sum = std::accumulate(energy.begin() + start, energy.begin() + start + env.block, 0.0);
+  const std::size_t length = tail_sums.size() - 1;
+  for (std::size_t start = 0; start + env.block <= length; start += env.block) {
+    const double sum = tail_sums[start] - tail_sums[start + env.block];
     env.level_db.push_back(toDb(sum / env.block - noise));
   }
   return env;
 }
 
-double meanFrom(const std::vector<double>& energy, std::size_t start) {
-  start = std::min(start, energy.size() - 1);
-  return std::accumulate(energy.begin() + start, energy.end(), 0.0) / (energy.size() - start);
+double meanFrom(const std::vector<double>& tail_sums, std::size_t start) {
+  const std::size_t length = tail_sums.size() - 1;
+  start = std::min(start, length - 1);
+  return tail_sums[start] / static_cast<double>(length - start);
 }
 
 // Least-squares line through (t_i, level_i) for i in [first, last).
@@ -73,13 +84,14 @@ LundebyResult lundebyTruncation(const std::vector<double>& energy, double fs,
     result.failure = "the response is too short to follow its decay";
     return result;
   }
+  const std::vector<double> sums = tailSums(energy);
   // Step 1-2: 10 ms envelope; noise from the last 10 % of the response.
-  Envelope env = smooth(energy, initial_block);
+  Envelope env = smooth(sums, initial_block);
   const auto peak_it = std::max_element(env.level_db.begin(), env.level_db.end());
   const std::size_t peak = static_cast<std::size_t>(peak_it - env.level_db.begin());
   result.peak_db = *peak_it;
   const std::size_t tail_start = energy.size() - energy.size() / 10;
-  double noise = meanFrom(energy, tail_start);
+  double noise = meanFrom(sums, tail_start);
 
   // Step 3-4: a first line from the peak to 10 dB above the noise, and its crosspoint.
   double slope = 0, intercept = 0;
@@ -100,11 +112,11 @@ LundebyResult lundebyTruncation(const std::vector<double>& energy, double fs,
     result.iterations = iteration;
     const double interval_s = 10.0 / (-slope * kBlocksPer10Db);
     const auto block = static_cast<std::size_t>(std::lround(interval_s * fs));
-    env = smooth(energy, block);
+    env = smooth(sums, block);
     if (env.level_db.size() < 3) break;
 
     const double noise_start_s = std::min(crosspoint_s + kNoiseStartBelowDb / -slope, 0.9 * length_s);
-    noise = meanFrom(energy, static_cast<std::size_t>(noise_start_s * fs));
+    noise = meanFrom(sums, static_cast<std::size_t>(noise_start_s * fs));
     const double noise_db = toDb(noise);
 
     // The fit range is chosen on the raw envelope (Lundeby), but the line is fitted to the
@@ -114,7 +126,7 @@ LundebyResult lundebyTruncation(const std::vector<double>& energy, double fs,
         std::max_element(env.level_db.begin(), env.level_db.end()) - env.level_db.begin());
     const std::size_t fit_first = firstBelow(env, env_peak, noise_db + kNoiseMarginDb + kFitRangeDb);
     const std::size_t fit_last = firstBelow(env, fit_first, noise_db + kNoiseMarginDb);
-    const Envelope clean = smooth(energy, block, noise);
+    const Envelope clean = smooth(sums, block, noise);
     double new_slope = 0, new_intercept = 0;
     if (!fitLine(clean, fit_first, fit_last, fs, new_slope, new_intercept) || new_slope >= 0.0) break;
     slope = new_slope;

@@ -23,46 +23,6 @@ std::string text(const char* format, double value) {
   return buffer;
 }
 
-// Schroeder line: level(t) = intercept_db + slope_db_per_s * t, t from the mixing time.
-struct DecayLine {
-  bool valid = false;
-  double slope_db_per_s = 0.0;
-  double intercept_db = 0.0;  // re the total (compensated) energy after the mixing time
-};
-
-// Least-squares line through the compensated Schroeder curve between two levels. The walk
-// past Lundeby's crosspoint follows the analytic tail, so it always ends.
-DecayLine fitDecayLine(const EnergyDecay& decay, double start_db, double end_db) {
-  DecayLine line;
-  const double total = decay.energyAfter(0.0);
-  if (!(total > 0.0)) return line;
-  const double start_energy = total * std::pow(10.0, start_db / 10.0);
-  const double end_energy = total * std::pow(10.0, end_db / 10.0);
-  const double fs = decay.sampleRateHz();
-  const double slope_guess = decay.lundeby().slope_db_per_s;  // negative
-  const double last_s = decay.lundeby().crosspoint / fs + (end_db - 10.0) / slope_guess;
-  double st = 0, sl = 0, stt = 0, stl = 0;
-  std::size_t count = 0;
-  for (std::size_t n = 0;; ++n) {
-    const double t = static_cast<double>(n) / fs;
-    if (t > last_s) break;
-    const double remaining = decay.energyAfter(t);
-    if (remaining > start_energy) continue;
-    if (remaining < end_energy) break;
-    const double level = 10.0 * std::log10(remaining / total);
-    st += t; sl += level; stt += t * t; stl += t * level;
-    ++count;
-  }
-  if (count < 2) return line;
-  const double n = static_cast<double>(count);
-  const double denominator = n * stt - st * st;
-  if (denominator <= 0.0) return line;
-  line.slope_db_per_s = (n * stl - st * sl) / denominator;
-  line.intercept_db = (sl - line.slope_db_per_s * st) / n;
-  line.valid = line.slope_db_per_s < 0.0;
-  return line;
-}
-
 struct BandMeasurement {
   bool measured = false;       // a plausible decay was fitted
   double delta = 0.0;          // per second
@@ -86,7 +46,7 @@ BandMeasurement measureBand(const std::vector<float>& band, std::size_t mix, dou
     m.problem = "too little decay range: " + text("%.1f", range) + " dB above the noise, the " +
                 text("%.0f", std::abs(o.fit_end_db - o.fit_start_db)) + " dB fit needs " + text("%.0f", needed);
   }
-  const DecayLine line = fitDecayLine(decay, o.fit_start_db, o.fit_end_db);
+  const DecayLine line = decay.fitLine(o.fit_start_db, o.fit_end_db);
   if (!line.valid) {
     if (m.problem.empty()) m.problem = "no decay of " + text("%.0f", -o.fit_end_db) + " dB found after the mixing time";
     return m;
