@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
+#include <stdexcept>
 
 #include "room_reverb/audio/band_filter_bank.h"
 #include "synthetic_rir.h"
@@ -128,4 +130,44 @@ TEST(BandFilterBank, MixedWidthsStayComplementaryInBothSenses) {
   const BandFilterBank probe({FrequencyBand{3000.0, 3000.0, 1000.0, 9000.0}}, 48000.0);
   const double error = energy(probe.split(noise)[0]) - energy(probe.split(rebuilt)[0]);
   EXPECT_LT(std::abs(error) / energy(probe.split(noise)[0]), 1e-3);
+}
+
+// A band at a reduced rate is the same band signal, sampled less often: its samples are
+// the full-rate band's at their times (to within the error of linear interpolation between
+// the full-rate samples, (2 pi f / fs)^2 / 8 of the peak at the support's top f), and its energy
+// integral is the full-rate one's. A band whose support reaches the input's Nyquist
+// frequency keeps the input's rate and samples.
+TEST(BandFilterBank, DecimatedBandsAreTheBandsSampledLessOften) {
+  constexpr double kFs = 48000.0;
+  std::mt19937 rng(3);
+  std::normal_distribution<float> normal;
+  std::vector<float> x(24000);
+  for (std::size_t n = 0; n < x.size(); ++n) x[n] = normal(rng) * static_cast<float>(std::exp(-3.0 * n / kFs));
+  const BandFilterBank bank(standardBands(BandResolution::kOctave), kFs);
+  const BandFilterBank::PaddedSpectrum spectrum = bank.analyse(x);
+  for (std::size_t b = 0; b < bank.bands().size(); ++b) {
+    const std::vector<float> full = bank.extract(spectrum, b);
+    const BandFilterBank::DecimatedBand low = bank.extractDecimated(spectrum, b);
+    const double support_top_hz = bank.bands()[b].upper_hz * std::pow(2.0, 0.25 * std::log2(bank.bands()[b].upper_hz / bank.bands()[b].lower_hz));
+    EXPECT_GE(low.sample_rate_hz, std::min(kFs, 7.9 * support_top_hz)) << "band " << b;
+    if (bank.bands()[b].center_hz <= 250.0) EXPECT_LT(low.sample_rate_hz, kFs / 10.0) << "band " << b;
+    double peak = 0.0, worst = 0.0, full_energy = 0.0, low_energy = 0.0;
+    for (float v : full) {
+      peak = std::max(peak, std::abs(static_cast<double>(v)));
+      full_energy += static_cast<double>(v) * v / kFs;
+    }
+    for (std::size_t m = 0; m < low.signal.size(); ++m) {
+      low_energy += static_cast<double>(low.signal[m]) * low.signal[m] / low.sample_rate_hz;
+      const double at = static_cast<double>(m) * kFs / low.sample_rate_hz;
+      const auto i = static_cast<std::size_t>(at);
+      if (i + 1 >= full.size()) break;
+      const double f = at - static_cast<double>(i);
+      worst = std::max(worst, std::abs(low.signal[m] - ((1.0 - f) * full[i] + f * full[i + 1])));
+    }
+    const double interpolation = std::pow(2.0 * M_PI * support_top_hz / kFs, 2) / 8.0;
+    EXPECT_LT(worst, (interpolation + 1e-4) * peak) << "band " << b << " at " << low.sample_rate_hz << " Hz";
+    EXPECT_NEAR(low_energy, full_energy, 1e-3 * full_energy) << "band " << b;
+    if (low.sample_rate_hz == kFs) EXPECT_EQ(low.signal, full);
+  }
+  EXPECT_THROW(bank.extractDecimated(spectrum, 0, 1.5), std::invalid_argument);
 }

@@ -11,6 +11,7 @@
 // shifts a band's decay against another's.
 #include <complex>
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 #include "room_reverb/audio/frequency_bands.h"
@@ -55,7 +56,23 @@ class BandFilterBank {
   PaddedSpectrum analyse(const std::vector<float>& signal) const;
   std::vector<float> extract(const PaddedSpectrum& spectrum, std::size_t band) const;
 
+  // One band at a reduced rate, for analyses of its energy that need not run at the input's
+  // rate: the band's own samples (the same signal as extract() gives, which holds nothing
+  // above the band's support) at a rate of about `oversampling` (at least 2) times the top
+  // of the band's support, or the input's rate where that is not lower. The low octaves
+  // of a 48 kHz response come out at a few hundred samples per second.
+  struct DecimatedBand {
+    std::vector<float> signal;
+    double sample_rate_hz = 0.0;
+  };
+  DecimatedBand extractDecimated(const PaddedSpectrum& spectrum, std::size_t band, double oversampling = 8.0) const;
+
  private:
+  // The band's bins of `spectrum`, gains applied, into `out` (zeroed; as many bins as it
+  // has room for).
+  void fillBandSpectrum(const PaddedSpectrum& spectrum, std::size_t band, std::vector<std::complex<float>>& out) const;
+  // First and last bin of `spectrum` inside the band's support.
+  std::pair<std::size_t, std::size_t> supportBins(const PaddedSpectrum& spectrum, std::size_t band) const;
   // gain() with the logarithms of the frequency and of the band's edges given.
   double gainAtLog2(std::size_t band, double f_log2, double lower_log2, double upper_log2) const;
 

@@ -77,34 +77,81 @@ BandFilterBank::PaddedSpectrum BandFilterBank::analyse(const std::vector<float>&
   return out;
 }
 
-std::vector<float> BandFilterBank::extract(const PaddedSpectrum& spectrum, std::size_t band) const {
-  if (spectrum.signal_length == 0) return {};
-  if (!bandBelowNyquist(band)) return std::vector<float>(spectrum.signal_length, 0.0f);
-  RealFft fft(spectrum.fft_size);
-  const double bin_hz = sample_rate_hz_ / static_cast<double>(fft.size());
+void BandFilterBank::fillBandSpectrum(const PaddedSpectrum& spectrum, std::size_t band,
+                                      std::vector<std::complex<float>>& out) const {
+  const double bin_hz = sample_rate_hz_ / static_cast<double>(spectrum.fft_size);
+  std::fill(out.begin(), out.end(), std::complex<float>(0.0f, 0.0f));
   // Only bins inside the band's support need work; the rest are zero.
-  const double low = bands_[band].lower_hz * std::pow(2.0, -0.5 * lower_crossover_octaves_[band]);
-  const double high = bands_[band].upper_hz * std::pow(2.0, 0.5 * upper_crossover_octaves_[band]);
-  std::vector<std::complex<float>> band_spectrum(spectrum.bins.size(), std::complex<float>(0.0f, 0.0f));
-  const auto first = static_cast<std::size_t>(std::floor(low / bin_hz));
-  const auto last = std::min(spectrum.bins.size() - 1, static_cast<std::size_t>(std::ceil(high / bin_hz)));
+  const auto [first, last] = supportBins(spectrum, band);
   // Between the crossovers the gain is exactly one; the logarithm and the trigonometry are
   // spent on the crossovers' bins only (they dominated the split's cost otherwise).
   const double lower_log2 = std::log2(bands_[band].lower_hz);
   const double upper_log2 = std::log2(bands_[band].upper_hz);
   const double flat_low = bands_[band].lower_hz * std::pow(2.0, 0.5 * lower_crossover_octaves_[band]);
   const double flat_high = bands_[band].upper_hz * std::pow(2.0, -0.5 * upper_crossover_octaves_[band]);
-  for (std::size_t k = std::max<std::size_t>(first, 1); k <= last; ++k) {
+  for (std::size_t k = std::max<std::size_t>(first, 1); k <= last && k < out.size(); ++k) {
     const double f = k * bin_hz;
     if (f > flat_low && f < flat_high) {
-      band_spectrum[k] = spectrum.bins[k];
+      out[k] = spectrum.bins[k];
     } else {
-      band_spectrum[k] = spectrum.bins[k] * static_cast<float>(gainAtLog2(band, std::log2(f), lower_log2, upper_log2));
+      out[k] = spectrum.bins[k] * static_cast<float>(gainAtLog2(band, std::log2(f), lower_log2, upper_log2));
     }
   }
+}
+
+std::pair<std::size_t, std::size_t> BandFilterBank::supportBins(const PaddedSpectrum& spectrum, std::size_t band) const {
+  const double bin_hz = sample_rate_hz_ / static_cast<double>(spectrum.fft_size);
+  const double low = bands_[band].lower_hz * std::pow(2.0, -0.5 * lower_crossover_octaves_[band]);
+  const double high = bands_[band].upper_hz * std::pow(2.0, 0.5 * upper_crossover_octaves_[band]);
+  const auto first = static_cast<std::size_t>(std::floor(low / bin_hz));
+  const auto last = std::min(spectrum.bins.size() - 1, static_cast<std::size_t>(std::ceil(high / bin_hz)));
+  return {first, last};
+}
+
+std::vector<float> BandFilterBank::extract(const PaddedSpectrum& spectrum, std::size_t band) const {
+  if (spectrum.signal_length == 0) return {};
+  if (!bandBelowNyquist(band)) return std::vector<float>(spectrum.signal_length, 0.0f);
+  RealFft fft(spectrum.fft_size);
+  std::vector<std::complex<float>> band_spectrum(spectrum.bins.size());
+  fillBandSpectrum(spectrum, band, band_spectrum);
   std::vector<float> band_signal = fft.inverse(band_spectrum);
   band_signal.resize(spectrum.signal_length);
   return band_signal;
+}
+
+BandFilterBank::DecimatedBand BandFilterBank::extractDecimated(const PaddedSpectrum& spectrum, std::size_t band,
+                                                               double oversampling) const {
+  if (!(oversampling >= 2.0)) throw std::invalid_argument("BandFilterBank: oversampling must be at least 2");
+  DecimatedBand out;
+  out.sample_rate_hz = sample_rate_hz_;
+  if (spectrum.signal_length == 0) return out;
+  if (!bandBelowNyquist(band)) {
+    out.signal.assign(spectrum.signal_length, 0.0f);
+    return out;
+  }
+  // The smallest fast transform whose Nyquist bin lies past the band's support and whose
+  // rate is `oversampling` times the support's top: the inverse of only the bins the band
+  // has gives the band signal's own samples at that rate (it holds nothing above).
+  const std::size_t n = spectrum.fft_size;
+  const std::size_t last = supportBins(spectrum, band).second;
+  const auto wanted = static_cast<std::size_t>(std::ceil(oversampling * static_cast<double>(last + 1)));
+  std::size_t m = nextFastFftSize(std::max<std::size_t>(2 * (last + 1), wanted));
+  if (m % 2 != 0) m = nextFastFftSize(m + 1);
+  if (m >= n) {
+    out.signal = extract(spectrum, band);
+    return out;
+  }
+  RealFft fft(m);
+  std::vector<std::complex<float>> band_spectrum(m / 2 + 1);
+  fillBandSpectrum(spectrum, band, band_spectrum);
+  out.signal = fft.inverse(band_spectrum);
+  // Both transforms scale by their own size; the band keeps the input's amplitude.
+  const auto to_input_scale = static_cast<float>(static_cast<double>(m) / static_cast<double>(n));
+  for (float& v : out.signal) v *= to_input_scale;
+  out.signal.resize(static_cast<std::size_t>(
+      std::ceil(static_cast<double>(spectrum.signal_length) * static_cast<double>(m) / static_cast<double>(n))));
+  out.sample_rate_hz = sample_rate_hz_ * static_cast<double>(m) / static_cast<double>(n);
+  return out;
 }
 
 std::vector<std::vector<float>> BandFilterBank::split(const std::vector<float>& signal) const {

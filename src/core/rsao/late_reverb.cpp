@@ -132,8 +132,13 @@ LateReverb estimateLateReverb(const std::vector<float>& w, double first_reflecti
   const double fs = kInternalSampleRateHz;
   const std::vector<FrequencyBand> bands = standardBands(BandResolution::kOctave);
   const BandFilterBank bank(bands, fs);
-  const std::vector<std::vector<float>> split = bank.split(w);
-  const auto mix = static_cast<std::size_t>(std::lround(mixing_time_s * fs));
+  // Each band at a rate of eight times its top frequency: its decay and level read the
+  // same from its own samples at that rate, and the low octaves cost a fraction of the
+  // input's rate (a 1 s response's late part in a third of the time).
+  const BandFilterBank::PaddedSpectrum spectrum = bank.analyse(w);
+  std::vector<BandFilterBank::DecimatedBand> split;
+  for (std::size_t b = 0; b < bands.size(); ++b) split.push_back(bank.extractDecimated(spectrum, b));
+  auto samplesAt = [](double seconds, double rate) { return static_cast<std::size_t>(std::lround(seconds * rate)); };
 
   LateReverb late;
   late.mixing_time_s = mixing_time_s;
@@ -149,10 +154,11 @@ LateReverb estimateLateReverb(const std::vector<float>& w, double first_reflecti
           : "";
 
   std::vector<BandMeasurement> measured;
-  for (std::size_t b = 0; b < bands.size(); ++b) measured.push_back(measureBand(split[b], mix, fs, o));
+  for (const BandFilterBank::DecimatedBand& band : split) {
+    measured.push_back(measureBand(band.signal, samplesAt(mixing_time_s, band.sample_rate_hz), band.sample_rate_hz, o));
+  }
 
   const double fallback_delta = 3.0 * kLn10 / o.fallback_t60_s;
-  const auto level_window = static_cast<std::size_t>(std::lround(o.substitute_level_window_s * fs));
   for (std::size_t b = 0; b < bands.size(); ++b) {
     const BandMeasurement& m = measured[b];
     LateReverbBand band;
@@ -163,7 +169,8 @@ LateReverb estimateLateReverb(const std::vector<float>& w, double first_reflecti
       band.level = std::sqrt(2.0 * m.delta * m.remaining_energy);
     } else {
       band.decay_constant_per_s = substituteDelta(measured, bands, b, fallback_delta, used_fallback);
-      band.level = rmsOver(split[b], mix, level_window);
+      const double rate = split[b].sample_rate_hz;
+      band.level = rmsOver(split[b].signal, samplesAt(mixing_time_s, rate), samplesAt(o.substitute_level_window_s, rate));
     }
     band.t60_s = 3.0 * kLn10 / band.decay_constant_per_s;
     std::string reason = !clipped.empty() ? clipped : m.problem;
