@@ -150,7 +150,9 @@ TEST(BandFilterBank, DecimatedBandsAreTheBandsSampledLessOften) {
     const BandFilterBank::DecimatedBand low = bank.extractDecimated(spectrum, b);
     const double support_top_hz = bank.bands()[b].upper_hz * std::pow(2.0, 0.25 * std::log2(bank.bands()[b].upper_hz / bank.bands()[b].lower_hz));
     EXPECT_GE(low.sample_rate_hz, std::min(kFs, 7.9 * support_top_hz)) << "band " << b;
-    if (bank.bands()[b].center_hz <= 250.0) EXPECT_LT(low.sample_rate_hz, kFs / 10.0) << "band " << b;
+    if (bank.bands()[b].center_hz <= 250.0) {
+      EXPECT_LT(low.sample_rate_hz, kFs / 10.0) << "band " << b;
+    }
     double peak = 0.0, worst = 0.0, full_energy = 0.0, low_energy = 0.0;
     for (float v : full) {
       peak = std::max(peak, std::abs(static_cast<double>(v)));
@@ -167,7 +169,9 @@ TEST(BandFilterBank, DecimatedBandsAreTheBandsSampledLessOften) {
     const double interpolation = std::pow(2.0 * M_PI * support_top_hz / kFs, 2) / 8.0;
     EXPECT_LT(worst, (interpolation + 1e-4) * peak) << "band " << b << " at " << low.sample_rate_hz << " Hz";
     EXPECT_NEAR(low_energy, full_energy, 1e-3 * full_energy) << "band " << b;
-    if (low.sample_rate_hz == kFs) EXPECT_EQ(low.signal, full);
+    if (low.sample_rate_hz == kFs) {
+      EXPECT_EQ(low.signal, full);
+    }
   }
   EXPECT_THROW(bank.extractDecimated(spectrum, 0, 1.5), std::invalid_argument);
 }

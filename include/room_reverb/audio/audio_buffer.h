@@ -26,6 +26,9 @@ struct AudioBuffer {
 AudioBuffer makeSilentBuffer(std::size_t channel_count, std::size_t frame_count,
                              double sample_rate_hz);
 
+// True when no sample is NaN or infinite.
+bool allSamplesFinite(const std::vector<float>& samples);
+
 // Throws InputError, naming `what` (e.g. the file name), unless the buffer has at least
 // one channel, channels of equal length, a sample rate within [kMinSampleRateHz,
 // kMaxSampleRateHz] and only finite samples.

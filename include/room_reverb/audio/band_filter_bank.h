@@ -73,8 +73,6 @@ class BandFilterBank {
   void fillBandSpectrum(const PaddedSpectrum& spectrum, std::size_t band, std::vector<std::complex<float>>& out) const;
   // First and last bin of `spectrum` inside the band's support.
   std::pair<std::size_t, std::size_t> supportBins(const PaddedSpectrum& spectrum, std::size_t band) const;
-  // gain() with the logarithms of the frequency and of the band's edges given.
-  double gainAtLog2(std::size_t band, double f_log2, double lower_log2, double upper_log2) const;
 
   std::vector<FrequencyBand> bands_;
   double sample_rate_hz_;

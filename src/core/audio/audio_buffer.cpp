@@ -1,6 +1,8 @@
 #include "room_reverb/audio/audio_buffer.h"
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <sstream>
 
 #include "room_reverb/common/error.h"
@@ -13,6 +15,20 @@ AudioBuffer makeSilentBuffer(std::size_t channel_count, std::size_t frame_count,
   buffer.sample_rate_hz = sample_rate_hz;
   buffer.channels.assign(channel_count, std::vector<float>(frame_count, 0.0f));
   return buffer;
+}
+
+// Read from the exponent bits (all ones for both):
+// an OR over integers vectorises; a loop of isfinite tests with an early exit runs a
+// sample at a time and costs 4 % of an RSAO estimate (bench_rsao).
+bool allSamplesFinite(const std::vector<float>& samples) {
+  constexpr std::uint32_t kExponent = 0x7f800000u;
+  std::uint32_t any_all_ones = 0;
+  for (float v : samples) {
+    std::uint32_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    any_all_ones |= static_cast<std::uint32_t>((bits & kExponent) == kExponent);
+  }
+  return any_all_ones == 0;
 }
 
 void validateAudioBuffer(const AudioBuffer& buffer, const std::string& what) {
@@ -30,6 +46,7 @@ void validateAudioBuffer(const AudioBuffer& buffer, const std::string& what) {
     if (channel.size() != frames) {
       throw InputError(what + ": channels have different lengths");
     }
+    if (allSamplesFinite(channel)) continue;
     for (std::size_t n = 0; n < channel.size(); ++n) {
       if (!std::isfinite(channel[n])) {
         std::ostringstream os;

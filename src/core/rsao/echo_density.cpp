@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "room_reverb/audio/audio_buffer.h"
 #include "room_reverb/common/error.h"
 #include "../common/simd_clones.h"
 
@@ -84,9 +85,7 @@ EchoDensityProfile echoDensityProfile(const std::vector<float>& rir, double fs,
     throw InputError("echo density: the RIR (" + std::to_string(rir.size()) +
                      " samples) is shorter than one analysis window (" + std::to_string(length) + ")");
   }
-  for (float v : rir) {
-    if (!std::isfinite(v)) throw InputError("echo density: the RIR holds a non-finite sample");
-  }
+  if (!allSamplesFinite(rir)) throw InputError("echo density: the RIR holds a non-finite sample");
   const std::vector<double> w = windowWeights(length, options.window);
   const auto hop = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(options.hop_s * fs)));
 

@@ -107,9 +107,7 @@ void checkOptions(const LateReverbOptions& o) {
 
 void checkInput(const std::vector<float>& w, double first_reflection_s, double mixing_time_s) {
   if (w.empty()) throw InputError("late reverb: the W channel is empty");
-  for (float v : w) {
-    if (!std::isfinite(v)) throw InputError("late reverb: the W channel holds a non-finite sample");
-  }
+  if (!allSamplesFinite(w)) throw InputError("late reverb: the W channel holds a non-finite sample");
   if (!(first_reflection_s >= 0.0)) throw InputError("late reverb: the first reflection time must be >= 0");
   if (!(mixing_time_s >= first_reflection_s)) {
     throw InputError("late reverb: the mixing time (" + text("%.4f", mixing_time_s) +
