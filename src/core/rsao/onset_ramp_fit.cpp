@@ -15,6 +15,11 @@ namespace {
 constexpr double kFs = kInternalSampleRateHz;
 constexpr int kBisectionSteps = 20;  // 80 dB of log range to 1e-4 dB
 constexpr double kFilterMarginS = 0.1;  // longer than the 63 Hz band filter's ringing
+// Band rates for the early course's energies, in multiples of each band's top frequency:
+// sums over a window of 50-150 ms at a reduced rate err at the window's edges, and at 16
+// the fitted onset levels of the bundled RIRs stay within 0.05 dB of the full rate's (at
+// 8, 0.2 dB).
+constexpr double kOnsetOversampling = 16.0;
 
 double energyBetween(const std::vector<float>& x, std::size_t from, std::size_t to) {
   double sum = 0.0;
@@ -40,6 +45,23 @@ double onsetLevelHolding(LateReverb& late, std::size_t b, std::size_t from, std:
   return std::exp(0.5 * (low + high));
 }
 
+// Per band, the energy of `x` over samples [from, to) at kFs, in those samples' units,
+// from each band at a reduced rate (BandFilterBank::extractDecimated): a band at rate r
+// holds the same signal at kFs / r times fewer samples, each standing for that many.
+std::vector<double> bandEnergiesBetween(const BandFilterBank& bank, const std::vector<float>& x, std::size_t from,
+                                        std::size_t to) {
+  const BandFilterBank::PaddedSpectrum spectrum = bank.analyse(x);
+  std::vector<double> energies;
+  for (std::size_t b = 0; b < bank.bands().size(); ++b) {
+    const BandFilterBank::DecimatedBand band = bank.extractDecimated(spectrum, b, kOnsetOversampling);
+    const double ratio = band.sample_rate_hz / kFs;
+    const auto first = static_cast<std::size_t>(std::lround(static_cast<double>(from) * ratio));
+    const auto last = static_cast<std::size_t>(std::lround(static_cast<double>(to) * ratio));
+    energies.push_back(energyBetween(band.signal, first, last) / ratio);
+  }
+  return energies;
+}
+
 }  // namespace
 
 void fitOnsetRamps(const std::vector<float>& w, Rsao& rsao, const OnsetRampFitOptions& options) {
@@ -63,14 +85,14 @@ void fitOnsetRamps(const std::vector<float>& w, Rsao& rsao, const OnsetRampFitOp
 
   const std::vector<FrequencyBand> bands = standardBands(BandResolution::kOctave);
   const BandFilterBank bank(bands, kFs);
-  const std::vector<std::vector<float>> measured = bank.split(std::vector<float>(w.begin(), w.begin() + length));
-  const std::vector<std::vector<float>> played = bank.split(taps);
+  const std::vector<double> measured = bandEnergiesBetween(bank, std::vector<float>(w.begin(), w.begin() + length), from, to);
+  const std::vector<double> played = bandEnergiesBetween(bank, taps, from, to);
 
   const double max_gain = std::pow(10.0, options.max_onset_gain_db / 20.0);
   for (std::size_t b = 0; b < late.bands.size() && b < bands.size(); ++b) {
     LateReverbBand& band = late.bands[b];
     band.onset_level = 0.0;
-    const double residual = energyBetween(measured[b], from, to) - energyBetween(played[b], from, to);
+    const double residual = measured[b] - played[b];
     if (!(band.level > 0.0) || residual <= lateEnvelopeEnergy(late, b, from, to, kFs)) continue;
     band.onset_level = onsetLevelHolding(late, b, from, to, residual, max_gain);
   }
