@@ -267,8 +267,9 @@ bool BinauralRendererServer::renderToFile(room_reverb::RenderToFile::Request& re
           roomFromRsao(room->translation->at(at), rsao_seed_, room->description + where));
     }
     const core::AudioBuffer source = core::toInternalRate(core::mixToMono(core::readAudioFile(request.source_file)));
-    const core::BinauralRender render =
-        core::convolveBinaural(source, core::binauralRoomResponse(room->ambix, decoder_, head));
+    // As the stream plays it: a mixed-order room cut as ~mixed_order_late says.
+    const core::AudioBuffer heard = core::roomResponseAsStreamed(room->ambix, decoder_, stream_->options());
+    const core::BinauralRender render = core::convolveBinaural(source, core::binauralRoomResponse(heard, decoder_, head));
     core::writeAudioFile(request.output_file, render.audio, core::SampleEncoding::kFloat32);
     response.success = true;
     response.message = "rendered " + room->description;

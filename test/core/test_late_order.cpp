@@ -147,6 +147,23 @@ TEST(LateOrder, TheStreamPlaysTheReducedResponse) {
   }
 }
 
+// What an offline rendering of the stream's room takes (the node's ~render_to_file): the
+// reduced response with mixed_order_late, the response itself without it or for a
+// first-order room.
+TEST(LateOrder, TheRoomAsStreamedIsTheReducedResponseWhenMixed) {
+  const AudioBuffer room = diffuseTail(0.3, 11);
+  BinauralStreamOptions options;
+  options.full_order_s = 0.05;
+  EXPECT_EQ(roomResponseAsStreamed(room, ku100(), options).channels, room.channels);
+  options.mixed_order_late = true;
+  EXPECT_EQ(roomResponseAsStreamed(room, ku100(), options).channels, reduceLateOrder(room, ku100(), 0.05).channels);
+  AudioBuffer first = room;
+  first.channels.resize(4);
+  EXPECT_EQ(roomResponseAsStreamed(first, ku100(), options).channels, first.channels);
+  options.full_order_s = -1.0;
+  room_reverb::test::expectInputError([&] { roomResponseAsStreamed(room, ku100(), options); }, {"finite", ">= 0"});
+}
+
 TEST(LateOrder, FirstOrderRoomsAreUnchangedAndBadInputIsRefused) {
   AudioBuffer first = diffuseTail(0.3, 9);
   first.channels.resize(4);

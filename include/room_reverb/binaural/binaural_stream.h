@@ -44,6 +44,14 @@ struct BinauralStreamOptions {
   double full_order_s = 0.1;  // s after the response's start, with mixed_order_late
 };
 
+// The room response (AmbiX at 48 kHz, of the decoder's order or below) as a stream with
+// `options` plays it: cut to a mixed-order room (late_order.h) when mixed_order_late is
+// set and the response is of order 2 or 3, unchanged otherwise. For renderings that must
+// sound as the stream does (the node's ~render_to_file). Throws InputError as
+// reduceLateOrder does.
+AudioBuffer roomResponseAsStreamed(const AudioBuffer& ambix, const BinauralDecoder& decoder,
+                                   const BinauralStreamOptions& options);
+
 // A response transformed for one stream's room or early convolver (prepareRoom,
 // prepareEarlyResponse): the FFTs of its partitions, which are most of the cost of a room
 // change, done on any thread so that the audio thread only swaps the response in.
@@ -110,6 +118,8 @@ class BinauralStream {
 
   // Source samples replaced by zeros because they were NaN or infinite, since construction.
   std::size_t nonFiniteSamples() const { return non_finite_samples_; }
+
+  const BinauralStreamOptions& options() const { return options_; }
 
  private:
   // The response as the convolver's 1 x channels_ matrix, padded and truncated (and, with

@@ -62,6 +62,12 @@ BinauralStream::BinauralStream(BinauralDecoder decoder, const BinauralStreamOpti
 
 BinauralStream::~BinauralStream() = default;
 
+AudioBuffer roomResponseAsStreamed(const AudioBuffer& ambix, const BinauralDecoder& decoder,
+                                   const BinauralStreamOptions& options) {
+  if (!options.mixed_order_late || ambixOrder(ambix) < 2) return ambix;
+  return reduceLateOrder(ambix, decoder, options.full_order_s);
+}
+
 FilterMatrix BinauralStream::responseFilters(const AudioBuffer& checked, const char* what, bool mixed_order,
                                              std::string& warning) const {
   validateAudioBuffer(checked, std::string("binaural stream: the ") + what);
@@ -75,7 +81,9 @@ FilterMatrix BinauralStream::responseFilters(const AudioBuffer& checked, const c
                      " cannot go through the order-" + std::to_string(decoder_.order) + " decoder");
   }
   // A mixed-order room is cut once the response has passed the checks (late_order.h).
-  const AudioBuffer cut = mixed_order && order >= 2 ? reduceLateOrder(checked, decoder_, options_.full_order_s) : AudioBuffer{};
+  BinauralStreamOptions cut_options = options_;
+  cut_options.mixed_order_late = mixed_order;
+  const AudioBuffer cut = mixed_order && order >= 2 ? roomResponseAsStreamed(checked, decoder_, cut_options) : AudioBuffer{};
   const AudioBuffer& response = cut.channelCount() > 0 ? cut : checked;
   const std::size_t count = response.channelCount();
   const auto limit = static_cast<std::size_t>(options_.max_response_s * kInternalSampleRateHz);
