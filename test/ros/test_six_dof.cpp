@@ -161,7 +161,12 @@ TEST(SixDof, AListenerWalkingTowardsTheSourceHearsItLouderWithoutAGap) {
   // The direct sound alone rises by 20 log10(d / 0.7 m); the reverberation much less.
   EXPECT_GT(gain_db, 3.0);
   EXPECT_EQ(after.chunks_dropped, before.chunks_dropped);
-  EXPECT_EQ(after.chunks_late, before.chunks_late);
+  // None dropped; late, at most one in a hundred (at least one): the share the soak
+  // measures under load (docs/six_dof.md), where a shared 2-core test machine now and then
+  // holds a publish back past one chunk. A renderer that cannot keep up is late in most.
+  const auto published = after.chunks_published - before.chunks_published;
+  EXPECT_LE(after.chunks_late - before.chunks_late, std::max<decltype(published)>(1, published / 100))
+      << "of " << published << " chunks published during the walk";
   EXPECT_TRUE(after.walkable);
   const Eigen::Vector3d heard(after.listener_position.x, after.listener_position.y, after.listener_position.z);
   EXPECT_LT((heard - (rig + length * towards)).norm(), 1e-6);
