@@ -94,7 +94,10 @@ struct Walker {
       p.pose.orientation.w = 1.0;
       pose.publish(p);
       ros::spinOnce();
-      (start + ros::WallDuration((step + 1) * 0.02) - ros::WallTime::now()).sleep();
+      // roscpp's sleep takes a negative duration as ~136 years (its seconds go unsigned):
+      // a walker that has fallen behind (the simulator busy on the same cores) goes on.
+      const ros::WallDuration ahead = start + ros::WallDuration((step + 1) * 0.02) - ros::WallTime::now();
+      if (ahead > ros::WallDuration(0.0)) ahead.sleep();
     }
   }
   ros::Publisher source, pose;
