@@ -18,6 +18,8 @@
 //   iou_furniture  the same over objects at least 0.5 m in every extent
 //   material_pct   share of the true box faces' area whose material has the true look
 //                  (texture family) [%]
+//   layout_s       median wall-clock time of the layout fit (cloud -> cuboids) [s]
+//   materials_s    median wall-clock time of the material step [s]
 // Run: scripts/bench (all benchmarks) or .ws/devel/lib/room_reverb/bench_visual_route
 #include <benchmark/benchmark.h>
 
@@ -67,6 +69,12 @@ const PointCloud& stereoCloud(const std::string& name) {
     it = cache.emplace(name, depthToPointCloud(depth, c.top.color, 0.2)).first;
   }
   return it->second;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+  return v[v.size() / 2];
 }
 
 double yawOf(const Eigen::Quaterniond& q) { return 2.0 * std::atan2(q.z(), q.w()); }
@@ -121,14 +129,18 @@ void BM_PointCloudToRoomModel(benchmark::State& state) {
   VisualRouteOptions options;
   loadDefaultMaterialModels(options);
   RoomLayout layout;
+  std::vector<double> layout_s, materials_s;
   for (auto _ : state) {
+    VisualRouteTimes times;
     try {
-      layout = roomLayoutFromCloud(cloud, c.top.color, 0.2, options);
+      layout = roomLayoutFromCloud(cloud, c.top.color, 0.2, options, Eigen::Matrix3d::Identity(), &times);
     } catch (const InputError& e) {
       state.SkipWithError(e.what());  // the courtyard: its facades are not found as walls
       return;
     }
     benchmark::DoNotOptimize(layout.model.objects.data());
+    layout_s.push_back(times.layout_s);
+    materials_s.push_back(times.materials_s);
   }
   const RoomModel& got = layout.model;
   double size_err = 0.0;
@@ -159,6 +171,8 @@ void BM_PointCloudToRoomModel(benchmark::State& state) {
   state.counters["iou_min"] = iou_min;
   state.counters["iou_furniture"] = iou_furniture;
   state.counters["material_pct"] = 100.0 * right / std::max(total, 1e-9);
+  state.counters["layout_s"] = median(layout_s);
+  state.counters["materials_s"] = median(materials_s);
 }
 BENCHMARK(BM_PointCloudToRoomModel)->DenseRange(0, static_cast<int>(kScenes.size()) - 1)->Unit(benchmark::kMillisecond)
     ->Iterations(3)->UseRealTime();

@@ -9,6 +9,7 @@
 
 #include "furniture_labels.h"
 #include "object_clusters.h"
+#include "room_reverb/common/parallel_rows.h"
 #include "room_reverb/vision/oriented_box_iou.h"
 
 namespace room_reverb::core::layout {
@@ -101,12 +102,14 @@ class ClusterFitter {
       if (frame_.clearOfFaces(point)) p.points[p.voxel_cluster[v]].push_back(point);
     }
     p.boxes.assign(p.clusters.size(), CuboidObject{});  // a zero box for a cluster without points
-    for (std::size_t k = 0; k < p.clusters.size(); ++k) {
-      if (p.points[k].empty()) continue;
+    // Each cluster carves against every other voxel seen: the clusters go to the cores.
+    forEachRow(static_cast<int>(p.clusters.size()), 0, [&](int row) {
+      const auto k = static_cast<std::size_t>(row);
+      if (p.points[k].empty()) return;
       const auto self = static_cast<std::int32_t>(k);
       const CuboidObject seen_part = fitCuboid(p.points[k], params_.cuboid);
       p.boxes[k] = normalisedCuboid(extendHiddenSides(seen_part, elsewhere(p, self, self), params_.hidden));
-    }
+    });
     return p;
   }
 

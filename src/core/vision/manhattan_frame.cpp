@@ -1,6 +1,9 @@
 #include "manhattan_frame.h"
 
 #include <cmath>
+#include <vector>
+
+#include "room_reverb/common/parallel_rows.h"
 
 namespace room_reverb::core::layout {
 
@@ -23,17 +26,25 @@ class SharpnessScore {
     bins_ = static_cast<std::size_t>(2.0 * offset_) + 2;
   }
 
-  double operator()(double yaw) {
-    hx_.assign(bins_, 0.0);
-    hy_.assign(bins_, 0.0);
+  // Thread-safe: each call has its own histograms.
+  double operator()(double yaw) const {
+    std::vector<double> hx(bins_, 0.0), hy(bins_, 0.0);
     const double c = std::cos(yaw), s = std::sin(yaw);
     for (const auto& p : points_) {
-      splat(hx_, (c * p.x() + s * p.y()) * inv_bin_ + offset_);
-      splat(hy_, (-s * p.x() + c * p.y()) * inv_bin_ + offset_);
+      splat(hx, (c * p.x() + s * p.y()) * inv_bin_ + offset_);
+      splat(hy, (-s * p.x() + c * p.y()) * inv_bin_ + offset_);
     }
     double score = 0.0;
-    for (std::size_t i = 0; i < bins_; ++i) score += hx_[i] * hx_[i] + hy_[i] * hy_[i];
+    for (std::size_t i = 0; i < bins_; ++i) score += hx[i] * hx[i] + hy[i] * hy[i];
     return score;
+  }
+
+  // The score at each yaw, the yaws spread over the cores (a room's plan holds 10^5
+  // points and the search scores it at over a hundred yaws).
+  std::vector<double> at(const std::vector<double>& yaws) const {
+    std::vector<double> scores(yaws.size());
+    forEachRow(static_cast<int>(yaws.size()), 0, [&](int k) { scores[static_cast<std::size_t>(k)] = (*this)(yaws[static_cast<std::size_t>(k)]); });
+    return scores;
   }
 
  private:
@@ -48,7 +59,6 @@ class SharpnessScore {
   double inv_bin_;
   double offset_ = 0.0;
   std::size_t bins_ = 0;
-  std::vector<double> hx_, hy_;
 };
 
 }  // namespace
@@ -59,24 +69,27 @@ double wrapQuarterTurn(double angle_rad) {
 
 double sharpestPlanYaw(const std::vector<Eigen::Vector2d>& plan_points, double bin_m) {
   if (plan_points.empty()) return 0.0;
-  SharpnessScore score(plan_points, bin_m);
+  const SharpnessScore score(plan_points, bin_m);
   // Coarse: every degree over the quarter turn (the score has the 90-degree period; a
   // wall 10 m long blurs by 17 cm at half a degree off, so the peak is degrees wide).
   const double coarse_step = degrees(1.0);
+  std::vector<double> coarse_yaws;
+  for (double yaw = -0.5 * kQuarter; yaw < 0.5 * kQuarter; yaw += coarse_step) coarse_yaws.push_back(yaw);
+  const std::vector<double> coarse = score.at(coarse_yaws);
   double best_yaw = -0.5 * kQuarter, best = -1.0;
-  for (double yaw = -0.5 * kQuarter; yaw < 0.5 * kQuarter; yaw += coarse_step) {
-    const double s = score(yaw);
-    if (s > best) best = s, best_yaw = yaw;
+  for (std::size_t k = 0; k < coarse.size(); ++k) {
+    if (coarse[k] > best) best = coarse[k], best_yaw = coarse_yaws[k];
   }
   // Fine: 0.1 degree steps around it, then the vertex of a parabola through the best
   // three, which places the peak between steps.
   const double fine_step = degrees(0.1);
   const int reach = 12;
-  std::vector<double> fine(2 * reach + 1);
-  int arg = reach;
-  for (int k = -reach; k <= reach; ++k) {
-    fine[k + reach] = score(best_yaw + k * fine_step);
-    if (fine[k + reach] > fine[arg]) arg = k + reach;
+  std::vector<double> fine_yaws;
+  for (int k = -reach; k <= reach; ++k) fine_yaws.push_back(best_yaw + k * fine_step);
+  const std::vector<double> fine = score.at(fine_yaws);
+  int arg = 0;  // the first of equal maxima
+  for (int k = 1; k <= 2 * reach; ++k) {
+    if (fine[static_cast<std::size_t>(k)] > fine[static_cast<std::size_t>(arg)]) arg = k;
   }
   double yaw = best_yaw + (arg - reach) * fine_step;
   if (arg > 0 && arg < 2 * reach) {

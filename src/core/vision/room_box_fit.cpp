@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include "room_reverb/common/error.h"
 
@@ -112,14 +113,25 @@ double lateralCoverage(const WallBand& band, double position, double half_width,
   return static_cast<double>(std::count(covered.begin(), covered.end(), true)) / static_cast<double>(stretches);
 }
 
+// The room's extent along the walls of a band: the 1st and 99th percentiles of the
+// lateral coordinate (selected, not sorted: the band holds every wall voxel).
+std::pair<double, double> lateralExtent(const WallBand& band) {
+  if (band.lateral.empty()) return {0.0, 0.0};
+  std::vector<double> values = band.lateral;
+  const auto at = [&](std::size_t k) {
+    std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
+    return values[k];
+  };
+  const double from = at(values.size() / 100);
+  return {from, at(values.size() * 99 / 100)};
+}
+
 // The rule with the ceiling's or floor's edge `edge` (a distance): see findWallPair.
-WallChoice wallAtEdge(const std::vector<PlanePeak>& peaks, const WallBand& band, const BoxFitParams& params, bool below,
-                      double edge, bool edge_from_ceiling) {
+// `extent` is the band's lateralExtent.
+WallChoice wallAtEdge(const std::vector<PlanePeak>& peaks, const WallBand& band, const std::pair<double, double>& extent,
+                      const BoxFitParams& params, bool below, double edge, bool edge_from_ceiling) {
   const double tolerance = std::max(params.edge_tolerance_m, params.spread.halfWidth(edge));
-  std::vector<double> sorted = band.lateral;
-  std::sort(sorted.begin(), sorted.end());
-  const double from = sorted.empty() ? 0.0 : sorted[sorted.size() / 100];
-  const double to = sorted.empty() ? 0.0 : sorted[sorted.size() * 99 / 100];
+  const auto [from, to] = extent;
   std::vector<const PlanePeak*> candidates;
   for (const PlanePeak& p : peaks) {
     if ((p.position_m < 0.0) != below) continue;
@@ -165,13 +177,15 @@ WallPair findWallPair(const WallBand& band, const std::vector<double>& ray_coord
   const auto peaks =
       histogram.peaks(params.spread, params.min_plane_support, std::min(params.min_layer_contrast, params.min_plane_contrast));
   const PlaneHistogram rays(ray_coordinate, params.bin_m);
+  std::optional<std::pair<double, double>> extent;  // computed once, if a side needs it
   WallPair pair;
   for (int side = 0; side < 2; ++side) {
     const bool below = side == 0;
     std::optional<WallChoice> choice;
     const std::optional<SurfaceEdge>& edge = edges[static_cast<std::size_t>(side)];
     if (edge && edge->step) {
-      choice = wallAtEdge(peaks, band, params, below, edge->distance_m, edge_from_ceiling);
+      if (!extent) extent = lateralExtent(band);
+      choice = wallAtEdge(peaks, band, *extent, params, below, edge->distance_m, edge_from_ceiling);
     } else {
       choice = wallByRays(peaks, rays, params, below);
       if (!choice && edge) choice = wallAtSurfaceEnd(below, edge->distance_m, edge_from_ceiling);
