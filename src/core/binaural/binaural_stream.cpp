@@ -80,10 +80,9 @@ FilterMatrix BinauralStream::responseFilters(const AudioBuffer& checked, const c
     throw InputError("binaural stream: an order-" + std::to_string(order) + " " + what +
                      " cannot go through the order-" + std::to_string(decoder_.order) + " decoder");
   }
-  // A mixed-order room is cut once the response has passed the checks (late_order.h).
-  BinauralStreamOptions cut_options = options_;
-  cut_options.mixed_order_late = mixed_order;
-  const AudioBuffer cut = mixed_order && order >= 2 ? roomResponseAsStreamed(checked, decoder_, cut_options) : AudioBuffer{};
+  // A mixed-order room is cut once the response has passed the checks (late_order.h), as
+  // roomResponseAsStreamed cuts it.
+  const AudioBuffer cut = mixed_order && order >= 2 ? reduceLateOrder(checked, decoder_, options_.full_order_s) : AudioBuffer{};
   const AudioBuffer& response = cut.channelCount() > 0 ? cut : checked;
   const std::size_t count = response.channelCount();
   const auto limit = static_cast<std::size_t>(options_.max_response_s * kInternalSampleRateHz);
