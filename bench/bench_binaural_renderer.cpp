@@ -6,9 +6,9 @@
 // side (serialising 1024 floats, the spinner) is measured live by the rostest
 // (test/ros/test_binaural_renderer.cpp records render_cpu_share and process_cpu_share).
 // BM_WalkingRendererChunk is the same with the listener walking (docs/six_dof.md): a
-// room's direct sound and 24 early reflections as taps, moved for every block
-// (ListenerTranslation::reflectionsAt in a room model, then the taps' targets), its late
-// part as the 2 s room response. BM_MovingTapsBlock is the taps alone for one block,
+// room's direct sound and 24 early reflections as taps, their targets found once a chunk
+// (ListenerTranslation::reflectionsAt in a room model, at the chunk's end) and blended
+// for each block, as the node does; its late part as the 2 s room response. BM_MovingTapsBlock is the taps alone for one block,
 // BM_ReflectionsAtPose one pose's move alone.
 // Run: scripts/bench (all benchmarks) or .ws/devel/lib/room_reverb/bench_binaural_renderer
 //   cpu_share  thread CPU time per chunk / chunk duration: the share of one core.
@@ -169,7 +169,19 @@ void BM_WalkingRendererChunk(benchmark::State& state) {
   options.order = 3;
   options.block_size = kBlock;
   stream.setEarlyTaps(std::make_unique<ReflectionTapBank>(translation.reflectionsAtRig(), options));
-  streamChunks(state, stream, [&](double t) { stream.earlyTaps()->setTargets(tapTargetsAt(translation, walking(t))); });
+  // As the node walks: the targets at the chunk's end once a chunk, blended per block.
+  std::vector<TapTarget> from = tapTargetsAt(translation, walking(0.0)), to, now;
+  std::size_t block = 0;
+  const double block_s = static_cast<double>(kBlock) / kInternalSampleRateHz;
+  streamChunks(state, stream, [&](double t) {
+    const std::size_t b = block++ % kChunkBlocks;
+    if (b == 0) {
+      if (!to.empty()) std::swap(from, to);
+      to = tapTargetsAt(translation, walking(t + static_cast<double>(kChunkBlocks - 1) * block_s));
+    }
+    tapTargetsBetween(from, to, static_cast<double>(b + 1) / static_cast<double>(kChunkBlocks), now);
+    stream.earlyTaps()->setTargets(now);
+  });
   state.counters["taps"] = static_cast<double>(translation.anchors().size());
 }
 // Arg as above; the node's walkable RSAO rooms have a first-order late part (4).

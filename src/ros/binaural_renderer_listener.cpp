@@ -165,12 +165,15 @@ void BinauralRendererServer::takeRoomTaps(const StreamRoom& room) {
   stream_->setEarlyTaps(std::make_unique<core::ReflectionTapBank>(translation_->reflectionsAtRig(), options));
   // Until a pose arrives the listener stands at the microphone.
   if (!listener_known_) listener_from_ = listener_to_ = translation_->rigPosition();
-  moveTaps(listener_to_);
+  targets_from_.clear();
+  if (auto targets = tapTargetsFor(listener_to_)) {
+    stream_->earlyTaps()->setTargets(*targets);
+    targets_from_ = std::move(*targets);
+  }
 }
 
-void BinauralRendererServer::moveTaps(const Eigen::Vector3d& wanted) {
-  core::ReflectionTapBank* taps = stream_->earlyTaps();
-  if (!translation_ || !taps) return;
+std::optional<std::vector<core::TapTarget>> BinauralRendererServer::tapTargetsFor(const Eigen::Vector3d& wanted) {
+  if (!translation_) return std::nullopt;
   Eigen::Vector3d listener = wanted;
   if (taps_room_model_) {
     const Eigen::Vector3d low = Eigen::Vector3d::Constant(kClampMarginM);
@@ -186,7 +189,7 @@ void BinauralRendererServer::moveTaps(const Eigen::Vector3d& wanted) {
     ROS_WARN_THROTTLE(5.0, "binaural_renderer: listener kept where it was: %s", e.what());
     std::lock_guard<std::mutex> lock(mutex_);
     ++counters_.listener_positions_clamped;
-    return;
+    return std::nullopt;
   }
   if (clamped) {
     ROS_WARN_THROTTLE(5.0, "binaural_renderer: the listener (%.2f, %.2f, %.2f) m is outside the room model; heard at "
@@ -194,7 +197,7 @@ void BinauralRendererServer::moveTaps(const Eigen::Vector3d& wanted) {
     std::lock_guard<std::mutex> lock(mutex_);
     ++counters_.listener_positions_clamped;
   }
-  taps->setTargets(targets);
+  return targets;
 }
 
 }  // namespace room_reverb::ros_bridge

@@ -12,6 +12,7 @@
 #include "room_reverb/audio/channel_mix.h"
 #include "room_reverb/audio/resample.h"
 #include "room_reverb/binaural/offline_render.h"
+#include "room_reverb/binaural/walk_render.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/realtime_thread.h"
 #include "room_reverb/ros/binaural_renderer_server.h"
@@ -129,6 +130,17 @@ void BinauralRendererServer::renderChunk() {
   // room playing.
   if (early && early->walk == early_walk_ && early_walk_) stream_->setEarlyResponse(early->early);
 
+  // A walking listener: the taps' targets where the listener is at the end of this chunk
+  // (one ListenerTranslation::reflectionsAt a chunk), blended per block from where the
+  // last chunk left them.
+  core::ReflectionTapBank* taps = stream_->earlyTaps();
+  bool walking = false;
+  if (translation_ && taps && listener_from_ != listener_to_) {
+    if (auto targets = tapTargetsFor(listener_to_)) {
+      targets_to_ = std::move(*targets);
+      walking = true;
+    }
+  }
   for (std::size_t b = 0; b < chunk_blocks_; ++b) {
     if (looped_source_) {
       looped_source_->read(source_block_.data(), block_frames_);
@@ -136,15 +148,17 @@ void BinauralRendererServer::renderChunk() {
       std::lock_guard<std::mutex> lock(mutex_);
       source_queue_->read(source_block_.data(), block_frames_);
     }
-    // A walking listener: the taps move to where the listener is at the end of this block,
-    // on the way from the last chunk's position to the newest.
-    if (translation_ && listener_from_ != listener_to_) {
-      const double u = static_cast<double>(b + 1) / static_cast<double>(chunk_blocks_);
-      moveTaps(listener_from_ + u * (listener_to_ - listener_from_));
+    // The taps move to where the listener is at the end of this block, on the way from
+    // the last chunk's position to the newest.
+    if (walking) {
+      core::tapTargetsBetween(targets_from_, targets_to_, static_cast<double>(b + 1) / static_cast<double>(chunk_blocks_),
+                              targets_now_);
+      taps->setTargets(targets_now_);
     }
     stream_->process(source_block_.data(), left_.data() + b * block_frames_, right_.data() + b * block_frames_);
   }
   listener_from_ = listener_to_;
+  if (walking) std::swap(targets_from_, targets_to_);
   chunk_message_.header.frame_id = frame_id_;
   chunk_message_.sample_rate_hz = core::kInternalSampleRateHz;
   chunk_message_.channel_count = 2;

@@ -102,6 +102,45 @@ TEST(WalkRender, WalkingTowardsTheSourceIsHeardLouderAndTheOutputIsWhole) {
   EXPECT_THROW(renderWalk(dry, w.translation, room_reverb::test::sphericalHeadDecoder(3), {}), InputError);
 }
 
+// A chunk's targets blended per block are the targets at the blended position: over a
+// chunk's walk (1 cm at 1 m/s) delay and level are linear to well under a sample and
+// 0.01 dB, directions to 0.01 degrees.
+TEST(WalkRender, TargetsBlendedAcrossAChunkAreTheTargetsOnTheWay) {
+  const WalkableRoom w;
+  const Eigen::Vector3d from = w.room.geometry.receiver_m + Eigen::Vector3d(0.3, -0.2, 0.05);
+  const Eigen::Vector3d step(0.008, 0.006, 0.0);  // 1 cm in a 10.7 ms chunk
+  const std::vector<TapTarget> a = tapTargetsAt(w.translation, from), b = tapTargetsAt(w.translation, from + step);
+  std::vector<TapTarget> blended;
+  int compared = 0;
+  for (const double u : {0.25, 0.5, 0.75}) {
+    tapTargetsBetween(a, b, u, blended);
+    const std::vector<TapTarget> exact = tapTargetsAt(w.translation, from + u * step);
+    ASSERT_EQ(blended.size(), exact.size());
+    for (std::size_t k = 0; k < exact.size(); ++k) {
+      if (a[k].level == 0.0 || b[k].level == 0.0) continue;  // heard at one end only: a fade
+      EXPECT_NEAR(blended[k].delay_s, exact[k].delay_s, 0.05 / kFs) << "tap " << k << " at " << u;
+      EXPECT_NEAR(20.0 * std::log10(blended[k].level / exact[k].level), 0.0, 0.01) << "tap " << k << " at " << u;
+      EXPECT_NEAR(blended[k].direction.norm(), 1.0, 1e-12);
+      EXPECT_LT(std::acos(std::min(1.0, blended[k].direction.dot(exact[k].direction))) * 180.0 / M_PI, 0.01)
+          << "tap " << k << " at " << u;
+      ++compared;
+    }
+  }
+  EXPECT_GE(compared, 3 * 6) << "the direct sound and the first-order reflections at least";
+  // The ends are the targets themselves; a blend across a change of room is the new room's.
+  tapTargetsBetween(a, b, 1.0, blended);
+  for (std::size_t k = 0; k < b.size(); ++k) EXPECT_DOUBLE_EQ(blended[k].delay_s, b[k].delay_s);
+  tapTargetsBetween({}, b, 0.5, blended);
+  ASSERT_EQ(blended.size(), b.size());
+  for (std::size_t k = 0; k < b.size(); ++k) EXPECT_EQ(blended[k].level, b[k].level);
+  // Opposite directions have no arc between them: the blend takes the newer one.
+  TapTarget east, west;
+  east.direction = Eigen::Vector3d::UnitX();
+  west.direction = -Eigen::Vector3d::UnitX();
+  tapTargetsBetween({east}, {west}, 0.5, blended);
+  EXPECT_EQ(blended[0].direction, west.direction);
+}
+
 TEST(WalkRender, TheCommandLineWalksAPoseFile) {
   const WalkableRoom w;
   const std::string rsao = tempPath("walk_rsao.yaml").string();

@@ -40,6 +40,16 @@ ListenerPose poseAt(const std::vector<ListenerPose>& poses, double t_s);
 // silent where it is not heard there. Throws InputError as ListenerTranslation::at does.
 std::vector<TapTarget> tapTargetsAt(const ListenerTranslation& translation, const Eigen::Vector3d& listener_m);
 
+// The targets a fraction `u` (0..1) of the way from `from` to `to`, the same reflections in
+// the same order, into `out` (reused: no allocation once it has the size): delay and level
+// linearly, the direction along the arc between the two (normalised blend; `to`'s where
+// the two are opposite). A pose per chunk with the targets blended per block costs one
+// ListenerTranslation::reflectionsAt a chunk; over a chunk's 10.7 ms a walker moves about
+// a centimetre, along which delay and level are linear to well under a sample and 0.01 dB.
+// `to` alone where the two differ in size.
+void tapTargetsBetween(const std::vector<TapTarget>& from, const std::vector<TapTarget>& to, double u,
+                       std::vector<TapTarget>& out);
+
 // `dry`: mono at 48 kHz. The output (left, right, 48 kHz) is the dry sound's length plus
 // the late part's. Throws InputError for a listener position the translation refuses.
 AudioBuffer renderWalk(const AudioBuffer& dry, const ListenerTranslation& translation, const BinauralDecoder& decoder,

@@ -44,6 +44,7 @@
 #include "room_reverb/audio/jack_output.h"
 #include "room_reverb/binaural/binaural_decoder.h"
 #include "room_reverb/binaural/binaural_stream.h"
+#include "room_reverb/binaural/reflection_tap_bank.h"
 #include "room_reverb/binaural/source_feed.h"
 #include "room_reverb/binaural/stream_pacer.h"
 #include "room_reverb/ros/binaural_room_inputs.h"
@@ -99,7 +100,10 @@ class BinauralRendererServer {
   void followListenerFrame();
   // Timer: ~markers of the walkable room playing (listener, image sources, paths heard).
   void publishMarkers();
-  void moveTaps(const Eigen::Vector3d& listener);
+  // The taps' targets for a listener at `wanted`, clamped into the room model (counted and
+  // warned); nothing where the translation refuses the position (inside an object: the
+  // taps stay where they were).
+  std::optional<std::vector<core::TapTarget>> tapTargetsFor(const Eigen::Vector3d& wanted);
   void publishStatus();
   // JACK output (binaural_renderer_jack.cpp): the parameters and the retry timer; joining
   // the server (timer thread); on the audio thread, taking a new client over or dropping
@@ -146,6 +150,9 @@ class BinauralRendererServer {
   std::shared_ptr<const core::SimulatedWalk> early_walk_;  // of the room playing
   core::PreparedResponse no_early_;  // removes the early part of the last walkable room
   Eigen::Vector3d listener_from_ = Eigen::Vector3d::Zero(), listener_to_ = Eigen::Vector3d::Zero();
+  // The taps' targets where the last chunk ended, where this one ends, and one block's
+  // blend of the two (audio thread; reused so that a walking chunk allocates little).
+  std::vector<core::TapTarget> targets_from_, targets_to_, targets_now_;
   bool listener_known_ = false;
   std::shared_ptr<core::JackOutput> jack_;
   double jack_epoch_s_ = 0.0;  // stream time at the client's first frame

@@ -108,6 +108,25 @@ std::vector<TapTarget> tapTargetsAt(const ListenerTranslation& translation, cons
   return targets;
 }
 
+void tapTargetsBetween(const std::vector<TapTarget>& from, const std::vector<TapTarget>& to, double u,
+                       std::vector<TapTarget>& out) {
+  out.resize(to.size());
+  if (from.size() != to.size()) {
+    std::copy(to.begin(), to.end(), out.begin());
+    return;
+  }
+  for (std::size_t k = 0; k < to.size(); ++k) {
+    const TapTarget& a = from[k];
+    const TapTarget& b = to[k];
+    TapTarget& t = out[k];
+    t.delay_s = a.delay_s + u * (b.delay_s - a.delay_s);
+    t.level = a.level + u * (b.level - a.level);
+    const Eigen::Vector3d blend = (1.0 - u) * a.direction + u * b.direction;
+    const double length = blend.norm();
+    t.direction = length > 1e-6 ? Eigen::Vector3d(blend / length) : b.direction;
+  }
+}
+
 namespace {
 
 // Streams `dry` and `tail_frames` of silence through `stream` block by block, the head
