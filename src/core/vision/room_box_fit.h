@@ -70,13 +70,18 @@ struct WallChoice {
 //
 // With a step at the edge, the candidates are the planes of at least min_layer_contrast
 // (and covering at least min_layer_coverage of the room's length along the wall, if below
-// min_plane_contrast) up to edge_tolerance_m beyond it, and those of at least min_plane_contrast up to
-// hidden_wall_m beyond it (wall units or a wardrobe reaching the ceiling end it in front
-// of the wall; a facade seen through a window lies further out). If the outermost
+// min_plane_contrast) up to edge_tolerance_m beyond it, and those up to hidden_wall_m
+// beyond it that cover at least three quarters of the room's length the edge's own layer
+// covers and hold a quarter of its points (wall units or a wardrobe reaching the ceiling
+// end it in front of the wall, which shows along the run; a recess's back or a facade
+// seen through a window shows only across the opening); with no layer at the edge, those
+// of at least min_plane_contrast up to hidden_wall_m beyond it. If the outermost
 // candidate lies within hidden_wall_m of the edge, the wall is the candidate with the most
-// support among the layers within layer_gap_m of the outermost one (the main wall plane,
-// not the back of a door recess in it nor a radiator in front of it); otherwise the
-// planes are furniture in front of a hidden wall and the wall is the edge.
+// support among the layers within layer_gap_m of the outermost one and no further inside
+// the edge than edge_tolerance_m (the main wall plane, not the back of a door recess in
+// it, a radiator in front of it, or units along it under a ceiling that goes on past
+// them); otherwise the planes are furniture in front of a hidden wall and the wall is the
+// edge.
 //
 // Without a step (the surface thins out with range, as a far wall's ceiling does, or no
 // surface on that side), the candidates are the planes of at least min_plane_contrast with at
