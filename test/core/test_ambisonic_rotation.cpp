@@ -110,3 +110,26 @@ TEST(AmbisonicRotation, NormalisesSlightlyOffQuaternionsAndRejectsMalformedOnes)
   expectInputError([&] { rotateAmbisonicBuffer(first_order, ambisonicRotation(yaw(1.0), 3)); }, {"4 channels", "order 3"});
   expectInputError([&] { rotateAmbisonicBuffer(first_order, Eigen::MatrixXd::Identity(5, 5)); }, {"5 x 5"});
 }
+
+// The in-place harmonics are the harmonics (first order in ACN/SN3D: 1, y, z, x), written
+// into the caller's vector without reallocating it once it has the size.
+TEST(SphericalHarmonics, IntoTheCallersVectorWithoutReallocating) {
+  std::mt19937 rng(17);
+  std::vector<double> y;
+  sn3dHarmonicsInto(3, Eigen::Vector3d::UnitX(), y);
+  ASSERT_EQ(y.size(), 16u);
+  const double* storage = y.data();
+  for (int k = 0; k < 50; ++k) {
+    const Eigen::Vector3d d = randomDirection(rng);
+    sn3dHarmonicsInto(3, d, y);
+    EXPECT_EQ(y.data(), storage);
+    EXPECT_EQ(y, sn3dHarmonics(3, d));
+    EXPECT_NEAR(y[0], 1.0, 1e-15);
+    EXPECT_NEAR(y[1], d.y(), 1e-12);
+    EXPECT_NEAR(y[2], d.z(), 1e-12);
+    EXPECT_NEAR(y[3], d.x(), 1e-12);
+  }
+  sn3dHarmonicsInto(1, Eigen::Vector3d::UnitZ(), y);
+  EXPECT_EQ(y, (std::vector<double>{1.0, 0.0, 1.0, 0.0}));
+  EXPECT_THROW(sn3dHarmonicsInto(4, Eigen::Vector3d::UnitZ(), y), InputError);
+}

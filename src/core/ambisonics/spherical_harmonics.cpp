@@ -34,6 +34,12 @@ double legendre(int l, int m, double x) {
 }  // namespace
 
 std::vector<double> sn3dHarmonics(int order, const Eigen::Vector3d& direction) {
+  std::vector<double> y;
+  sn3dHarmonicsInto(order, direction, y);
+  return y;
+}
+
+void sn3dHarmonicsInto(int order, const Eigen::Vector3d& direction, std::vector<double>& y) {
   if (order < 0 || order > kMaxAmbisonicOrder) throw InputError("ambisonic order must be 0 to 3");
   const Eigen::Vector3d d = direction.normalized();
   const double sin_elevation = std::clamp(d.z(), -1.0, 1.0);
@@ -48,7 +54,7 @@ std::vector<double> sn3dHarmonics(int order, const Eigen::Vector3d& direction) {
     cos_m[m] = cos_m[m - 1] * cos_azimuth - sin_m[m - 1] * sin_azimuth;
     sin_m[m] = sin_m[m - 1] * cos_azimuth + cos_m[m - 1] * sin_azimuth;
   }
-  std::vector<double> y(static_cast<std::size_t>(ambisonicChannelCount(order)));
+  y.resize(static_cast<std::size_t>(ambisonicChannelCount(order)));
   for (int l = 0; l <= order; ++l) {
     for (int m = -l; m <= l; ++m) {
       const int am = std::abs(m);
@@ -57,7 +63,6 @@ std::vector<double> sn3dHarmonics(int order, const Eigen::Vector3d& direction) {
       y[static_cast<std::size_t>(l * l + l + m)] = norm * legendre(l, am, sin_elevation) * angular;
     }
   }
-  return y;
 }
 
 }  // namespace room_reverb::core

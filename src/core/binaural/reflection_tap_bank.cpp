@@ -106,7 +106,7 @@ void ReflectionTapBank::setTargets(const std::vector<TapTarget>& targets) {
     }
     tap.delay_to = std::max(delay, kMinDelaySamples);
     tap.amplitude_to = amplitude;
-    tap.gains_to = sn3dHarmonics(options_.order, t.direction.normalized());
+    sn3dHarmonicsInto(options_.order, t.direction.normalized(), tap.gains_to);
     // A tap that was silent starts where it is now, fading in, not gliding from where it
     // was last heard; its filter starts from rest.
     if (tap.amplitude_from == 0.0) {
