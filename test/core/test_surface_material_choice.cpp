@@ -90,7 +90,7 @@ std::string familyRows() {
 
 TEST(MaterialFallback, ShippedRulesCoverTheBoxFaces) {
   const MaterialFallback& fallback = shippedFamilies().fallback;
-  EXPECT_DOUBLE_EQ(fallback.min_confidence, 0.35);
+  EXPECT_DOUBLE_EQ(fallback.min_confidence, 0.40);
   ASSERT_EQ(fallback.rules.count(SurfacePlacement::kWall), 1u);
   ASSERT_EQ(fallback.rules.count(SurfacePlacement::kCeiling), 1u);
   ASSERT_EQ(fallback.rules.count(SurfacePlacement::kFloor), 1u);
@@ -117,8 +117,8 @@ TEST(MaterialFallback, ACloseWallVoteFallsBackToPlaster) {
   EXPECT_NE(d.fallback_reason.find("commonest wall"), std::string::npos) << d.fallback_reason;
   EXPECT_FALSE(d.overridden);
 
-  // The shipped threshold, 0.35, keeps a 40 % winner and sets a 33 % one aside.
-  const auto kept = decideFromVote(voteOf({{F::kBrick, 0.40}, {F::kPlaster, 0.35}}), SurfacePlacement::kWall, shippedFamilies());
+  // The shipped threshold, 0.40, keeps a 45 % winner and sets a 33 % one aside.
+  const auto kept = decideFromVote(voteOf({{F::kBrick, 0.45}, {F::kPlaster, 0.35}}), SurfacePlacement::kWall, shippedFamilies());
   EXPECT_FALSE(kept.fell_back);
   EXPECT_EQ(kept.material, "brick_bare");
   EXPECT_EQ(kept.runner_up, "plaster_smooth");

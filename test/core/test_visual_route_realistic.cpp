@@ -8,6 +8,7 @@
 // The report over many rooms:
 //   ROOM_REVERB_REALISTIC_ROOMS=20 [ROOM_REVERB_FIRST_ROOM=201] [ROOM_REVERB_PHOTO_SOURCE=sweethome3d]
 //   [ROOM_REVERB_CAPTURE_WIDTH=2048] [ROOM_REVERB_ROOM_SET=development]
+//   [ROOM_REVERB_MIN_CONFIDENCE=0.35] (the material fallback's threshold)
 //   .ws/devel/lib/room_reverb/test_visual_route_realistic --gtest_filter='*Report*'
 #include <gtest/gtest.h>
 
@@ -15,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -22,6 +24,7 @@
 #include "room_reverb/synthetic_capture/capture_generator.h"
 #include "room_reverb/synthetic_capture/cluttered_rooms.h"
 #include "room_reverb/synthetic_capture/photo_textures.h"
+#include "room_reverb/vision/material_families.h"
 #include "room_reverb/vision/visual_route.h"
 
 using namespace room_reverb::core;
@@ -39,10 +42,18 @@ struct RouteScore {
   std::vector<std::string> warnings;                     // the layout's
 };
 
+// The default options; ROOM_REVERB_MIN_CONFIDENCE replaces the material fallback's
+// threshold (config/material_families.yaml), to measure it.
 const VisualRouteOptions& routeOptions() {
   static const VisualRouteOptions options = [] {
     VisualRouteOptions o;
     loadDefaultMaterialModels(o);
+    const char* threshold = std::getenv("ROOM_REVERB_MIN_CONFIDENCE");
+    if (threshold != nullptr && *threshold != '\0') {
+      auto families = std::make_shared<MaterialFamilyTable>(*o.families);
+      families->fallback.min_confidence = std::atof(threshold);
+      o.families = families;
+    }
     return o;
   }();
   return options;
