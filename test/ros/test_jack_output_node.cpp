@@ -3,6 +3,8 @@
 // backend's playback ports); a server that goes away leaves the stream running on ROS
 // time, and one that comes back is joined again.
 #include <gtest/gtest.h>
+
+#include <cstdio>
 #include <ros/ros.h>
 #include <room_reverb/AudioBuffer.h>
 
@@ -67,6 +69,10 @@ TEST(JackOutputNode, TheCardHearsWhatTheTopicCarriesAndTheServerMayComeAndGo) {
   ASSERT_TRUE(recorder.ok());
   ASSERT_TRUE(recorder.connectFrom("binaural_renderer:out_left", 0));
   ASSERT_TRUE(recorder.connectFrom("binaural_renderer:out_right", 1));
+  // Frames the card asked for and the node's ring did not have (played as silence, the
+  // stream kept in step with the card): counted by the node, the one excuse for a
+  // difference below.
+  const std::uint64_t underrun_before = status.latest().jack_underrun_frames;
   recorder.record();
   {
     std::lock_guard<std::mutex> lock(topic.mutex);
@@ -87,6 +93,7 @@ TEST(JackOutputNode, TheCardHearsWhatTheTopicCarriesAndTheServerMayComeAndGo) {
     EXPECT_EQ(topic.stamp_gaps, 0);
   }
   const std::vector<float> heard_left = recorder.channel(0), heard_right = recorder.channel(1);
+  const int xruns = recorder.xruns();
   recorder_client.reset();
   ASSERT_GT(topic_left.size(), 48000u * 2);
   // The topic's loudest 1024 samples (speech has pauses) must be found in the card's stream.
@@ -101,19 +108,54 @@ TEST(JackOutputNode, TheCardHearsWhatTheTopicCarriesAndTheServerMayComeAndGo) {
   const long found = room_reverb::test::findExact(heard_left, std::vector<float>(topic_left.begin() + static_cast<long>(loudest),
                                                               topic_left.begin() + static_cast<long>(loudest) + 1024));
   ASSERT_GE(found, 0) << "the card never played the topic's samples";
-  // Align the whole recordings on that and compare every sample both have.
-  const long shift = found - static_cast<long>(loudest);  // card index = topic index + shift
+  // Align the whole recordings on that and compare every sample both have, period by
+  // period. A period that does not match where the last one did is looked for nearby: the
+  // server reports a late cycle (an xrun, the machine loaded) and the graph may skip or
+  // repeat a period there, which moves the alignment without any frame being wrong.
+  constexpr long kPeriod = 256;
+  long shift = found - static_cast<long>(loudest);  // card index = topic index + shift
   std::size_t compared = 0, differing = 0;
-  for (std::size_t n = 0; n < topic_left.size(); ++n) {
-    const long k = static_cast<long>(n) + shift;
-    if (k < 0 || k >= static_cast<long>(heard_left.size())) continue;
-    ++compared;
-    if (heard_left[static_cast<std::size_t>(k)] != topic_left[n] || heard_right[static_cast<std::size_t>(k)] != topic_right[n]) {
-      ++differing;
+  int realigned = 0;
+  const auto matches = [&](long n, long at_shift) {
+    for (long i = n; i < n + kPeriod; ++i) {
+      const long k = i + at_shift;
+      if (k < 0 || k >= static_cast<long>(heard_left.size())) return false;
+      if (heard_left[static_cast<std::size_t>(k)] != topic_left[static_cast<std::size_t>(i)] ||
+          heard_right[static_cast<std::size_t>(k)] != topic_right[static_cast<std::size_t>(i)]) {
+        return false;
+      }
+    }
+    return true;
+  };
+  for (long n = 0; n + kPeriod <= static_cast<long>(topic_left.size()); n += kPeriod) {
+    if (n + shift < 0 || n + shift + kPeriod > static_cast<long>(heard_left.size())) continue;
+    compared += kPeriod;
+    if (matches(n, shift)) continue;
+    bool moved = false;
+    for (long delta = -4 * kPeriod; delta <= 4 * kPeriod && !moved; ++delta) {
+      if (delta != 0 && matches(n, shift + delta)) shift += delta, moved = true;
+    }
+    if (moved) {
+      ++realigned;
+    } else {
+      differing += kPeriod;
     }
   }
   EXPECT_GT(compared, 48000u * 2) << "the recordings overlap for " << compared << " frames";
-  EXPECT_EQ(differing, 0u) << "of " << compared << " frames";
+  // Every realignment needs a late cycle the server reported.
+  EXPECT_LE(realigned, xruns) << realigned << " realignments, " << xruns << " xruns";
+  // A status from after the recording, with the underruns in it.
+  const double recorded_until = ros::Time::now().toSec();
+  ASSERT_TRUE(status.waitFor([&](const room_reverb::StreamStatus& s) { return s.header.stamp.toSec() > recorded_until; }, 5.0));
+  const std::uint64_t underrun = status.latest().jack_underrun_frames - underrun_before;
+  std::printf("[ measured ] %zu of %zu frames differ, %d realignments, %d xruns; the node counted %llu frames of "
+              "underrun meanwhile\n", differing, compared, realigned, xruns, static_cast<unsigned long long>(underrun));
+  // Every period the card played is the topic's, but for frames the node could not supply
+  // in time (a loaded machine delays its thread past a period now and then) and a period
+  // at each late cycle; and those are rare: two periods at most in 3 s.
+  EXPECT_LE(differing, underrun + static_cast<std::uint64_t>(kPeriod) * static_cast<std::uint64_t>(xruns))
+      << "of " << compared << " frames";
+  EXPECT_LE(underrun, 2u * 256u);
   const room_reverb::StreamStatus playing = status.latest();
   EXPECT_EQ(playing.jack_overflow_frames, 0u);
   EXPECT_EQ(playing.chunks_dropped, 0u);

@@ -114,6 +114,7 @@ JackRecorder::JackRecorder(const std::string& server_name, const std::string& cl
   const char* names[2] = {"in_left", "in_right"};
   for (int c = 0; c < 2; ++c) ports_[c] = jack_port_register(client, names[c], JACK_DEFAULT_AUDIO_TYPE, JackPortIsInput, 0);
   jack_set_process_callback(client, &JackRecorder::process, this);
+  jack_set_xrun_callback(client, &JackRecorder::onXrun, this);
   if (jack_activate(client) != 0) {
     jack_client_close(client);
     return;
@@ -138,6 +139,12 @@ int JackRecorder::process(unsigned frames, void* self) {
     std::copy(in, in + keep, me->samples_[c].begin() + static_cast<std::ptrdiff_t>(at));
   }
   me->recorded_.store(at + keep);
+  return 0;
+}
+
+int JackRecorder::onXrun(void* self) {
+  auto* me = static_cast<JackRecorder*>(self);
+  if (me->recording_.load()) me->xruns_.fetch_add(1);
   return 0;
 }
 

@@ -48,17 +48,22 @@ class JackRecorder {
   // Starts keeping frames (frames before are ignored).
   void record() { recording_ = true; }
   std::size_t framesRecorded() const { return recorded_.load(); }
+  // Cycles the server reported late (xruns) while recording: where the graph skipped or
+  // repeated a period, the recording and what was sent need not line up across it.
+  int xruns() const { return xruns_.load(); }
   // Copies of what was kept.
   std::vector<float> channel(int c) const;
   std::vector<std::string> connectionsOf(const std::string& port) const;
 
  private:
   static int process(unsigned frames, void* self);
+  static int onXrun(void* self);
   void* client_ = nullptr;
   void* ports_[2] = {nullptr, nullptr};
   std::vector<float> samples_[2];
   std::atomic<std::size_t> recorded_{0};
   std::atomic<bool> recording_{false};
+  std::atomic<int> xruns_{0};
 };
 
 // Where `needle` starts inside `haystack`, by exact equality of every sample; -1 if
