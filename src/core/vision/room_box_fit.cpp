@@ -155,8 +155,8 @@ WallChoice wallAtEdge(const std::vector<PlanePeak>& peaks, const WallBand& band,
   // what the edge's layer covers is neither. Nor is a sparse one (strays and range noise
   // beyond the wall) holding less than kBeyondSupportShare of the edge layer's points.
   // (In cluttered rooms 161-200, looked at for this rule: recess backs cover 0.27-0.47 of
-  // the edge layer's length, the walls
-  // behind units 1.15 of it with 0.71 of its points, stray layers 0.03 of its points.)
+  // the edge layer's length, the walls behind units 1.15 of it with 0.71 of its points,
+  // stray layers 0.03 of its points.)
   // With no layer at the edge only a dense plane beyond it counts.
   constexpr double kBeyondCoverageShare = 0.75;
   constexpr double kBeyondSupportShare = 0.25;
