@@ -14,11 +14,14 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <string>
 #include <vector>
 
+#include "room_reverb/acoustics/cuboid.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/synthetic_capture/cluttered_rooms.h"
+#include "room_reverb/vision/oriented_box_iou.h"
 #include "room_reverb/vision/room_layout.h"
 #include "room_scan.h"
 
@@ -34,6 +37,7 @@ struct Fit {
   Eigen::Vector3d error = Eigen::Vector3d::Zero();  // fitted - true size [m]
   double rig_error_m = 0.0;
   std::vector<std::string> warnings;
+  std::vector<CuboidObject> objects;  // fitted, in the room frame (which the truth shares)
 };
 
 // The fit of one room's stereo-like scan, against the main walls' box. The room frame's
@@ -54,6 +58,7 @@ Fit fitRoom(const ClutteredRoom& room) {
   fit.error = layout.model.size_m - room.truth.size_m;
   fit.rig_error_m = (layout.model.rig_position_m - room.truth.rig_position_m).norm();
   fit.warnings = layout.warnings;
+  fit.objects = layout.model.objects;
   std::printf("[ measured ] %-20s size %5.2f x %5.2f x %4.2f m, error [%%] %+5.2f %+5.2f %+5.2f, rig error %4.1f cm%s\n",
               room.name.c_str(), room.truth.size_m.x(), room.truth.size_m.y(), room.truth.size_m.z(),
               100 * fit.error.x() / room.truth.size_m.x(), 100 * fit.error.y() / room.truth.size_m.y(),
@@ -88,6 +93,40 @@ TEST_P(HeldOutRoom, BoxWithinOnePercent) { expectBoxWithinOnePercent(clutteredRo
 
 INSTANTIATE_TEST_SUITE_P(Cluttered, HeldOutRoom, ::testing::Range(1, 4));
 
+// How the fitted objects stand for the true furniture. A true object is recognised when
+// a fitted cuboid has a 3D IoU of at least 0.5 with it. It is merged when the fitted
+// cuboid that holds most of it also holds most of another true object (a kitchen's base
+// run, wall units and fridge fitted as one box; a table with its chairs).
+struct ObjectScore {
+  int count = 0, recognised = 0, merged = 0;
+  double iou_sum = 0.0;
+};
+
+void scoreObjects(const std::vector<CuboidObject>& truth, const std::vector<CuboidObject>& fitted,
+                  std::map<std::string, ObjectScore>& by_label) {
+  std::vector<int> holder(truth.size(), -1);
+  for (std::size_t t = 0; t < truth.size(); ++t) {
+    double most = 0.0;
+    for (std::size_t f = 0; f < fitted.size(); ++f) {
+      const double overlap = cuboidOverlapM3(truth[t], fitted[f]);
+      if (overlap > most) most = overlap, holder[t] = static_cast<int>(f);
+    }
+    // "Most of it": at least half its volume.
+    if (most < 0.5 * truth[t].size_m.prod()) holder[t] = -1;
+  }
+  for (std::size_t t = 0; t < truth.size(); ++t) {
+    ObjectScore& s = by_label[truth[t].label];
+    double best = 0.0;
+    for (const CuboidObject& f : fitted) best = std::max(best, orientedBoxIoU3d(truth[t], f));
+    ++s.count;
+    s.iou_sum += best;
+    s.recognised += best >= 0.5 ? 1 : 0;
+    bool merged = false;
+    for (std::size_t u = 0; u < truth.size(); ++u) merged = merged || (u != t && holder[t] >= 0 && holder[u] == holder[t]);
+    s.merged += merged ? 1 : 0;
+  }
+}
+
 TEST(RoomSetReport, Summary) {
   const char* env = std::getenv("ROOM_REVERB_ROOMS");
   const int rooms = env ? std::atoi(env) : 0;
@@ -98,6 +137,7 @@ TEST(RoomSetReport, Summary) {
   const int first = first_env ? std::max(1, std::atoi(first_env)) : 1;
   int refused = 0, within = 0, warned = 0;
   std::vector<double> errors_pct, rig_cm;
+  std::map<std::string, ObjectScore> objects;
   for (int i = first; i < first + rooms; ++i) {
     const ClutteredRoom room = clutteredRoom(development ? ClutterSet::kDevelopment : ClutterSet::kHeldOut, i);
     const Fit fit = fitRoom(room);
@@ -113,6 +153,7 @@ TEST(RoomSetReport, Summary) {
     within += all ? 1 : 0;
     warned += fit.warnings.empty() ? 0 : 1;
     rig_cm.push_back(100.0 * fit.rig_error_m);
+    scoreObjects(room.truth.objects, fit.objects, objects);
   }
   std::sort(errors_pct.begin(), errors_pct.end());
   std::sort(rig_cm.begin(), rig_cm.end());
@@ -121,6 +162,14 @@ TEST(RoomSetReport, Summary) {
               "dimension error median %.2f %%, p90 %.2f %%, max %.2f %%; rig error median %.1f cm, p90 %.1f cm\n",
               rooms, development ? "development" : "held-out", refused, within, warned, at(errors_pct, 0.5), at(errors_pct, 0.9), at(errors_pct, 1.0),
               at(rig_cm, 0.5), at(rig_cm, 0.9));
+  ObjectScore all;
+  for (const auto& [label, s] : objects) {
+    std::printf("[ objects  ] %-9s %3d: %3d recognised (IoU >= 0.5), %3d merged with another, mean best IoU %.2f\n",
+                label.c_str(), s.count, s.recognised, s.merged, s.iou_sum / std::max(1, s.count));
+    all.count += s.count, all.recognised += s.recognised, all.merged += s.merged, all.iou_sum += s.iou_sum;
+  }
+  std::printf("[ objects  ] all       %3d: %3d recognised (IoU >= 0.5), %3d merged with another, mean best IoU %.2f\n",
+              all.count, all.recognised, all.merged, all.iou_sum / std::max(1, all.count));
 }
 
 }  // namespace
