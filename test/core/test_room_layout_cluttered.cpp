@@ -154,6 +154,15 @@ TEST(RoomSetReport, Summary) {
     warned += fit.warnings.empty() ? 0 : 1;
     rig_cm.push_back(100.0 * fit.rig_error_m);
     scoreObjects(room.truth.objects, fit.objects, objects);
+    if (std::getenv("ROOM_REVERB_PRINT_OBJECTS")) {
+      for (const auto* list : {&room.truth.objects, &fit.objects}) {
+        for (const CuboidObject& o : *list) {
+          std::printf("             %s %-8s centre %5.2f %5.2f %5.2f size %4.2f %4.2f %4.2f yaw %5.1f\n",
+                      list == &fit.objects ? "fitted" : "true  ", o.label.c_str(), o.center_m.x(), o.center_m.y(),
+                      o.center_m.z(), o.size_m.x(), o.size_m.y(), o.size_m.z(), o.yaw_rad * 180.0 / M_PI);
+        }
+      }
+    }
   }
   std::sort(errors_pct.begin(), errors_pct.end());
   std::sort(rig_cm.begin(), rig_cm.end());
