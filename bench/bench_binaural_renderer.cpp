@@ -170,17 +170,18 @@ void BM_WalkingRendererChunk(benchmark::State& state) {
   options.block_size = kBlock;
   stream.setEarlyTaps(std::make_unique<ReflectionTapBank>(translation.reflectionsAtRig(), options));
   // As the node walks: the targets at the chunk's end once a chunk, blended per block.
-  std::vector<TapTarget> from = tapTargetsAt(translation, walking(0.0)), to, now;
+  ChunkedTapTargets targets;
+  targets.place(tapTargetsAt(translation, walking(0.0)));
   std::size_t block = 0;
   const double block_s = static_cast<double>(kBlock) / kInternalSampleRateHz;
   streamChunks(state, stream, [&](double t) {
     const std::size_t b = block++ % kChunkBlocks;
     if (b == 0) {
-      if (!to.empty()) std::swap(from, to);
-      to = tapTargetsAt(translation, walking(t + static_cast<double>(kChunkBlocks - 1) * block_s));
+      if (block > 1) targets.endChunk();
+      targets.beginChunk(tapTargetsAt(translation, walking(t + static_cast<double>(kChunkBlocks - 1) * block_s)),
+                         kChunkBlocks);
     }
-    tapTargetsBetween(from, to, static_cast<double>(b + 1) / static_cast<double>(kChunkBlocks), now);
-    stream.earlyTaps()->setTargets(now);
+    stream.earlyTaps()->setTargets(targets.atBlock(b));
   });
   state.counters["taps"] = static_cast<double>(translation.anchors().size());
 }

@@ -165,10 +165,10 @@ void BinauralRendererServer::takeRoomTaps(const StreamRoom& room) {
   stream_->setEarlyTaps(std::make_unique<core::ReflectionTapBank>(translation_->reflectionsAtRig(), options));
   // Until a pose arrives the listener stands at the microphone.
   if (!listener_known_) listener_from_ = listener_to_ = translation_->rigPosition();
-  targets_from_.clear();
+  walk_targets_.place({});
   if (auto targets = tapTargetsFor(listener_to_)) {
     stream_->earlyTaps()->setTargets(*targets);
-    targets_from_ = std::move(*targets);
+    walk_targets_.place(std::move(*targets));
   }
 }
 

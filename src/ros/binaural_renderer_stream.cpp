@@ -137,7 +137,7 @@ void BinauralRendererServer::renderChunk() {
   bool walking = false;
   if (translation_ && taps && listener_from_ != listener_to_) {
     if (auto targets = tapTargetsFor(listener_to_)) {
-      targets_to_ = std::move(*targets);
+      walk_targets_.beginChunk(std::move(*targets), chunk_blocks_);
       walking = true;
     }
   }
@@ -150,15 +150,11 @@ void BinauralRendererServer::renderChunk() {
     }
     // The taps move to where the listener is at the end of this block, on the way from
     // the last chunk's position to the newest.
-    if (walking) {
-      core::tapTargetsBetween(targets_from_, targets_to_, static_cast<double>(b + 1) / static_cast<double>(chunk_blocks_),
-                              targets_now_);
-      taps->setTargets(targets_now_);
-    }
+    if (walking) taps->setTargets(walk_targets_.atBlock(b));
     stream_->process(source_block_.data(), left_.data() + b * block_frames_, right_.data() + b * block_frames_);
   }
   listener_from_ = listener_to_;
-  if (walking) std::swap(targets_from_, targets_to_);
+  if (walking) walk_targets_.endChunk();
   chunk_message_.header.frame_id = frame_id_;
   chunk_message_.sample_rate_hz = core::kInternalSampleRateHz;
   chunk_message_.channel_count = 2;

@@ -102,6 +102,33 @@ TEST(WalkRender, WalkingTowardsTheSourceIsHeardLouderAndTheOutputIsWhole) {
   EXPECT_THROW(renderWalk(dry, w.translation, room_reverb::test::sphericalHeadDecoder(3), {}), InputError);
 }
 
+// As a renderer plays a walk: each chunk starts where the last one ended and reaches its own
+// targets at its last block; a placed set is where the next chunk starts from.
+TEST(WalkRender, ChunkedTargetsRunFromTheLastChunksEndToTheNewest) {
+  const auto at = [](double delay_s) {
+    TapTarget t;
+    t.delay_s = delay_s;
+    t.level = 10.0 * delay_s;
+    t.direction = Eigen::Vector3d::UnitX();
+    return std::vector<TapTarget>{t};
+  };
+  ChunkedTapTargets targets;
+  targets.place(at(0.010));
+  targets.beginChunk(at(0.014), 4);
+  EXPECT_DOUBLE_EQ(targets.atBlock(0).front().delay_s, 0.011);
+  EXPECT_DOUBLE_EQ(targets.atBlock(1).front().delay_s, 0.012);
+  EXPECT_DOUBLE_EQ(targets.atBlock(3).front().delay_s, 0.014);
+  EXPECT_DOUBLE_EQ(targets.atBlock(3).front().level, 0.14);
+  targets.endChunk();
+  targets.beginChunk(at(0.022), 2);
+  EXPECT_DOUBLE_EQ(targets.atBlock(0).front().delay_s, 0.018);
+  EXPECT_DOUBLE_EQ(targets.atBlock(7).front().delay_s, 0.022) << "a block past the chunk holds its end";
+  // Placed (a new room): nothing to blend from, the chunk's targets at once.
+  targets.place({});
+  targets.beginChunk(at(0.030), 4);
+  EXPECT_DOUBLE_EQ(targets.atBlock(0).front().delay_s, 0.030);
+}
+
 // A chunk's targets blended per block are the targets at the blended position: over a
 // chunk's walk (1 cm at 1 m/s) delay and level are linear to well under a sample and
 // 0.01 dB, directions to 0.01 degrees.

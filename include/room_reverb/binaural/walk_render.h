@@ -50,6 +50,25 @@ std::vector<TapTarget> tapTargetsAt(const ListenerTranslation& translation, cons
 void tapTargetsBetween(const std::vector<TapTarget>& from, const std::vector<TapTarget>& to, double u,
                        std::vector<TapTarget>& out);
 
+// A walking listener's tap targets as a live renderer plays them: found once a chunk, where
+// the listener is at the chunk's end, and blended block by block from where the last chunk
+// left them (tapTargetsBetween). The ROS renderer and its benchmark both play it.
+class ChunkedTapTargets {
+ public:
+  // The taps stand at `targets`, with no blend (a new room; empty: nothing to blend from).
+  void place(std::vector<TapTarget> targets);
+  // A chunk of `blocks` blocks (at least 1) that ends at `targets`.
+  void beginChunk(std::vector<TapTarget> targets, std::size_t blocks);
+  // The targets at the end of block `b` (0-based) of the chunk; no allocation once sized.
+  const std::vector<TapTarget>& atBlock(std::size_t b);
+  // The chunk's end becomes the next chunk's start.
+  void endChunk();
+
+ private:
+  std::vector<TapTarget> from_, to_, now_;
+  std::size_t blocks_ = 1;
+};
+
 // `dry`: mono at 48 kHz. The output (left, right, 48 kHz) is the dry sound's length plus
 // the late part's. Throws InputError for a listener position the translation refuses.
 AudioBuffer renderWalk(const AudioBuffer& dry, const ListenerTranslation& translation, const BinauralDecoder& decoder,

@@ -46,6 +46,7 @@
 #include "room_reverb/binaural/binaural_stream.h"
 #include "room_reverb/binaural/reflection_tap_bank.h"
 #include "room_reverb/binaural/source_feed.h"
+#include "room_reverb/binaural/walk_render.h"
 #include "room_reverb/binaural/stream_pacer.h"
 #include "room_reverb/ros/binaural_room_inputs.h"
 
@@ -152,7 +153,7 @@ class BinauralRendererServer {
   Eigen::Vector3d listener_from_ = Eigen::Vector3d::Zero(), listener_to_ = Eigen::Vector3d::Zero();
   // The taps' targets where the last chunk ended, where this one ends, and one block's
   // blend of the two (audio thread; reused so that a walking chunk allocates little).
-  std::vector<core::TapTarget> targets_from_, targets_to_, targets_now_;
+  core::ChunkedTapTargets walk_targets_;
   bool listener_known_ = false;
   std::shared_ptr<core::JackOutput> jack_;
   double jack_epoch_s_ = 0.0;  // stream time at the client's first frame

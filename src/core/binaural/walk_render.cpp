@@ -127,6 +127,23 @@ void tapTargetsBetween(const std::vector<TapTarget>& from, const std::vector<Tap
   }
 }
 
+void ChunkedTapTargets::place(std::vector<TapTarget> targets) {
+  from_ = std::move(targets);
+  to_.clear();
+}
+
+void ChunkedTapTargets::beginChunk(std::vector<TapTarget> targets, std::size_t blocks) {
+  to_ = std::move(targets);
+  blocks_ = std::max<std::size_t>(1, blocks);
+}
+
+const std::vector<TapTarget>& ChunkedTapTargets::atBlock(std::size_t b) {
+  tapTargetsBetween(from_, to_, static_cast<double>(std::min(b + 1, blocks_)) / static_cast<double>(blocks_), now_);
+  return now_;
+}
+
+void ChunkedTapTargets::endChunk() { std::swap(from_, to_); }
+
 namespace {
 
 // Streams `dry` and `tail_frames` of silence through `stream` block by block, the head
