@@ -16,6 +16,7 @@
 //                  doors (2-4 cm) count, and at the stereo's range noise they merge with
 //                  their wall or the unit they stand on
 //   iou_furniture  the same over objects at least 0.5 m in every extent
+//   objects        fitted objects, over true_objects in the scene
 //   material_pct   share of the true box faces' area whose material has the true look
 //                  (texture family) [%]
 //   layout_s       median wall-clock time of the layout fit (cloud -> cuboids) [s]
@@ -169,6 +170,8 @@ void BM_PointCloudToRoomModel(benchmark::State& state) {
   state.counters["size_err_cm"] = 100.0 * size_err;
   state.counters["yaw_err_deg"] = std::abs(layout.rig_yaw_rad - yawOf(truth.room.rig_rotation)) * 180.0 / kPi;
   state.counters["iou_min"] = iou_min;
+  state.counters["objects"] = static_cast<double>(got.objects.size());
+  state.counters["true_objects"] = static_cast<double>(truth.room.objects.size());
   state.counters["iou_furniture"] = iou_furniture;
   state.counters["material_pct"] = 100.0 * right / std::max(total, 1e-9);
   state.counters["layout_s"] = median(layout_s);

@@ -219,6 +219,8 @@ bool wallNoiseTail(const std::vector<std::uint32_t>& cluster, const std::vector<
   constexpr double kOutline = 0.1;       // outline: the 10-90 % range of the cluster's voxels
   constexpr double kTouchVoxels = 2.0;   // a cluster within this many voxels of the window touches it
   constexpr double kWallShare = 0.5;     // the window's density over the cluster's densest layer
+  constexpr double kStandsOnFloorM = 0.2;   // a cluster whose lowest points are this near the floor ...
+  constexpr double kStandingHeightM = 1.0;  // ... and that rises this high stands there
   for (int face = 2; face < 6; ++face) {
     const double margin = frame.margin[static_cast<std::size_t>(face)];
     const int axis = face < 4 ? 0 : 1, lateral = 1 - axis;
@@ -234,6 +236,11 @@ bool wallNoiseTail(const std::vector<std::uint32_t>& cluster, const std::vector<
       return values[static_cast<std::size_t>(k)];
     };
     if (quantile(distance, 0.02) > margin + kTouchVoxels * voxel_m) continue;
+    // Standing on the floor and rising a metre or more: shelving or a unit, whose wall
+    // shows between its boards as a wall shows through its own noise.
+    if (quantile(height, 0.02) <= kStandsOnFloorM && quantile(height, 0.98) - quantile(height, 0.02) >= kStandingHeightM) {
+      continue;
+    }
     const double a_lo = quantile(along, kOutline), a_hi = quantile(along, 1.0 - kOutline);
     const double z_lo = quantile(height, kOutline), z_hi = quantile(height, 1.0 - kOutline);
     const auto inOutline = [&](const Eigen::Vector3d& p) {
