@@ -141,6 +141,25 @@ TEST(ClutteredObjects, OpenShelvingAgainstAWallIsAnObject) {
   EXPECT_LE(fit.objects.size(), 4u);
 }
 
+// A kitchen run: base cabinets under a worktop, wall units above them and a fridge at
+// one end, touching or nearly. Each must be its own object, not one box as tall as the
+// fridge over the whole run. Development rooms 2 and 6 have both the wall units and the
+// fridge.
+TEST(ClutteredObjects, AKitchensBaseRunWallUnitsAndFridgeAreSeparateObjects) {
+  for (int index : {2, 6}) {
+    const ClutteredRoom room = clutteredRoom(ClutterSet::kDevelopment, index);
+    const Fit fit = fitRoom(room);
+    ASSERT_FALSE(fit.refused) << fit.refusal;
+    std::map<std::string, ObjectScore> scores;
+    scoreObjects(room.truth.objects, fit.objects, scores);
+    ASSERT_EQ(scores["cabinet"].count, 2) << room.name;
+    ASSERT_EQ(scores["fridge"].count, 1) << room.name;
+    EXPECT_EQ(scores["cabinet"].recognised, 2) << room.name;
+    EXPECT_EQ(scores["fridge"].recognised, 1) << room.name;
+    EXPECT_EQ(scores["cabinet"].merged + scores["fridge"].merged, 0) << room.name;
+  }
+}
+
 TEST(RoomSetReport, Summary) {
   const char* env = std::getenv("ROOM_REVERB_ROOMS");
   const int rooms = env ? std::atoi(env) : 0;

@@ -113,6 +113,13 @@ struct RoomLayoutOptions {
   // Two clusters whose cuboids share this fraction of the smaller one's volume are merged
   // into one object (an object seen in parts).
   double object_merge_overlap = 0.25;
+  // A cluster is cut into side-by-side pieces where the height of its top steps by at
+  // least object_step_m [m] along its length (a base run and the fridge at its end), and
+  // into stacked pieces at an empty horizontal band at least object_stack_gap_m [m] high
+  // across it (wall units above a worktop); see src/core/vision/cluster_profile_split.h.
+  // 0 turns a cut off.
+  double object_step_m = 0.3;
+  double object_stack_gap_m = 0.4;
   // Object extents are taken between these quantiles of its points (and 1 - it).
   double object_extent_quantile = 0.01;
   // Sides of an object the rig cannot see (see src/core/vision/hidden_sides.h): moved onto

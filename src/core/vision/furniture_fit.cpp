@@ -7,6 +7,7 @@
 #include <numeric>
 #include <string>
 
+#include "cluster_profile_split.h"
 #include "furniture_labels.h"
 #include "object_clusters.h"
 #include "room_reverb/common/parallel_rows.h"
@@ -292,6 +293,16 @@ Furniture fitFurniture(const PointCloud& cloud, const VoxelGrid& grid, const Roo
   // Parts of one object seen in pieces are fitted again as one.
   Clusters merged = mergedClusters(pieces, fitter);
   if (merged.size() < pieces.clusters.size()) pieces = fitter.fit(std::move(merged));
+  // Pieces side by side or stacked (a base run, its fridge, the wall units above) are cut
+  // apart, and what the cut separated wrongly joined again.
+  ProfileSplitParams profile = params.profile;
+  profile.min_voxels = params.min_voxels;
+  Clusters cut = splitClustersAtStepsAndStacks(pieces.clusters, pieces.boxes, fitter.roomCentroids(), grid.size(), profile);
+  if (cut.size() > pieces.clusters.size()) {
+    pieces = fitter.fit(std::move(cut));
+    Clusters rejoined = mergedClusters(pieces, fitter);
+    if (rejoined.size() < pieces.clusters.size()) pieces = fitter.fit(std::move(rejoined));
+  }
 
   Furniture furniture;
   std::vector<std::int32_t> cluster_object(pieces.clusters.size(), -1);

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "cluster_profile_split.h"
 #include "cluster_split.h"
 #include "cuboid_fit.h"
 #include "hidden_sides.h"
@@ -19,6 +20,7 @@ struct FurnitureParams {
   CuboidFitParams cuboid;
   HiddenSideParams hidden;
   ClusterSplitParams split;
+  ProfileSplitParams profile;  // min_voxels is this struct's
   std::size_t min_voxels = 30;
   int link_voxels = 2;  // see connectedVoxelClusters
   double min_extent_m = 0.15;

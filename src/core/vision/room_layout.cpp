@@ -51,6 +51,8 @@ void checkOptions(const RoomLayoutOptions& o) {
   non_negative(o.object_manhattan_snap_rad, "object_manhattan_snap_rad");
   non_negative(o.object_manhattan_tolerance, "object_manhattan_tolerance");
   non_negative(o.object_merge_overlap, "object_merge_overlap");
+  non_negative(o.object_step_m, "object_step_m");
+  non_negative(o.object_stack_gap_m, "object_stack_gap_m");
   non_negative(o.object_max_gap_to_wall_m, "object_max_gap_to_wall_m");
   non_negative(o.object_min_depth_m, "object_min_depth_m");
   if (o.object_free_rays < 1) throw InputError("room layout options: object_free_rays must be at least 1");
@@ -199,6 +201,8 @@ layout::FurnitureParams furnitureParams(const RoomLayoutOptions& o, const layout
   p.link_voxels = std::max(1, static_cast<int>(std::lround(o.object_gap_m / o.voxel_size_m)));
   p.min_extent_m = o.min_object_extent_m;
   p.merge_overlap = o.object_merge_overlap;
+  p.profile.step_m = o.object_step_m;
+  p.profile.stack_gap_m = o.object_stack_gap_m;
   return p;
 }
 
