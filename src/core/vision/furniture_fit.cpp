@@ -293,15 +293,24 @@ Furniture fitFurniture(const PointCloud& cloud, const VoxelGrid& grid, const Roo
   // Parts of one object seen in pieces are fitted again as one.
   Clusters merged = mergedClusters(pieces, fitter);
   if (merged.size() < pieces.clusters.size()) pieces = fitter.fit(std::move(merged));
-  // Pieces side by side or stacked (a base run, its fridge, the wall units above) are cut
-  // apart, and what the cut separated wrongly joined again.
+  // A table is cut from the chairs around it; those pieces are final. The rest, pieces
+  // side by side or stacked (a base run, its fridge, the wall units above), are cut
+  // apart, and what that cut separated wrongly is joined again.
+  TableSplitParams table = params.table;
+  table.min_voxels = params.min_voxels;
+  TableSplit tables = splitTablesFromChairs(pieces.clusters, fitter.roomCentroids(), grid.size(), table);
+  std::vector<CuboidObject> rest_boxes;
+  for (std::size_t k = 0, r = 0; k < pieces.clusters.size() && r < tables.rest.size(); ++k) {
+    if (pieces.clusters[k] == tables.rest[r]) rest_boxes.push_back(pieces.boxes[k]), ++r;
+  }
   ProfileSplitParams profile = params.profile;
   profile.min_voxels = params.min_voxels;
-  Clusters cut = splitClustersAtStepsAndStacks(pieces.clusters, pieces.boxes, fitter.roomCentroids(), grid.size(), profile);
-  if (cut.size() > pieces.clusters.size()) {
+  Clusters cut = splitClustersAtStepsAndStacks(tables.rest, rest_boxes, fitter.roomCentroids(), grid.size(), profile);
+  const bool was_cut = cut.size() > tables.rest.size();
+  if (was_cut) cut = mergedClusters(fitter.fit(std::move(cut)), fitter);
+  if (was_cut || !tables.tables_and_chairs.empty()) {
+    cut.insert(cut.end(), tables.tables_and_chairs.begin(), tables.tables_and_chairs.end());
     pieces = fitter.fit(std::move(cut));
-    Clusters rejoined = mergedClusters(pieces, fitter);
-    if (rejoined.size() < pieces.clusters.size()) pieces = fitter.fit(std::move(rejoined));
   }
 
   Furniture furniture;

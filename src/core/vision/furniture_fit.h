@@ -10,6 +10,7 @@
 #include "cuboid_fit.h"
 #include "hidden_sides.h"
 #include "room_frame.h"
+#include "table_chairs_split.h"
 #include "room_reverb/acoustics/room_model.h"
 #include "room_reverb/vision/point_cloud.h"
 #include "voxel_grid.h"
@@ -21,6 +22,7 @@ struct FurnitureParams {
   HiddenSideParams hidden;
   ClusterSplitParams split;
   ProfileSplitParams profile;  // min_voxels is this struct's
+  TableSplitParams table;      // min_voxels is this struct's
   std::size_t min_voxels = 30;
   int link_voxels = 2;  // see connectedVoxelClusters
   double min_extent_m = 0.15;

@@ -1,0 +1,137 @@
+#include "table_chairs_split.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <utility>
+
+namespace room_reverb::core::layout {
+
+namespace {
+
+using Cluster = std::vector<std::uint32_t>;
+
+// Voxels (by position) linked through neighbours at most `reach` apart along each axis,
+// largest group first.
+std::vector<Cluster> linkedGroups(const Cluster& voxels, const std::vector<Eigen::Vector3d>& at, double reach) {
+  Cluster order = voxels;
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return at[a].x() < at[b].x(); });
+  std::vector<std::size_t> parent(order.size());
+  for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = i;
+  const auto root = [&](std::size_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    for (std::size_t j = i + 1; j < order.size() && at[order[j]].x() - at[order[i]].x() <= reach; ++j) {
+      if ((at[order[j]] - at[order[i]]).cwiseAbs().maxCoeff() <= reach) parent[root(j)] = root(i);
+    }
+  }
+  std::vector<Cluster> groups(order.size());
+  for (std::size_t i = 0; i < order.size(); ++i) groups[root(i)].push_back(order[i]);
+  groups.erase(std::remove_if(groups.begin(), groups.end(), [](const Cluster& g) { return g.empty(); }), groups.end());
+  std::sort(groups.begin(), groups.end(), [](const Cluster& a, const Cluster& b) { return a.size() > b.size(); });
+  return groups;
+}
+
+// The cluster as a table and its chairs (see the header), or whole.
+std::vector<Cluster> cutAtTableTop(const Cluster& cluster, const std::vector<Eigen::Vector3d>& at, double cell_m,
+                                   const TableSplitParams& params) {
+  // The layer: a cell-high band, counted with its two neighbours.
+  std::map<int, std::size_t> band;
+  for (std::uint32_t v : cluster) ++band[static_cast<int>(std::floor(at[v].z() / cell_m))];
+  int top_band = 0;
+  std::size_t most = 0;
+  for (const auto& [b, count] : band) {
+    const double z = (b + 0.5) * cell_m;
+    if (z < params.low_m || z > params.high_m) continue;
+    const std::size_t layer = count + (band.count(b - 1) ? band.at(b - 1) : 0) + (band.count(b + 1) ? band.at(b + 1) : 0);
+    if (layer > most) most = layer, top_band = b;
+  }
+  if (most < params.min_voxels) return {cluster};
+  const double top_lo = (top_band - 1) * cell_m, top_hi = (top_band + 2) * cell_m;
+  // The top's plan: the largest patch of the layer's voxel columns linked across gaps of
+  // up to a cell (a top seen at a slant shows as rows of points), grown by a cell; the
+  // backs of chairs cross the layer too, a hand's width or more away.
+  std::set<std::pair<int, int>> layer;
+  for (std::uint32_t v : cluster) {
+    if (at[v].z() < top_lo || at[v].z() >= top_hi) continue;
+    layer.insert({static_cast<int>(std::floor(at[v].x() / cell_m)), static_cast<int>(std::floor(at[v].y() / cell_m))});
+  }
+  std::set<std::pair<int, int>> top, seen;
+  for (const auto& start : layer) {
+    if (seen.count(start)) continue;
+    std::set<std::pair<int, int>> patch = {start};
+    std::vector<std::pair<int, int>> stack = {start};
+    seen.insert(start);
+    while (!stack.empty()) {
+      const auto [x, y] = stack.back();
+      stack.pop_back();
+      for (int dx = -2; dx <= 2; ++dx) {
+        for (int dy = -2; dy <= 2; ++dy) {
+          const std::pair<int, int> next(x + dx, y + dy);
+          if (layer.count(next) && !seen.count(next)) seen.insert(next), patch.insert(next), stack.push_back(next);
+        }
+      }
+    }
+    if (patch.size() > top.size()) top = std::move(patch);
+  }
+  std::set<std::pair<int, int>> plan;
+  for (const auto& [x, y] : top) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      for (int dy = -1; dy <= 1; ++dy) plan.insert({x + dx, y + dy});
+    }
+  }
+  Cluster table, outside;
+  std::size_t under = 0, above = 0;
+  for (std::uint32_t v : cluster) {
+    const std::pair<int, int> cell(static_cast<int>(std::floor(at[v].x() / cell_m)), static_cast<int>(std::floor(at[v].y() / cell_m)));
+    if (plan.count(cell)) {
+      table.push_back(v);
+      under += at[v].z() < top_lo - params.clearance_m ? 1 : 0;
+      above += at[v].z() >= top_hi + params.clearance_m ? 1 : 0;
+    } else {
+      outside.push_back(v);
+    }
+  }
+  // A top with a body under it (a cabinet, a sofa's seat, a worktop) is no table, nor one
+  // that something tall rises from or stands flush with (a wardrobe's front beside it).
+  const double little = params.max_under_fraction * static_cast<double>(most);
+  if (static_cast<double>(under) > little || static_cast<double>(above) > little) return {cluster};
+  std::vector<Cluster> pieces;
+  for (Cluster& group : linkedGroups(outside, at, 1.5 * cell_m)) {
+    if (group.size() >= params.min_voxels) {
+      // Something larger than a chair beside the top (wall units over a worktop, a fridge)
+      // says this is no table with chairs.
+      Eigen::AlignedBox3d box;
+      for (std::uint32_t v : group) box.extend(at[v]);
+      if (box.sizes().head<2>().maxCoeff() > params.max_chair_extent_m || box.max().z() > params.max_chair_height_m) {
+        return {cluster};
+      }
+      pieces.push_back(std::move(group));
+    } else {
+      table.insert(table.end(), group.begin(), group.end());
+    }
+  }
+  if (pieces.empty()) return {cluster};
+  pieces.insert(pieces.begin(), std::move(table));
+  return pieces;
+}
+
+}  // namespace
+
+TableSplit splitTablesFromChairs(const std::vector<std::vector<std::uint32_t>>& clusters,
+                                 const std::vector<Eigen::Vector3d>& room_centroid, double cell_m,
+                                 const TableSplitParams& params) {
+  TableSplit split;
+  for (const Cluster& cluster : clusters) {
+    std::vector<Cluster> pieces = cutAtTableTop(cluster, room_centroid, cell_m, params);
+    auto& into = pieces.size() > 1 ? split.tables_and_chairs : split.rest;
+    for (Cluster& piece : pieces) into.push_back(std::move(piece));
+  }
+  return split;
+}
+
+}  // namespace room_reverb::core::layout
