@@ -116,7 +116,29 @@ std::vector<Cluster> cutAtTableTop(const Cluster& cluster, const std::vector<Eig
     }
   }
   if (pieces.empty()) return {cluster};
-  pieces.insert(pieces.begin(), std::move(table));
+  // A chair pushed in has its seat under the top's edge: what stands under the top
+  // (lower than the clearance below it, down to seat_low_m) within reach of a chair's plan
+  // is that chair's. The table keeps what is lower: its legs' feet, which the rays
+  // passing under the top do not let the hidden-side carving put back.
+  std::vector<Eigen::AlignedBox2d> chair_plans;
+  for (const Cluster& chair : pieces) {
+    Eigen::AlignedBox2d box;
+    for (std::uint32_t v : chair) box.extend(at[v].head<2>());
+    chair_plans.push_back(box);
+  }
+  Cluster kept;
+  for (std::uint32_t v : table) {
+    std::size_t nearest = pieces.size();
+    double best = params.pushed_in_reach_m;
+    if (at[v].z() < top_lo - params.clearance_m && at[v].z() >= params.seat_low_m) {
+      for (std::size_t c = 0; c < chair_plans.size(); ++c) {
+        const double d = chair_plans[c].exteriorDistance(Eigen::Vector2d(at[v].head<2>()));
+        if (d <= best) best = d, nearest = c;
+      }
+    }
+    (nearest < pieces.size() ? pieces[nearest] : kept).push_back(v);
+  }
+  pieces.insert(pieces.begin(), std::move(kept));
   return pieces;
 }
 

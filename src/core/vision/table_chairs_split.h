@@ -11,7 +11,8 @@
 // cabinet's top, a sofa's back have their body under them, and a top whose patch runs
 // into a wardrobe's front has the front above it; they are left whole. The points standing outside the
 // top's plan (grown by a cell) are the chairs, each group linked across at most a cell
-// and a half its own piece; smaller groups stay with the table. A group larger than a
+// and a half its own piece; smaller groups stay with the table. What stands under the top
+// near a chair (its seat and legs, pushed in) goes with that chair. A group larger than a
 // chair means the cluster is something else (a worktop with wall units over it).
 #include <cstdint>
 #include <vector>
@@ -30,6 +31,10 @@ struct TableSplitParams {
   // A group beside the top wider [m] or taller [m] than a chair is no chair, and the
   // cluster no table with chairs (a worktop's wall units, a fridge).
   double max_chair_extent_m = 0.9, max_chair_height_m = 1.3;
+  // What stands under the top within this distance [m] of a chair's plan is that chair's
+  // seat and legs, pushed in under the table's edge.
+  double pushed_in_reach_m = 0.3;
+  double seat_low_m = 0.3;  // ... from this height up: lower, the table's legs stay its
 };
 
 struct TableSplit {
