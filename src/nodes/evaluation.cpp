@@ -4,9 +4,11 @@
 // Parameters: config/evaluation.yaml.
 #include <ros/ros.h>
 
+#include "room_reverb/common/memory_reuse.h"
 #include "room_reverb/ros/evaluation_server.h"
 
 int main(int argc, char** argv) {
+  room_reverb::core::keepFreedMemoryForReuse();
   ros::init(argc, argv, "evaluation");
   ros::NodeHandle private_nh("~");
   try {

@@ -8,6 +8,7 @@
 
 #include "command.h"
 #include "room_reverb/common/error.h"
+#include "room_reverb/common/memory_reuse.h"
 
 namespace room_reverb::tool {
 
@@ -31,6 +32,7 @@ void printOverview(std::ostream& out) {
 }  // namespace room_reverb::tool
 
 int main(int argc, char** argv) {
+  room_reverb::core::keepFreedMemoryForReuse();
   using namespace room_reverb::tool;
   using room_reverb::core::printableLine;
   std::vector<std::string> args(argv + 1, argv + argc);

@@ -15,12 +15,16 @@
 #include <map>
 
 #include "planted_room.h"
+#include "room_reverb/common/memory_reuse.h"
 #include "room_reverb/diagnosis/diagnosis.h"
 
 namespace room_reverb::test {
 namespace {
 
 using namespace room_reverb::core;
+
+// As the tool and the evaluation node do (memory_reuse.h).
+const bool kFreedMemoryKept = (keepFreedMemoryForReuse(), true);
 
 // Of the causes that move the same measures as the planted one, the one whose held-out gain
 // comes nearest to the planted cause's, so that the fit must tell the two apart: absorption on a surface
