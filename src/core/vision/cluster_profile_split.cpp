@@ -66,7 +66,8 @@ std::vector<Cluster> cutAtSteps(const Cluster& cluster, const std::vector<Eigen:
       if (!std::isnan(t) && !(t <= top[static_cast<std::size_t>(i)])) top[static_cast<std::size_t>(i)] = t;
     }
   }
-  // Runs as [first column, end column) with their tops.
+  // Runs as [first column, end column) with their tops; their voxels are counted once
+  // the cuts have moved.
   struct Run {
     int first = 0, end = 0;
     std::vector<double> tops;
@@ -89,7 +90,6 @@ std::vector<Cluster> cutAtSteps(const Cluster& cluster, const std::vector<Eigen:
       }
     }
     if (!std::isnan(t)) runs.back().tops.push_back(t);
-    runs.back().voxels += columns[static_cast<std::size_t>(i)].size();
   }
   runs.back().end = n;
   for (std::size_t r = 1; r < runs.size(); ++r) {
