@@ -1,5 +1,5 @@
-// Speed of the RSAO estimator (issue target: a 1 s, 4-channel, 48 kHz RIR parameterised in
-// under 50 ms median on one core), whole and by stage, on the first second of a bundled
+// Speed of the RSAO estimator (target: a 1 s, 4-channel, 48 kHz RIR parameterised in
+// under 10 ms median on one core), whole and by stage, on the first second of a bundled
 // measured RIR. Run: scripts/bench (or .ws/devel/lib/room_reverb/bench_rsao).
 #include <benchmark/benchmark.h>
 
@@ -29,12 +29,23 @@ const AudioBuffer& oneSecondRir() {
   return rir;
 }
 
+// fit_onset: the fitted early course (0: the paper's ramp); two_slopes: bent late decays
+// (0: one slope per band); matched: the early reflections by matching pursuit (0: the
+// paper's group-delay onsets).
 void BM_EstimateRsao1s(benchmark::State& state) {
   RsaoOptions options;
   options.fit_onset_ramps = state.range(0) != 0;
+  options.late.two_slopes = state.range(1) != 0;
+  options.early.onset_method = state.range(2) != 0 ? OnsetMethod::kMatchedPursuit : OnsetMethod::kGroupDelay;
   for (auto _ : state) benchmark::DoNotOptimize(estimateRsao(oneSecondRir(), AmbisonicFormat::kAmbiX, options));
 }
-BENCHMARK(BM_EstimateRsao1s)->Arg(1)->Arg(0)->ArgName("fit_onset")->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_EstimateRsao1s)
+    ->ArgNames({"fit_onset", "two_slopes", "matched"})
+    ->Args({1, 1, 1})
+    ->Args({1, 1, 0})
+    ->Args({1, 0, 0})
+    ->Args({0, 0, 0})
+    ->Unit(benchmark::kMillisecond);
 
 void BM_MixingTime1s(benchmark::State& state) {
   const auto& w = oneSecondRir().channels[kAcnW];
@@ -49,11 +60,15 @@ void BM_EarlyReflections1s(benchmark::State& state) {
 }
 BENCHMARK(BM_EarlyReflections1s)->Unit(benchmark::kMillisecond);
 
+// two_slopes:0 is the paper's one decay per band; 1 adds the bent-decay fit where a band
+// bends (late_reverb.h).
 void BM_LateReverb1s(benchmark::State& state) {
   const auto& w = oneSecondRir().channels[kAcnW];
-  for (auto _ : state) benchmark::DoNotOptimize(estimateLateReverb(w, 0.007, 0.03));
+  LateReverbOptions options;
+  options.two_slopes = state.range(0) != 0;
+  for (auto _ : state) benchmark::DoNotOptimize(estimateLateReverb(w, 0.007, 0.03, options));
 }
-BENCHMARK(BM_LateReverb1s)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_LateReverb1s)->ArgName("two_slopes")->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
 
 void BM_Resynthesis1s(benchmark::State& state) {
   const Rsao rsao = estimateRsao(oneSecondRir(), AmbisonicFormat::kAmbiX);

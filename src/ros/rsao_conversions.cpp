@@ -39,6 +39,9 @@ room_reverb::Rsao toMessage(const core::Rsao& rsao) {
     msg.late.t60_s.push_back(b.t60_s);
     msg.late.level.push_back(b.level);
     msg.late.onset_level.push_back(b.onset_level);
+    msg.late.first_decay_constant_per_s.push_back(b.first_decay_constant_per_s);
+    msg.late.second_decay_constant_per_s.push_back(b.second_decay_constant_per_s);
+    msg.late.second_share.push_back(b.second_share);
     msg.late.reliable.push_back(b.reliable);
     msg.late.reason.push_back(b.reason);
   }
@@ -82,6 +85,14 @@ core::Rsao fromMessage(const room_reverb::Rsao& msg) {
                              std::to_string(bands) + ", another " + std::to_string(size) + ")");
     }
   }
+  const bool two_slopes = !late.second_share.empty();
+  for (std::size_t size : {late.first_decay_constant_per_s.size(), late.second_decay_constant_per_s.size(),
+                           late.second_share.size()}) {
+    if (size != (two_slopes ? bands : 0)) {
+      throw core::InputError("Rsao message: the two-slope arrays (first_decay_constant_per_s, "
+                             "second_decay_constant_per_s, second_share) need one entry per band, or none");
+    }
+  }
   rsao.late.mixing_time_s = late.mixing_time_s;
   rsao.late.onset_s = late.onset_s;
   rsao.late.attack_time_s = late.attack_time_s;
@@ -93,6 +104,11 @@ core::Rsao fromMessage(const room_reverb::Rsao& msg) {
     band.t60_s = late.t60_s[b];
     band.level = late.level[b];
     band.onset_level = late.onset_level[b];
+    if (two_slopes) {
+      band.first_decay_constant_per_s = late.first_decay_constant_per_s[b];
+      band.second_decay_constant_per_s = late.second_decay_constant_per_s[b];
+      band.second_share = late.second_share[b];
+    }
     band.reliable = late.reliable[b];
     band.reason = late.reason[b];
     rsao.late.bands.push_back(band);

@@ -106,6 +106,7 @@ RsaoEstimatorServer::RsaoEstimatorServer(::ros::NodeHandle& private_nh) {
   typedParam(private_nh, "analysis_window_s", defaults_.early.analysis_window_s, 0.002);
   typedParam(private_nh, "lpc_order", defaults_.early.lpc_order, 9);
   typedParam(private_nh, "fit_onset_ramps", defaults_.fit_onset_ramps, true);
+  typedParam(private_nh, "two_slope_decays", defaults_.late.two_slopes, true);
   typedParam(private_nh, "min_direct_prominence_db", defaults_.min_direct_prominence_db, 15.0);
   typedParam(private_nh, "marker_distance_scale", marker_distance_scale_, 1.0);
   typedParam(private_nh, "marker_max_sphere_m", marker_max_sphere_m_, 0.5);

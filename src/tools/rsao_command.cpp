@@ -1,6 +1,7 @@
 // room_reverb rsao: a measured B-format RIR parameterised into a reverberant spatial audio
 // object (the twin of the rsao_estimator node's ~estimate service).
 #include <cmath>
+#include <cstdio>
 #include <iomanip>
 #include <iostream>
 
@@ -24,13 +25,14 @@ using namespace room_reverb::core;
 const char* kHelp = R"(usage: room_reverb rsao RIR.wav --format fuma|ambix [--yaml OUT.yaml] [--visr-json OUT.json]
                         [--resynthesis OUT.wav] [--max-reflections N] [--window-ms D]
                         [--lpc-order P] [--mixing-time S] [--grid] [--paper-ramp]
-                        [--matched-onsets] [--source-distance M]
+                        [--one-slope] [--matched-onsets] [--source-distance M]
                         [--move-to X Y Z [--room ROOM.yaml] [--rig X Y Z]]
 
 Parameterises a measured first-order B-format room impulse response into a reverberant
 spatial audio object (RSAO, Remaggi et al.): the direct sound and early reflections (time
 of arrival, level, direction, LPC filter) and the late reverb per octave band 63 Hz-16 kHz
-(mixing time, decay constant, T60, level, onset ramp, reliability).
+(mixing time, decay constant, T60, level, onset ramp, a second slope where the decay
+bends, reliability).
 
   --format F          fuma or ambix: the convention of the file (required; a file whose
                       channel energies contradict it gets a warning, never a silent guess)
@@ -53,6 +55,9 @@ of arrival, level, direction, LPC filter) and the late reverb per octave band 63
                       the file to start at the emission)
   --paper-ramp        keep the paper's linear onset ramp in every band instead of fitting
                       each band's early course to the measured early energy (docs/rsao.md)
+  --one-slope         keep the paper's one exponential decay in every late band instead of
+                      giving bands whose decay is bent (EDT < T20 < T30) a second, slower
+                      slope (docs/rsao.md)
   --move-to X Y Z     the RSAO as heard at this listener position (m, room frame) instead
                       of at the microphone: the source and every reflection's image source
                       stay where they are, the listener moves (docs/six_dof.md)
@@ -83,11 +88,17 @@ void printSummary(const Rsao& rsao, std::ostream& out) {
         << "  " << std::setw(13) << degrees(r.elevation_rad) << "  " << std::setw(10) << r.distance_m << "  "
         << std::setw(10) << r.confidence.value_or(-1.0) << "\n";
   }
-  out << "late reverb (level re the direct sound):\n  band_hz   t60_s  level_db  reliable\n";
+  // A bent band's two slopes as T60s, the second's share of the energy at the mixing time.
+  out << "late reverb (level re the direct sound):\n  band_hz   t60_s  level_db  two slopes: t60_s, share  reliable\n";
   for (const LateReverbBand& b : rsao.late.bands) {
+    char slopes[64] = "-";
+    if (b.second_share > 0.0) {
+      std::snprintf(slopes, sizeof slopes, "%.3f %.3f %.1f %%", 3.0 * std::log(10.0) / b.first_decay_constant_per_s,
+                    3.0 * std::log(10.0) / b.second_decay_constant_per_s, 100.0 * b.second_share);
+    }
     out << std::setw(9) << std::setprecision(0) << b.center_hz << "  " << std::setprecision(3) << std::setw(6)
         << b.t60_s << "  " << std::setw(8) << std::setprecision(2) << decibels(b.level / direct) << "  "
-        << (b.reliable ? "yes" : "no: " + b.reason) << "\n";
+        << std::setw(25) << slopes << "  " << (b.reliable ? "yes" : "no: " + b.reason) << "\n";
   }
 }
 
@@ -125,7 +136,7 @@ int runRsao(const std::vector<std::string>& raw) {
   const std::optional<Eigen::Vector3d> rig = takeVector(rest, "rig");
   const Arguments args(rest, {"format", "yaml", "visr-json", "resynthesis", "max-reflections", "window-ms", "lpc-order",
                               "mixing-time", "source-distance", "room"},
-                       {"grid", "paper-ramp", "matched-onsets"});
+                       {"grid", "paper-ramp", "one-slope", "matched-onsets"});
   if (!move_to && (rig || args.has("room"))) throw UsageError("--rig and --room go with --move-to X Y Z");
   if (args.positional().size() != 1) throw UsageError("give exactly one B-format RIR file");
   if (!args.has("format")) throw UsageError("--format fuma|ambix is required: the file's convention is never guessed");
@@ -145,6 +156,7 @@ int runRsao(const std::vector<std::string>& raw) {
   if (args.has("grid")) options.early.direction_method = DirectionMethod::kGridSearch;
   if (args.has("matched-onsets")) options.early.onset_method = OnsetMethod::kMatchedPursuit;
   options.fit_onset_ramps = !args.has("paper-ramp");
+  options.late.two_slopes = !args.has("one-slope");
 
   const AudioBuffer rir = readAudioFile(args.positional().front());
   const Rsao estimated = estimateRsao(rir, format, options);

@@ -48,6 +48,11 @@ Rsao awkwardRsao(std::uint32_t seed) {
     band.t60_s = 3.0 * std::log(10.0) / band.decay_constant_per_s;
     band.level = 0.01 + 0.05 * unit(rng);
     band.onset_level = b % 2 == 0 ? 0.0 : band.level * (1.0 + 3.0 * unit(rng));  // both kinds of early course
+    if (b % 3 == 1) {  // bent decays beside single ones
+      band.first_decay_constant_per_s = band.decay_constant_per_s * (1.5 + unit(rng));
+      band.second_decay_constant_per_s = band.decay_constant_per_s * (0.3 + 0.5 * unit(rng));
+      band.second_share = 0.01 + 0.3 * unit(rng);
+    }
     band.reliable = b != 8;
     band.reason = b == 8 ? "noise-dominated: \"16 kHz\" band;\nsubstituted" : "";
     r.late.bands.push_back(band);
@@ -91,6 +96,9 @@ void expectSameRsao(const Rsao& a, const Rsao& b) {
     EXPECT_EQ(a.late.bands[i].t60_s, b.late.bands[i].t60_s);
     EXPECT_EQ(a.late.bands[i].level, b.late.bands[i].level);
     EXPECT_EQ(a.late.bands[i].onset_level, b.late.bands[i].onset_level);
+    EXPECT_EQ(a.late.bands[i].first_decay_constant_per_s, b.late.bands[i].first_decay_constant_per_s);
+    EXPECT_EQ(a.late.bands[i].second_decay_constant_per_s, b.late.bands[i].second_decay_constant_per_s);
+    EXPECT_EQ(a.late.bands[i].second_share, b.late.bands[i].second_share);
     EXPECT_EQ(a.late.bands[i].reliable, b.late.bands[i].reliable);
     EXPECT_EQ(a.late.bands[i].reason, b.late.bands[i].reason);
   }
@@ -203,6 +211,11 @@ TEST(RsaoYaml, BadInputNamesTheKey) {
   expectInputError([&] { parseRsaoYaml(no_a2); }, "reflections[0].sos[0].a2: missing");
   expectInputError([&] { parseRsaoYaml(replaced(good, "lpc: [1, ", "lpc: [2, ")); }, "reflections[0].lpc");
   expectInputError([&] { parseRsaoYaml(replaced(good, "t60_s: ", "t60_s: 9")); }, "disagree");
+  // A bent decay with a share outside (0, 1), or without its decay constants.
+  expectInputError([&] { parseRsaoYaml(replaced(good, "second_share: ", "second_share: 1")); },
+                   "late.bands[1]: has two slopes: second_share must lie in (0, 1)");
+  expectInputError([&] { parseRsaoYaml(replaced(good, "first_decay_constant_per_s: ", "first_decay: ")); },
+                   "late.bands[1].first_decay_constant_per_s: missing");
   expectInputError([&] { parseRsaoYaml(replaced(good, "format: room_reverb_rsao", "format: other")); }, "format");
   expectInputError([&] { parseRsaoYaml("reflections: [\n"); }, "not valid YAML");
   expectInputError([&] { parseRsaoYaml("- 1\n- 2\n"); }, "not an RSAO file");
@@ -254,6 +267,9 @@ TEST(RsaoVisrJson, ExportImportExportGivesIdenticalText) {
       EXPECT_NEAR(r.late.bands[b].level, original.late.bands[b].level / original.reflections[0].level, 1e-15);
       EXPECT_EQ(r.late.bands[b].reliable, original.late.bands[b].reliable);
       EXPECT_EQ(r.late.bands[b].reason, original.late.bands[b].reason);
+      EXPECT_EQ(r.late.bands[b].first_decay_constant_per_s, original.late.bands[b].first_decay_constant_per_s);
+      EXPECT_EQ(r.late.bands[b].second_decay_constant_per_s, original.late.bands[b].second_decay_constant_per_s);
+      EXPECT_EQ(r.late.bands[b].second_share, original.late.bands[b].second_share);
     }
   }
 }
@@ -356,6 +372,11 @@ TEST(RsaoVisrJson, BadInputNamesTheKey) {
       [&] { visrJsonToRsao(broken([](nlohmann::json& o) { o["room"]["lreverb"]["decayconst"] = "1, -1, -1, -1, -1, -1, -1, -1, -1"; })); },
       "room.lreverb.decayconst[0]: must be negative");
   expectInputError([&] { visrJsonToRsao(broken([](nlohmann::json& o) { o["type"] = "point"; })); }, "no object of type pointreverb");
+  expectInputError([&] { visrJsonToRsao(broken([](nlohmann::json& o) { o["room_reverb"]["band_two_slopes"][1] = 3; })); },
+                   "room_reverb.band_two_slopes[1]: must be [first decay constant, second decay constant, second share]");
+  expectInputError(
+      [&] { visrJsonToRsao(broken([](nlohmann::json& o) { o["room_reverb"]["band_two_slopes"][1] = {5.0, -1.0, 0.2}; })); },
+      "room_reverb.band_two_slopes[1]: needs positive decay constants");
   expectInputError([&] { visrJsonToRsao("{\"objects\": ["); }, "not valid JSON");
   // Valid JSON syntax, but a number no double holds: nlohmann throws out_of_range, not
   // parse_error, and that too must reach the user as InputError (fuzz/fuzz_visr_json.cpp).

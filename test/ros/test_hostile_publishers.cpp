@@ -351,6 +351,10 @@ std::vector<room_reverb::Rsao> hostileRsaos() {
   m.late.reliable = {true};
   m.late.reason = {""};
   out.push_back(m);
+  m = rsaoWithOneReflection();
+  m.late.second_share = {0.5};                                          // two slopes of bands that are not there
+  m.late.first_decay_constant_per_s = {-3.0};
+  out.push_back(m);
   return out;
 }
 

@@ -59,6 +59,19 @@ TEST_F(RsaoService, FileAndMessageGiveTheSameObjectAndItIsPublished) {
   EXPECT_EQ(from_file.rsao.header.frame_id, "rig");
   // The Dixon studio theatre: T60 about 1 s in the mid bands.
   EXPECT_NEAR(from_file.rsao.late.t60_s[4], 1.07, 0.1);
+  // Two slopes where the decay bends (its 8 kHz band), one entry per band for all.
+  const room_reverb::LateReverb& late = from_file.rsao.late;
+  ASSERT_EQ(late.second_share.size(), 9u);
+  ASSERT_EQ(late.first_decay_constant_per_s.size(), 9u);
+  ASSERT_EQ(late.second_decay_constant_per_s.size(), 9u);
+  int bent = 0;
+  for (std::size_t b = 0; b < 9; ++b) {
+    if (late.second_share[b] <= 0.0) continue;
+    ++bent;
+    EXPECT_LT(late.second_share[b], 1.0);
+    EXPECT_GT(late.first_decay_constant_per_s[b], late.second_decay_constant_per_s[b]);
+  }
+  EXPECT_GE(bent, 1);
 
   const auto from_message = call(fromMessage(room_reverb::core::readAudioFile(kRir), "fuma"));
   ASSERT_TRUE(from_message.success) << from_message.message;

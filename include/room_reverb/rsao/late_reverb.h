@@ -54,6 +54,18 @@ struct LateReverbOptions {
   double fallback_t60_s = 0.5;              // substitute when no band has a measured decay
   double substitute_level_window_s = 0.050;
   int clip_run_samples = 3;
+  // This project's extension (LateReverbBand::second_share, metrics/two_slope_decay.h): a
+  // reliable band whose Schroeder curve is bent gets two slopes, fitted from the mixing
+  // time down to two_slope_depth_db (less where the noise is nearer: noise_margin_db above
+  // it). Bent: the curve falls at least min_two_slope_depth_db there, one exponential misses
+  // it by min_bend_db RMS or more, two by at most max_two_slope_error_ratio of that, and each
+  // slope holds min_slope_share of the remaining energy. false: one slope, the paper's.
+  bool two_slopes = true;
+  double two_slope_depth_db = 40.0;
+  double min_two_slope_depth_db = 25.0;
+  double min_bend_db = 0.25;
+  double max_two_slope_error_ratio = 0.6;
+  double min_slope_share = 0.02;
 };
 
 // `w_channel_48k`: the omnidirectional (W) channel of the RIR at 48 kHz, time zero at its

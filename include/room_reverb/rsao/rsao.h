@@ -58,6 +58,15 @@ struct LateReverbBand {
   // time, carrying early energy the discrete reflections leave out. 0: the paper's linear
   // ramp from zero.
   double onset_level = 0.0;
+  // This project's extension for bent decays (EDT < T20 < T30; metrics/two_slope_decay.h):
+  // with second_share > 0 the envelope's energy after the mixing time is
+  //   level^2 ((1 - second_share) exp(-2 first_decay t') + second_share exp(-2 second_decay t')),
+  // t' = t - mixing time, first_decay > second_decay the two decay constants [1/s] (of the
+  // amplitude, as decay_constant_per_s). decay_constant_per_s and t60_s stay the paper's
+  // line over the first 20 dB, which players of one slope (VISR) use. 0: one slope.
+  double first_decay_constant_per_s = 0.0;
+  double second_decay_constant_per_s = 0.0;
+  double second_share = 0.0;
   bool reliable = true;
   std::string reason;                 // why not reliable ("" when reliable)
 };

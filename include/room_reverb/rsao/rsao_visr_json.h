@@ -16,7 +16,9 @@
 //                   "decayconst": "-3.84, -4.32, ..."}},              // 1/s, amplitude exp(decayconst t)
 //     "room_reverb": {"band_reliable": [true, ...], "band_reason": ["", ...],
 //                     "band_onset_level": [0.0, 0.12, ...],                   // re the direct sound
-//                     "course_end": 0.107}}]}                                 // s, re the direct sound
+//                     "course_end": 0.107,                                    // s, re the direct sound
+//                     "band_two_slopes": [[9.5, 3.8, 0.07], ...]}}]}          // bent decays only (rsao.h):
+//                                                                             // [first, second decay constant, second share]
 //
 // What was confirmed from VISR's sources (s3a-spatialaudio/VISR: libobjectmodel's
 // point_source_with_reverb_parser.cpp, point_source_parser.cpp, object_parser.cpp,

@@ -24,6 +24,9 @@
 //     bands:                        # none, or the nine octaves 63 Hz .. 16 kHz
 //       - {center_hz: 62.5, decay_constant_per_s: 3.84, t60_s: 1.8, level: 0.02, onset_level: 0.05,
 //          reliable: true, reason: ""}  # onset_level: late_envelope.h
+//       - {center_hz: 125, decay_constant_per_s: 5.1, t60_s: 1.35, level: 0.03, onset_level: 0.07,
+//          first_decay_constant_per_s: 9.5, second_decay_constant_per_s: 3.8, second_share: 0.07,
+//          reliable: true, reason: ""}  # a bent decay (rsao.h); written only where second_share > 0
 //   warnings: ["..."]
 //
 // Radians in code, degrees in the file (the keys say so). Numbers are written as the
@@ -35,7 +38,8 @@
 // value that is not a number, a band list that is not empty or nine long, an lpc whose first
 // coefficient is not 1, or a decay constant and T60 that disagree. Optional: sample_rate_hz
 // (48000), duration_s (0), distance_m (0), lpc ([]), lpc_gain (1), sos ([]), warnings ([]),
-// a band's onset_level (0: the paper's linear ramp from zero), late.course_end_s (0);
+// a band's onset_level (0: the paper's linear ramp from zero), late.course_end_s (0),
+// a band's second_share (0: one slope; otherwise both two-slope decay constants are required);
 // a band needs one of decay_constant_per_s and t60_s, reliable defaults to true.
 #include <string>
 

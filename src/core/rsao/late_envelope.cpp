@@ -5,15 +5,42 @@
 
 namespace room_reverb::core {
 
+namespace {
+
+bool bent(const LateReverbBand& b) { return b.second_share > 0.0; }
+
+}  // namespace
+
+double lateDecayGain(const LateReverbBand& b, double since_mixing_s) {
+  if (!bent(b)) return std::exp(-b.decay_constant_per_s * since_mixing_s);
+  const double w = b.second_share;
+  return std::sqrt((1.0 - w) * std::exp(-2.0 * b.first_decay_constant_per_s * since_mixing_s) +
+                   w * std::exp(-2.0 * b.second_decay_constant_per_s * since_mixing_s));
+}
+
+double lateDecayLengthS(const LateReverbBand& b, double drop_db) {
+  const double log_drop = drop_db * std::log(10.0) / 20.0;  // ln of the amplitude ratio
+  if (!bent(b)) return log_drop / b.decay_constant_per_s;
+  // d_b falls monotonically: bisect between the faster slope's time and the slower one's
+  // (each alone bounds the sum from below and above).
+  const double target = std::exp(-log_drop);
+  double low = 0.0, high = log_drop / std::min(b.first_decay_constant_per_s, b.second_decay_constant_per_s);
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (low + high);
+    (lateDecayGain(b, mid) > target ? low : high) = mid;
+  }
+  return high;
+}
+
 double lateEnvelopeGain(const LateReverb& late, std::size_t band, double t, OnsetRamp shape) {
   const LateReverbBand& b = late.bands[band];
   if (t < late.onset_s) return 0.0;
   const bool extended = b.onset_level > 0.0 && b.level > 0.0;
   const double join = extended ? std::max(late.mixing_time_s, late.course_end_s) : late.mixing_time_s;
-  if (t >= join) return std::exp(-b.decay_constant_per_s * (t - late.mixing_time_s));
+  if (t >= join) return lateDecayGain(b, t - late.mixing_time_s);
   const double u = (t - late.onset_s) / (join - late.onset_s);
   if (!extended) return shape == OnsetRamp::kLinear ? u : 0.5 * (1.0 - std::cos(3.14159265358979323846 * u));
-  const double end_gain = std::exp(-b.decay_constant_per_s * (join - late.mixing_time_s));
+  const double end_gain = lateDecayGain(b, join - late.mixing_time_s);
   return (b.onset_level / b.level) * std::pow(end_gain * b.level / b.onset_level, u);
 }
 
@@ -48,7 +75,7 @@ double lateEnvelopeEnergy(const LateReverb& late, std::size_t band, std::size_t 
   double energy = 0.0;
   if (extended && join_n > onset_n) {
     // ln e(n) = ln onset_level + u(n) ln R, u linear in n, R the ratio over the course.
-    const double log_ratio = -b.decay_constant_per_s * (join - late.mixing_time_s) + std::log(b.level / b.onset_level);
+    const double log_ratio = std::log(lateDecayGain(b, join - late.mixing_time_s)) + std::log(b.level / b.onset_level);
     const double span = join - late.onset_s;
     const double u_first = (static_cast<double>(onset_n) / fs - late.onset_s) / span;
     energy += geometricEnergy(std::log(b.onset_level) + u_first * log_ratio, log_ratio / (fs * span), join_n - onset_n);
@@ -58,8 +85,19 @@ double lateEnvelopeEnergy(const LateReverb& late, std::size_t band, std::size_t 
       energy += e * e;
     }
   }
-  const double log_first = std::log(b.level) - b.decay_constant_per_s * (static_cast<double>(join_n) / fs - late.mixing_time_s);
-  energy += geometricEnergy(log_first, -b.decay_constant_per_s / fs, to - join_n);
+  const double join_since_mixing = static_cast<double>(join_n) / fs - late.mixing_time_s;
+  if (!bent(b)) {
+    const double log_first = std::log(b.level) - b.decay_constant_per_s * join_since_mixing;
+    return energy + geometricEnergy(log_first, -b.decay_constant_per_s / fs, to - join_n);
+  }
+  // Each slope's energy term is a geometric series of its own.
+  const struct { double share, delta; } slopes[] = {{1.0 - b.second_share, b.first_decay_constant_per_s},
+                                                    {b.second_share, b.second_decay_constant_per_s}};
+  for (const auto& slope : slopes) {
+    if (!(slope.share > 0.0)) continue;
+    const double log_first = std::log(b.level) + 0.5 * std::log(slope.share) - slope.delta * join_since_mixing;
+    energy += geometricEnergy(log_first, -slope.delta / fs, to - join_n);
+  }
   return energy;
 }
 

@@ -10,6 +10,7 @@
 #include "room_reverb/audio/clipping.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/metrics/energy_decay.h"
+#include "room_reverb/metrics/two_slope_decay.h"
 
 namespace room_reverb::core {
 namespace {
@@ -28,7 +29,24 @@ struct BandMeasurement {
   double delta = 0.0;          // per second
   double remaining_energy = 0.0;  // E_b from the fitted line
   std::string problem;         // first failed reliability check ("" if none)
+  TwoSlopeFit bent;            // valid when the decay is bent (twoSlopesFor)
 };
+
+// The two-slope fit of a measured band when its decay is bent: the curve falls at least
+// min_two_slope_depth_db within reach of the fit (noise_margin_db above the noise), one
+// exponential misses it by min_bend_db RMS or more and two miss it by at most
+// max_two_slope_error_ratio of that, each slope carrying min_slope_share of the energy.
+TwoSlopeFit twoSlopesFor(const EnergyDecay& decay, double range_db, const LateReverbOptions& o) {
+  const double depth = std::min(o.two_slope_depth_db, range_db - o.noise_margin_db);
+  if (!o.two_slopes || depth < o.min_two_slope_depth_db) return {};
+  TwoSlopeFit fit = fitTwoSlopes(decay, -depth);
+  const double total = fit.fast_energy + fit.slow_energy;
+  const bool bent = fit.valid && fit.one_rms_error_db >= o.min_bend_db &&
+                    fit.rms_error_db <= o.max_two_slope_error_ratio * fit.one_rms_error_db &&
+                    std::min(fit.fast_energy, fit.slow_energy) >= o.min_slope_share * total;
+  if (!bent) fit.valid = false;
+  return fit;
+}
 
 BandMeasurement measureBand(const std::vector<float>& band, std::size_t mix, double fs,
                             const LateReverbOptions& o) {
@@ -62,6 +80,7 @@ BandMeasurement measureBand(const std::vector<float>& band, std::size_t mix, dou
   m.measured = true;
   m.delta = -line.slope_db_per_s * kLn10 / 20.0;
   m.remaining_energy = decay.energyAfter(0.0) * std::pow(10.0, line.intercept_db / 10.0);
+  if (m.problem.empty()) m.bent = twoSlopesFor(decay, range, o);
   return m;
 }
 
@@ -103,6 +122,11 @@ void checkOptions(const LateReverbOptions& o) {
   }
   if (!(o.fallback_t60_s > 0.0)) throw InputError("late reverb: fallback_t60_s must be positive");
   if (!(o.substitute_level_window_s > 0.0)) throw InputError("late reverb: substitute_level_window_s must be positive");
+  if (o.two_slopes && !(o.min_two_slope_depth_db > 0.0 && o.two_slope_depth_db >= o.min_two_slope_depth_db &&
+                        o.min_bend_db >= 0.0 && o.max_two_slope_error_ratio > 0.0 && o.min_slope_share >= 0.0)) {
+    throw InputError("late reverb: the two-slope fit needs 0 < min_two_slope_depth_db <= two_slope_depth_db, "
+                     "min_bend_db >= 0, max_two_slope_error_ratio > 0 and min_slope_share >= 0");
+  }
 }
 
 void checkInput(const std::vector<float>& w, double first_reflection_s, double mixing_time_s) {
@@ -162,7 +186,18 @@ LateReverb estimateLateReverb(const std::vector<float>& w, double first_reflecti
     LateReverbBand band;
     band.center_hz = bands[b].center_hz;
     bool used_fallback = false;
-    if (m.measured) {
+    if (m.measured && m.bent.valid) {
+      // R(t) = A_1 exp(-a_1 t) + A_2 exp(-a_2 t) is the energy remaining under an envelope
+      // whose energy is A_1 a_1 exp(-a_1 t) + A_2 a_2 exp(-a_2 t): level^2 is their sum at the
+      // mixing time, each slope's decay constant half its energy rate.
+      const double first = m.bent.fast_energy * m.bent.fast_rate_per_s;
+      const double second = m.bent.slow_energy * m.bent.slow_rate_per_s;
+      band.decay_constant_per_s = m.delta;
+      band.level = std::sqrt(first + second);
+      band.first_decay_constant_per_s = 0.5 * m.bent.fast_rate_per_s;
+      band.second_decay_constant_per_s = 0.5 * m.bent.slow_rate_per_s;
+      band.second_share = second / (first + second);
+    } else if (m.measured) {
       band.decay_constant_per_s = m.delta;
       band.level = std::sqrt(2.0 * m.delta * m.remaining_energy);
     } else {

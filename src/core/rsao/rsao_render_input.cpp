@@ -7,6 +7,7 @@
 #include "room_reverb/audio/audio_buffer.h"
 #include "room_reverb/audio/frequency_bands.h"
 #include "room_reverb/common/error.h"
+#include "room_reverb/rsao/late_envelope.h"
 #include "room_reverb/rsao/reflection_tap.h"
 
 namespace room_reverb::core {
@@ -40,6 +41,13 @@ void checkRsao(const Rsao& r, const std::string& context) {
       throw InputError(context + ": the late band at " + std::to_string(static_cast<int>(std::lround(band.center_hz))) +
                        " Hz needs a positive decay constant and a non-negative level and onset level");
     }
+    const bool bent = band.second_share != 0.0;
+    if (bent && !(band.second_share > 0.0 && band.second_share < 1.0 && std::isfinite(band.first_decay_constant_per_s) &&
+                  std::isfinite(band.second_decay_constant_per_s) && band.first_decay_constant_per_s > 0.0 &&
+                  band.second_decay_constant_per_s > 0.0)) {
+      throw InputError(context + ": the late band at " + std::to_string(static_cast<int>(std::lround(band.center_hz))) +
+                       " Hz has two slopes: second_share must lie in (0, 1) and both decay constants be positive");
+    }
   }
 }
 
@@ -48,7 +56,7 @@ double defaultDuration(const Rsao& r, const ResynthesisOptions& o) {
   double end = 0.0;
   for (const EarlyReflection& e : r.reflections) end = std::max(end, e.time_of_arrival_s + o.reflection_response_s);
   for (const LateReverbBand& band : r.late.bands) {
-    end = std::max(end, r.late.mixing_time_s + 3.0 * std::log(10.0) / band.decay_constant_per_s);  // the band's T60
+    end = std::max(end, r.late.mixing_time_s + lateDecayLengthS(band));  // 60 dB of the band's decay
   }
   return end;
 }

@@ -1,5 +1,6 @@
 #include "room_reverb/rsao/rsao_visr_json.h"
 
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -258,6 +259,7 @@ VisrImport readObject(const json& object) {
   std::vector<bool> reliable(levels.size(), true);
   std::vector<std::string> reasons(levels.size());
   std::vector<double> onset_levels(levels.size(), 0.0);
+  std::vector<std::array<double, 3>> slopes(levels.size(), {0.0, 0.0, 0.0});
   if (object.contains("room_reverb")) {
     const json& extra = object["room_reverb"];
     const json flags = extra.value("band_reliable", json::array());
@@ -267,6 +269,20 @@ VisrImport readObject(const json& object) {
       if (b < flags.size() && flags[b].is_boolean()) reliable[b] = flags[b].get<bool>();
       if (b < texts.size() && texts[b].is_string()) reasons[b] = texts[b].get<std::string>();
       if (b < onsets.size() && onsets[b].is_number()) onset_levels[b] = onsets[b].get<double>();
+    }
+    // A bent decay: [first decay constant, second decay constant, second share] per band.
+    const json bent = extra.value("band_two_slopes", json::array());
+    for (std::size_t b = 0; b < levels.size() && b < bent.size(); ++b) {
+      const json& v = bent[b];
+      if (!(v.is_array() && v.size() == 3 && v[0].is_number() && v[1].is_number() && v[2].is_number())) {
+        fail("room_reverb.band_two_slopes[" + std::to_string(b) + "]",
+             "must be [first decay constant, second decay constant, second share]");
+      }
+      slopes[b] = {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
+      if (slopes[b][2] != 0.0 && !(slopes[b][0] > 0.0 && slopes[b][1] > 0.0 && slopes[b][2] > 0.0 && slopes[b][2] < 1.0)) {
+        fail("room_reverb.band_two_slopes[" + std::to_string(b) + "]",
+             "needs positive decay constants and a share in (0, 1) (or a share of 0: one slope)");
+      }
     }
     if (extra.contains("course_end") && extra["course_end"].is_number()) rsao.late.course_end_s = extra["course_end"].get<double>();
   }
@@ -282,6 +298,11 @@ VisrImport readObject(const json& object) {
     band.t60_s = 3.0 * kLn10 / band.decay_constant_per_s;
     band.level = levels[b];
     band.onset_level = onset_levels[b];
+    if (slopes[b][2] != 0.0) {
+      band.first_decay_constant_per_s = slopes[b][0];
+      band.second_decay_constant_per_s = slopes[b][1];
+      band.second_share = slopes[b][2];
+    }
     band.reliable = reliable[b];
     band.reason = reasons[b];
     rsao.late.bands.push_back(band);
@@ -333,7 +354,8 @@ std::string rsaoToVisrJson(const Rsao& rsao, const VisrObjectFields& fields, int
   }
 
   std::vector<double> levels, attacks, decays, onset_levels;
-  ordered_json reliable = ordered_json::array(), reasons = ordered_json::array();
+  ordered_json reliable = ordered_json::array(), reasons = ordered_json::array(), two_slopes = ordered_json::array();
+  bool bent = false;
   for (const LateReverbBand& band : rsao.late.bands) {
     if (!(band.decay_constant_per_s > 0.0) || !std::isfinite(band.decay_constant_per_s) || !std::isfinite(band.level)) {
       throw InputError("VISR export: the late band at " + shortestDecimal(band.center_hz) +
@@ -343,6 +365,8 @@ std::string rsaoToVisrJson(const Rsao& rsao, const VisrObjectFields& fields, int
     attacks.push_back(rsao.late.attack_time_s);
     decays.push_back(-band.decay_constant_per_s);  // VISR: amplitude exp(decayconst * t)
     onset_levels.push_back(band.onset_level / direct.level);
+    two_slopes.push_back({band.first_decay_constant_per_s, band.second_decay_constant_per_s, band.second_share});
+    bent = bent || band.second_share > 0.0;
     reliable.push_back(band.reliable);
     reasons.push_back(band.reason);
   }
@@ -355,6 +379,7 @@ std::string rsaoToVisrJson(const Rsao& rsao, const VisrObjectFields& fields, int
   object["room_reverb"] = {{"band_reliable", reliable}, {"band_reason", reasons}, {"band_onset_level", onset_levels},
                            {"course_end", rsao.late.course_end_s > 0.0 ? rsao.late.course_end_s - direct.time_of_arrival_s : 0.0},
                            {"direct", reflectionExtras(direct)}};
+  if (bent) object["room_reverb"]["band_two_slopes"] = two_slopes;
 
   ordered_json scene;
   scene["objects"] = ordered_json::array({object});

@@ -172,6 +172,15 @@ class Reader {
     }
     b.level = requiredNumber(node, "level", key + ".level");
     b.onset_level = yaml_.numberOr(node, "onset_level", key + ".onset_level", 0.0);
+    b.second_share = yaml_.numberOr(node, "second_share", key + ".second_share", 0.0);
+    if (b.second_share != 0.0) {
+      b.first_decay_constant_per_s = requiredNumber(node, "first_decay_constant_per_s", key + ".first_decay_constant_per_s");
+      b.second_decay_constant_per_s = requiredNumber(node, "second_decay_constant_per_s", key + ".second_decay_constant_per_s");
+      if (!(b.second_share > 0.0 && b.second_share < 1.0 && b.first_decay_constant_per_s > 0.0 &&
+            b.second_decay_constant_per_s > 0.0)) {
+        yaml_.fail(node, key, "has two slopes: second_share must lie in (0, 1) and both decay constants be positive");
+      }
+    }
     b.reliable = yaml_.flagOr(node, "reliable", key + ".reliable", true);
     b.reason = textOrEmpty(node, "reason", key + ".reason");
     return b;
@@ -273,7 +282,13 @@ std::string rsaoToYaml(const Rsao& r) {
       out << "    - {center_hz: " << shortestDecimal(b.center_hz)
           << ", decay_constant_per_s: " << shortestDecimal(b.decay_constant_per_s)
           << ", t60_s: " << shortestDecimal(b.t60_s) << ", level: " << shortestDecimal(b.level)
-          << ", onset_level: " << shortestDecimal(b.onset_level) << ", reliable: " << (b.reliable ? "true" : "false") << ", reason: " << quoted(b.reason) << "}\n";
+          << ", onset_level: " << shortestDecimal(b.onset_level);
+      if (b.second_share > 0.0) {
+        out << ", first_decay_constant_per_s: " << shortestDecimal(b.first_decay_constant_per_s)
+            << ", second_decay_constant_per_s: " << shortestDecimal(b.second_decay_constant_per_s)
+            << ", second_share: " << shortestDecimal(b.second_share);
+      }
+      out << ", reliable: " << (b.reliable ? "true" : "false") << ", reason: " << quoted(b.reason) << "}\n";
     }
   }
   if (r.warnings.empty()) {
