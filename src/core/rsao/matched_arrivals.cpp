@@ -66,21 +66,28 @@ std::vector<Atom> makeAtoms(const std::vector<double>& direct, double fs, const 
 }
 
 // The atom delayed by delta in [-0.5, 0.5] samples (band-limited interpolation, a Hann-
-// windowed sinc): out[j] is sample j - kShiftHalfWidth of the shifted atom.
+// windowed sinc): out[j] is sample j - kShiftHalfWidth of the shifted atom. Sample m of the
+// atom reaches out[j] at the offset t = (j - kShiftHalfWidth - m) - delta, an integer less
+// delta, so the kernel is computed once per call for the integers in reach, not per tap.
 std::vector<double> shiftedAtom(const std::vector<double>& atom, double delta) {
+  constexpr long kReach = kShiftHalfWidth + 1;
+  std::array<double, 2 * kReach + 1> kernel{};
+  for (long k = -kReach; k <= kReach; ++k) {
+    const double t = static_cast<double>(k) - delta;
+    if (std::abs(t) > kShiftHalfWidth) continue;
+    const double sinc = std::abs(t) < 1e-12 ? 1.0 : std::sin(kPi * t) / (kPi * t);
+    const double hann = 0.5 + 0.5 * std::cos(kPi * t / (kShiftHalfWidth + 1));
+    kernel[static_cast<std::size_t>(k + kReach)] = sinc * hann;
+  }
   std::vector<double> out(atom.size() + 2 * kShiftHalfWidth, 0.0);
-  for (std::size_t j = 0; j < out.size(); ++j) {
-    const double position = static_cast<double>(j) - kShiftHalfWidth - delta;  // in atom samples
-    const long lo = static_cast<long>(std::ceil(position - kShiftHalfWidth));
-    const long hi = static_cast<long>(std::floor(position + kShiftHalfWidth));
+  const long size = static_cast<long>(atom.size());
+  for (long j = 0; j < static_cast<long>(out.size()); ++j) {
+    const long centre = j - kShiftHalfWidth;  // the atom sample at offset k = 0
     double sum = 0.0;
-    for (long m = std::max(0L, lo); m <= std::min(static_cast<long>(atom.size()) - 1, hi); ++m) {
-      const double t = position - static_cast<double>(m);
-      const double sinc = std::abs(t) < 1e-12 ? 1.0 : std::sin(kPi * t) / (kPi * t);
-      const double hann = 0.5 + 0.5 * std::cos(kPi * t / (kShiftHalfWidth + 1));
-      sum += atom[static_cast<std::size_t>(m)] * sinc * hann;
+    for (long m = std::max(0L, centre - kReach); m <= std::min(size - 1, centre + kReach); ++m) {
+      sum += atom[static_cast<std::size_t>(m)] * kernel[static_cast<std::size_t>(centre - m + kReach)];
     }
-    out[j] = sum;
+    out[static_cast<std::size_t>(j)] = sum;
   }
   return out;
 }
@@ -94,17 +101,22 @@ class Pursuit {
       residual_[c].assign(channel.begin() + static_cast<long>(first), channel.begin() + static_cast<long>(end));
     }
     correlation_.resize(atoms_.size());
+    std::size_t lags = 0;
     for (std::size_t a = 0; a < atoms_.size(); ++a) {
       const std::size_t n = size() >= atoms_[a].samples.size() ? size() - atoms_[a].samples.size() + 1 : 0;
       correlation_[a].assign(n, 0.0);
+      lags = std::max(lags, n);
     }
+    best_.assign(lags, 0.0);
+    best_atom_.assign(lags, 0);
     updateCorrelation(0, static_cast<long>(size()));
   }
 
   std::size_t size() const { return residual_[0].size(); }
   double timeOfLag(double lag) const { return static_cast<double>(first_) + lag + reference_; }
 
-  // Correlations of every atom with W's residual at lags [from, to).
+  // Correlations of every atom with W's residual at lags [from, to), and the strongest
+  // atom at each of those lags.
   void updateCorrelation(long from, long to) {
     for (std::size_t a = 0; a < atoms_.size(); ++a) {
       const auto& atom = atoms_[a].samples;
@@ -115,19 +127,29 @@ class Pursuit {
         c[static_cast<std::size_t>(i)] = sum;
       }
     }
+    for (long i = std::max(0L, from); i < std::min(static_cast<long>(best_.size()), to); ++i) {
+      const auto at = static_cast<std::size_t>(i);
+      best_[at] = 0.0;
+      best_atom_[at] = 0;
+      for (std::size_t a = 0; a < atoms_.size(); ++a) {
+        if (at < correlation_[a].size() && std::abs(correlation_[a][at]) > best_[at]) {
+          best_[at] = std::abs(correlation_[a][at]);
+          best_atom_[at] = a;
+        }
+      }
+    }
   }
 
-  // The atom and lag of the largest |correlation| among lags allowed by `open`.
+  // The atom and lag of the largest |correlation| among lags allowed by `open`. Every
+  // iteration of the pursuit asks, refused candidates included: the per-lag maximum over
+  // the atoms, kept by updateCorrelation, makes it one pass over the lags.
   bool strongest(const std::vector<bool>& open, std::size_t& atom, long& lag) const {
     double best = 0.0;
-    for (std::size_t a = 0; a < atoms_.size(); ++a) {
-      const auto& c = correlation_[a];
-      for (std::size_t i = 0; i < c.size() && i < open.size(); ++i) {
-        if (open[i] && std::abs(c[i]) > best) {
-          best = std::abs(c[i]);
-          atom = a;
-          lag = static_cast<long>(i);
-        }
+    for (std::size_t i = 0; i < best_.size() && i < open.size(); ++i) {
+      if (open[i] && best_[i] > best) {
+        best = best_[i];
+        atom = best_atom_[i];
+        lag = static_cast<long>(i);
       }
     }
     return best > 0.0;
@@ -217,6 +239,8 @@ class Pursuit {
   double reference_;  // the arrival's time inside an atom, in samples from its first sample
   std::array<std::vector<double>, 4> residual_;
   std::vector<std::vector<double>> correlation_;
+  std::vector<double> best_;            // max over atoms of |correlation| at each lag
+  std::vector<std::size_t> best_atom_;  // the atom that holds it (the first, at a tie)
 };
 
 Eigen::Vector3d directionOf(const std::array<double, 4>& a) {
