@@ -300,9 +300,7 @@ Furniture fitFurniture(const PointCloud& cloud, const VoxelGrid& grid, const Roo
   table.min_voxels = params.min_voxels;
   TableSplit tables = splitTablesFromChairs(pieces.clusters, fitter.roomCentroids(), grid.size(), table);
   std::vector<CuboidObject> rest_boxes;
-  for (std::size_t k = 0, r = 0; k < pieces.clusters.size() && r < tables.rest.size(); ++k) {
-    if (pieces.clusters[k] == tables.rest[r]) rest_boxes.push_back(pieces.boxes[k]), ++r;
-  }
+  for (std::size_t k : tables.rest_index) rest_boxes.push_back(pieces.boxes[k]);
   ProfileSplitParams profile = params.profile;
   profile.min_voxels = params.min_voxels;
   Clusters cut = splitClustersAtStepsAndStacks(tables.rest, rest_boxes, fitter.roomCentroids(), grid.size(), profile);

@@ -148,10 +148,14 @@ TableSplit splitTablesFromChairs(const std::vector<std::vector<std::uint32_t>>& 
                                  const std::vector<Eigen::Vector3d>& room_centroid, double cell_m,
                                  const TableSplitParams& params) {
   TableSplit split;
-  for (const Cluster& cluster : clusters) {
-    std::vector<Cluster> pieces = cutAtTableTop(cluster, room_centroid, cell_m, params);
-    auto& into = pieces.size() > 1 ? split.tables_and_chairs : split.rest;
-    for (Cluster& piece : pieces) into.push_back(std::move(piece));
+  for (std::size_t k = 0; k < clusters.size(); ++k) {
+    std::vector<Cluster> pieces = cutAtTableTop(clusters[k], room_centroid, cell_m, params);
+    if (pieces.size() > 1) {
+      for (Cluster& piece : pieces) split.tables_and_chairs.push_back(std::move(piece));
+    } else {
+      split.rest.push_back(std::move(pieces.front()));
+      split.rest_index.push_back(k);
+    }
   }
   return split;
 }

@@ -40,6 +40,7 @@ struct TableSplitParams {
 struct TableSplit {
   std::vector<std::vector<std::uint32_t>> tables_and_chairs;  // the pieces of every table cut
   std::vector<std::vector<std::uint32_t>> rest;               // the clusters no table was found in
+  std::vector<std::size_t> rest_index;                        // each one's index in the input
 };
 
 // `room_centroid[v]`: voxel v's position in the room frame; cell_m the voxel size.
