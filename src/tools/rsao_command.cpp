@@ -11,6 +11,7 @@
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/text_file.h"
 #include "room_reverb/acoustics/room_model.h"
+#include "room_reverb/rsao/late_envelope.h"
 #include "room_reverb/rsao/listener_translation.h"
 #include "room_reverb/rsao/rsao_estimator.h"
 #include "room_reverb/rsao/rsao_resynthesis.h"
@@ -92,7 +93,7 @@ void printSummary(const Rsao& rsao, std::ostream& out) {
   out << "late reverb (level re the direct sound):\n  band_hz   t60_s  level_db  two slopes: t60_s, share  reliable\n";
   for (const LateReverbBand& b : rsao.late.bands) {
     char slopes[64] = "-";
-    if (b.second_share > 0.0) {
+    if (hasTwoSlopes(b)) {
       std::snprintf(slopes, sizeof slopes, "%.3f %.3f %.1f %%", 3.0 * std::log(10.0) / b.first_decay_constant_per_s,
                     3.0 * std::log(10.0) / b.second_decay_constant_per_s, 100.0 * b.second_share);
     }

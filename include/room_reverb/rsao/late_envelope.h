@@ -25,6 +25,13 @@ namespace room_reverb::core {
 
 enum class OnsetRamp { kLinear, kRaisedCosine };
 
+// Whether the band's decay has two slopes (LateReverbBand::second_share > 0).
+bool hasTwoSlopes(const LateReverbBand& band);
+
+// One slope (second_share 0), or two with second_share in (0, 1) and both decay constants
+// finite and positive: what every reader of an RSAO (file, message, renderer) requires.
+bool slopesWellFormed(const LateReverbBand& band);
+
 // d_b(t'): the band's decay after the mixing time, 1 at t' = 0.
 double lateDecayGain(const LateReverbBand& band, double since_mixing_s);
 

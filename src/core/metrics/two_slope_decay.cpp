@@ -43,34 +43,34 @@ Sums sumsFor(const Samples& s, double a1, double a2) {
   return m;
 }
 
-// Weighted sums of squares: sum v (A g - 1)^2 at its minimum over A.
-double oneTermSse(double count, double s, double ss) { return ss > 0.0 ? count - s * s / ss : count; }
+// sum v (A g - 1)^2 at its minimum over A, from sum v = total_weight, sum v g = s and
+// sum v g^2 = ss.
+double oneTermSse(double total_weight, double s, double ss) { return ss > 0.0 ? total_weight - s * s / ss : total_weight; }
 
 // Least squares in (A_1, A_2) >= 0 for the rates a1 > a2: the unconstrained 2 x 2 solution
 // when both amplitudes come out non-negative, else the better one-term fit.
 Amplitudes fitAmplitudes(const Samples& s, double a1, double a2) {
   const Sums m = sumsFor(s, a1, a2);
-  const double count = s.total_weight;
+  const double total = s.total_weight;
   const double det = m.s11 * m.s22 - m.s12 * m.s12;
   Amplitudes a;
   if (det > 1e-12 * m.s11 * m.s22) {
     a.fast = (m.s22 * m.s1 - m.s12 * m.s2) / det;
     a.slow = (m.s11 * m.s2 - m.s12 * m.s1) / det;
     if (a.fast >= 0.0 && a.slow >= 0.0) {
-      a.sse = count - 2.0 * (a.fast * m.s1 + a.slow * m.s2) + a.fast * a.fast * m.s11 +
+      a.sse = total - 2.0 * (a.fast * m.s1 + a.slow * m.s2) + a.fast * a.fast * m.s11 +
               2.0 * a.fast * a.slow * m.s12 + a.slow * a.slow * m.s22;
       return a;
     }
   }
-  const double sse_fast = oneTermSse(count, m.s1, m.s11), sse_slow = oneTermSse(count, m.s2, m.s22);
+  const double sse_fast = oneTermSse(total, m.s1, m.s11), sse_slow = oneTermSse(total, m.s2, m.s22);
   if (sse_fast <= sse_slow) return {sse_fast, m.s11 > 0.0 ? m.s1 / m.s11 : 0.0, 0.0};
   return {sse_slow, 0.0, m.s22 > 0.0 ? m.s2 / m.s22 : 0.0};
 }
 
 Amplitudes fitOne(const Samples& s, double a) {
   const Sums m = sumsFor(s, a, a);
-  const double count = s.total_weight;
-  return {oneTermSse(count, m.s1, m.s11), m.s11 > 0.0 ? m.s1 / m.s11 : 0.0, 0.0};
+  return {oneTermSse(s.total_weight, m.s1, m.s11), m.s11 > 0.0 ? m.s1 / m.s11 : 0.0, 0.0};
 }
 
 double rmsErrorDb(const Samples& s, double a1, double e1, double a2, double e2) {
@@ -176,16 +176,15 @@ TwoSlopeFit fitTwoSlopes(const EnergyDecay& decay, double end_db, std::size_t ma
   TwoSlopeFit fit;
   const double total = decay.energyAfter(0.0);
   if (!decay.valid() || !(total > 0.0) || !(end_db < 0.0) || max_points < 8) return fit;
-  // Where the curve reaches end_db: a walk in 1 ms steps, bounded as EnergyDecay::fitLine's
-  // (past the crosspoint the curve is the analytic decay line, so the walk ends).
   const double fs = decay.sampleRateHz();
   const double end_energy = total * std::pow(10.0, end_db / 10.0);
+  // Where the curve reaches end_db: a walk in 1 ms steps up to Lundeby's crosspoint (past
+  // it the curve is the noise estimate's extrapolation, not a measurement).
   const double step_s = std::max(1.0, std::floor(fs / 1000.0)) / fs;
-  const double max_s = decay.lundeby().crosspoint / fs + (end_db - 10.0) / decay.lundeby().slope_db_per_s;
+  const double crosspoint_s = decay.lundeby().crosspoint / fs;
   double end_s = 0.0;
-  while (end_s <= max_s && decay.energyAfter(end_s) > end_energy) end_s += step_s;
-  // Past the crosspoint the curve is the noise estimate's extrapolation, not a measurement.
-  if (end_s > std::min(max_s, decay.lundeby().crosspoint / fs) || end_s <= 0.0) return fit;
+  while (end_s <= crosspoint_s && decay.energyAfter(end_s) > end_energy) end_s += step_s;
+  if (end_s > crosspoint_s || end_s <= 0.0) return fit;
   fit.end_s = end_s;
 
   Samples s;

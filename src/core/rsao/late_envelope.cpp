@@ -5,14 +5,17 @@
 
 namespace room_reverb::core {
 
-namespace {
+bool hasTwoSlopes(const LateReverbBand& b) { return b.second_share > 0.0; }
 
-bool bent(const LateReverbBand& b) { return b.second_share > 0.0; }
-
-}  // namespace
+bool slopesWellFormed(const LateReverbBand& b) {
+  if (b.second_share == 0.0) return true;
+  return b.second_share > 0.0 && b.second_share < 1.0 && std::isfinite(b.first_decay_constant_per_s) &&
+         std::isfinite(b.second_decay_constant_per_s) && b.first_decay_constant_per_s > 0.0 &&
+         b.second_decay_constant_per_s > 0.0;
+}
 
 double lateDecayGain(const LateReverbBand& b, double since_mixing_s) {
-  if (!bent(b)) return std::exp(-b.decay_constant_per_s * since_mixing_s);
+  if (!hasTwoSlopes(b)) return std::exp(-b.decay_constant_per_s * since_mixing_s);
   const double w = b.second_share;
   return std::sqrt((1.0 - w) * std::exp(-2.0 * b.first_decay_constant_per_s * since_mixing_s) +
                    w * std::exp(-2.0 * b.second_decay_constant_per_s * since_mixing_s));
@@ -20,7 +23,7 @@ double lateDecayGain(const LateReverbBand& b, double since_mixing_s) {
 
 double lateDecayLengthS(const LateReverbBand& b, double drop_db) {
   const double log_drop = drop_db * std::log(10.0) / 20.0;  // ln of the amplitude ratio
-  if (!bent(b)) return log_drop / b.decay_constant_per_s;
+  if (!hasTwoSlopes(b)) return log_drop / b.decay_constant_per_s;
   // d_b falls monotonically: bisect between the faster slope's time and the slower one's
   // (each alone bounds the sum from below and above).
   const double target = std::exp(-log_drop);
@@ -86,7 +89,7 @@ double lateEnvelopeEnergy(const LateReverb& late, std::size_t band, std::size_t 
     }
   }
   const double join_since_mixing = static_cast<double>(join_n) / fs - late.mixing_time_s;
-  if (!bent(b)) {
+  if (!hasTwoSlopes(b)) {
     const double log_first = std::log(b.level) - b.decay_constant_per_s * join_since_mixing;
     return energy + geometricEnergy(log_first, -b.decay_constant_per_s / fs, to - join_n);
   }

@@ -41,10 +41,7 @@ void checkRsao(const Rsao& r, const std::string& context) {
       throw InputError(context + ": the late band at " + std::to_string(static_cast<int>(std::lround(band.center_hz))) +
                        " Hz needs a positive decay constant and a non-negative level and onset level");
     }
-    const bool bent = band.second_share != 0.0;
-    if (bent && !(band.second_share > 0.0 && band.second_share < 1.0 && std::isfinite(band.first_decay_constant_per_s) &&
-                  std::isfinite(band.second_decay_constant_per_s) && band.first_decay_constant_per_s > 0.0 &&
-                  band.second_decay_constant_per_s > 0.0)) {
+    if (!slopesWellFormed(band)) {
       throw InputError(context + ": the late band at " + std::to_string(static_cast<int>(std::lround(band.center_hz))) +
                        " Hz has two slopes: second_share must lie in (0, 1) and both decay constants be positive");
     }

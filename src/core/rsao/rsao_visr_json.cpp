@@ -1,11 +1,11 @@
 #include "room_reverb/rsao/rsao_visr_json.h"
 
-#include <array>
 #include <charconv>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "room_reverb/common/error.h"
+#include "room_reverb/rsao/late_envelope.h"
 #include "rsao_file_text.h"
 
 namespace room_reverb::core {
@@ -259,7 +259,7 @@ VisrImport readObject(const json& object) {
   std::vector<bool> reliable(levels.size(), true);
   std::vector<std::string> reasons(levels.size());
   std::vector<double> onset_levels(levels.size(), 0.0);
-  std::vector<std::array<double, 3>> slopes(levels.size(), {0.0, 0.0, 0.0});
+  std::vector<LateReverbBand> slopes(levels.size());  // the two-slope fields only
   if (object.contains("room_reverb")) {
     const json& extra = object["room_reverb"];
     const json flags = extra.value("band_reliable", json::array());
@@ -278,8 +278,10 @@ VisrImport readObject(const json& object) {
         fail("room_reverb.band_two_slopes[" + std::to_string(b) + "]",
              "must be [first decay constant, second decay constant, second share]");
       }
-      slopes[b] = {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
-      if (slopes[b][2] != 0.0 && !(slopes[b][0] > 0.0 && slopes[b][1] > 0.0 && slopes[b][2] > 0.0 && slopes[b][2] < 1.0)) {
+      slopes[b].first_decay_constant_per_s = v[0].get<double>();
+      slopes[b].second_decay_constant_per_s = v[1].get<double>();
+      slopes[b].second_share = v[2].get<double>();
+      if (!slopesWellFormed(slopes[b])) {
         fail("room_reverb.band_two_slopes[" + std::to_string(b) + "]",
              "needs positive decay constants and a share in (0, 1) (or a share of 0: one slope)");
       }
@@ -298,10 +300,10 @@ VisrImport readObject(const json& object) {
     band.t60_s = 3.0 * kLn10 / band.decay_constant_per_s;
     band.level = levels[b];
     band.onset_level = onset_levels[b];
-    if (slopes[b][2] != 0.0) {
-      band.first_decay_constant_per_s = slopes[b][0];
-      band.second_decay_constant_per_s = slopes[b][1];
-      band.second_share = slopes[b][2];
+    if (hasTwoSlopes(slopes[b])) {
+      band.first_decay_constant_per_s = slopes[b].first_decay_constant_per_s;
+      band.second_decay_constant_per_s = slopes[b].second_decay_constant_per_s;
+      band.second_share = slopes[b].second_share;
     }
     band.reliable = reliable[b];
     band.reason = reasons[b];
@@ -366,7 +368,7 @@ std::string rsaoToVisrJson(const Rsao& rsao, const VisrObjectFields& fields, int
     decays.push_back(-band.decay_constant_per_s);  // VISR: amplitude exp(decayconst * t)
     onset_levels.push_back(band.onset_level / direct.level);
     two_slopes.push_back({band.first_decay_constant_per_s, band.second_decay_constant_per_s, band.second_share});
-    bent = bent || band.second_share > 0.0;
+    bent = bent || hasTwoSlopes(band);
     reliable.push_back(band.reliable);
     reasons.push_back(band.reason);
   }

@@ -10,6 +10,7 @@
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/text_file.h"
 #include "room_reverb/common/yaml_reader.h"
+#include "room_reverb/rsao/late_envelope.h"
 #include "rsao_file_text.h"
 
 namespace room_reverb::core {
@@ -176,8 +177,7 @@ class Reader {
     if (b.second_share != 0.0) {
       b.first_decay_constant_per_s = requiredNumber(node, "first_decay_constant_per_s", key + ".first_decay_constant_per_s");
       b.second_decay_constant_per_s = requiredNumber(node, "second_decay_constant_per_s", key + ".second_decay_constant_per_s");
-      if (!(b.second_share > 0.0 && b.second_share < 1.0 && b.first_decay_constant_per_s > 0.0 &&
-            b.second_decay_constant_per_s > 0.0)) {
+      if (!slopesWellFormed(b)) {
         yaml_.fail(node, key, "has two slopes: second_share must lie in (0, 1) and both decay constants be positive");
       }
     }
@@ -283,7 +283,7 @@ std::string rsaoToYaml(const Rsao& r) {
           << ", decay_constant_per_s: " << shortestDecimal(b.decay_constant_per_s)
           << ", t60_s: " << shortestDecimal(b.t60_s) << ", level: " << shortestDecimal(b.level)
           << ", onset_level: " << shortestDecimal(b.onset_level);
-      if (b.second_share > 0.0) {
+      if (hasTwoSlopes(b)) {
         out << ", first_decay_constant_per_s: " << shortestDecimal(b.first_decay_constant_per_s)
             << ", second_decay_constant_per_s: " << shortestDecimal(b.second_decay_constant_per_s)
             << ", second_share: " << shortestDecimal(b.second_share);
