@@ -99,14 +99,17 @@ visualization_msgs::MarkerArray rsaoMarkers(const core::Rsao& rsao, const std::s
 RsaoEstimatorServer::RsaoEstimatorServer(::ros::NodeHandle& private_nh) {
   typedParam(private_nh, "frame_id", frame_id_, std::string("rig"));
   typedParam(private_nh, "room_frame", room_frame_, std::string("room"));
-  int max_reflections = 20;
-  typedParam(private_nh, "max_reflections", max_reflections, 20);
+  int max_reflections = 40;
+  typedParam(private_nh, "max_reflections", max_reflections, 40);
   if (max_reflections < 0) throw core::InputError("parameter ~max_reflections must be 0 or more");
   defaults_.early.max_reflections = static_cast<std::size_t>(max_reflections);
   typedParam(private_nh, "analysis_window_s", defaults_.early.analysis_window_s, 0.002);
   typedParam(private_nh, "lpc_order", defaults_.early.lpc_order, 9);
   typedParam(private_nh, "fit_onset_ramps", defaults_.fit_onset_ramps, true);
   typedParam(private_nh, "two_slope_decays", defaults_.late.two_slopes, true);
+  bool paper_onsets = false;
+  typedParam(private_nh, "paper_onsets", paper_onsets, false);
+  defaults_.early.onset_method = paper_onsets ? core::OnsetMethod::kGroupDelay : core::OnsetMethod::kMatchedPursuit;
   typedParam(private_nh, "min_direct_prominence_db", defaults_.min_direct_prominence_db, 15.0);
   typedParam(private_nh, "marker_distance_scale", marker_distance_scale_, 1.0);
   typedParam(private_nh, "marker_max_sphere_m", marker_max_sphere_m_, 0.5);

@@ -26,7 +26,7 @@ using namespace room_reverb::core;
 const char* kHelp = R"(usage: room_reverb rsao RIR.wav --format fuma|ambix [--yaml OUT.yaml] [--visr-json OUT.json]
                         [--resynthesis OUT.wav] [--max-reflections N] [--window-ms D]
                         [--lpc-order P] [--mixing-time S] [--grid] [--paper-ramp]
-                        [--one-slope] [--matched-onsets] [--source-distance M]
+                        [--one-slope] [--paper-onsets] [--source-distance M]
                         [--move-to X Y Z [--room ROOM.yaml] [--rig X Y Z]]
 
 Parameterises a measured first-order B-format room impulse response into a reverberant
@@ -40,16 +40,16 @@ bends, reliability).
   --yaml FILE         write the RSAO in the project's YAML format
   --visr-json FILE    write it as an S3A/VISR "pointreverb" object
   --resynthesis FILE  write the B-format (AmbiX) RIR resynthesised from the parameters
-  --max-reflections N early reflections kept, strongest first (default 20)
+  --max-reflections N early reflections kept, strongest first (default 40)
   --window-ms D       analysis window D around each arrival, ms (default 2)
   --lpc-order P       order of each reflection's LPC filter (default 9)
   --mixing-time S     fixed mixing time, s from the first sample (default: echo density)
-  --matched-onsets    early reflections by matching pursuit against copies of the direct
-                      sound over all four channels, each arrival taken out before the next
-                      is sought (default: the paper's group-delay onsets of W, directions
-                      from the steered cardioid over the window; docs/rsao.md)
-  --grid              directions by the paper's grid search instead of the closed form
-                      (without --matched-onsets)
+  --paper-onsets      early reflections by the paper's group-delay onsets of W, directions
+                      from the steered cardioid over the window (default: matching pursuit
+                      against copies of the direct sound over all four channels, each
+                      arrival taken out before the next is sought; docs/rsao.md)
+  --grid              with --paper-onsets: directions by the paper's grid search instead
+                      of the closed form
   --source-distance M the loudspeaker's distance from the microphone, m: places each
                       reflection's image source at M plus c times its delay after the
                       direct sound (default: c times the direct sound's time, which takes
@@ -137,14 +137,14 @@ int runRsao(const std::vector<std::string>& raw) {
   const std::optional<Eigen::Vector3d> rig = takeVector(rest, "rig");
   const Arguments args(rest, {"format", "yaml", "visr-json", "resynthesis", "max-reflections", "window-ms", "lpc-order",
                               "mixing-time", "source-distance", "room"},
-                       {"grid", "paper-ramp", "one-slope", "matched-onsets"});
+                       {"grid", "paper-ramp", "one-slope", "paper-onsets"});
   if (!move_to && (rig || args.has("room"))) throw UsageError("--rig and --room go with --move-to X Y Z");
   if (args.positional().size() != 1) throw UsageError("give exactly one B-format RIR file");
   if (!args.has("format")) throw UsageError("--format fuma|ambix is required: the file's convention is never guessed");
   const AmbisonicFormat format = parseAmbisonicFormat(args.value("format", ""));
 
   RsaoOptions options;
-  const int max_reflections = args.intValue("max-reflections", 20);
+  const int max_reflections = args.intValue("max-reflections", static_cast<int>(options.early.max_reflections));
   if (max_reflections < 0) throw UsageError("--max-reflections must be 0 or more");
   options.early.max_reflections = static_cast<std::size_t>(max_reflections);
   options.early.analysis_window_s = args.doubleValue("window-ms", 2.0) / 1000.0;
@@ -154,8 +154,11 @@ int runRsao(const std::vector<std::string>& raw) {
     options.early.direct_distance_m = args.doubleValue("source-distance", 0.0);
     if (!(*options.early.direct_distance_m > 0.0)) throw UsageError("--source-distance must be a positive distance in m");
   }
+  if (args.has("grid") && !args.has("paper-onsets")) {
+    throw UsageError("--grid goes with --paper-onsets: matching pursuit takes each direction from its arrival's own projection");
+  }
   if (args.has("grid")) options.early.direction_method = DirectionMethod::kGridSearch;
-  if (args.has("matched-onsets")) options.early.onset_method = OnsetMethod::kMatchedPursuit;
+  if (args.has("paper-onsets")) options.early.onset_method = OnsetMethod::kGroupDelay;
   options.fit_onset_ramps = !args.has("paper-ramp");
   options.late.two_slopes = !args.has("one-slope");
 

@@ -180,12 +180,13 @@ TEST(RsaoEstimatorRealData, StableDirectSoundFirstAndResynthesisKeepsTheDecay) {
   int edt_checks = 0, edt_within = 0, t20_checks = 0;
   double t20_error_sum = 0.0;
   const bool one_slope = std::getenv("ROOM_REVERB_ONE_SLOPE") != nullptr;
+  const bool paper_onsets = std::getenv("ROOM_REVERB_PAPER_ONSETS") != nullptr;
   for (const MeasuredCase& c : measuredCases()) {
     SCOPED_TRACE(c.file);
     const AudioBuffer rir = measured(c);
     RsaoOptions rsao_options;
-    // The same checks with the matching-pursuit detector (early_reflections.h).
-    if (std::getenv("ROOM_REVERB_MATCHED_ONSETS")) rsao_options.early.onset_method = OnsetMethod::kMatchedPursuit;
+    // The same checks with the paper's group-delay onsets (early_reflections.h).
+    if (paper_onsets) rsao_options.early.onset_method = OnsetMethod::kGroupDelay;
     // ... and with the paper's one slope per band (late_reverb.h).
     if (one_slope) rsao_options.late.two_slopes = false;
     const Rsao rsao = estimateRsao(rir, c.format, rsao_options);
@@ -242,8 +243,10 @@ TEST(RsaoEstimatorRealData, StableDirectSoundFirstAndResynthesisKeepsTheDecay) {
     }
   }
   EXPECT_EQ(edt_checks, 33);
-  EXPECT_GE(edt_within, 28);
-  // The mean T20 error: 2.5 % with two slopes where the decay bends, 3.6 % with one.
+  // Matching pursuit and two slopes: 29 of 33 (Terry's 125 Hz EDT, bent, fits with two
+  // slopes); the paper's onsets or one slope: 28.
+  EXPECT_GE(edt_within, paper_onsets || one_slope ? 28 : 29);
+  // The mean T20 error: 2.6 % with two slopes where the decay bends, 3.7 % with one.
   ASSERT_EQ(t20_checks, 35);
   EXPECT_LT(t20_error_sum / t20_checks, one_slope ? 0.04 : 0.03);
 }

@@ -62,6 +62,10 @@ struct MatchedArrival {
   double time_s = 0.0;      // from the first sample, sub-sample resolution
   double amplitude = 0.0;   // W's projection on the unit-energy atom (signed)
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();  // unit, towards the source of the arrival
+  // How much the four projections look like one plane wave, 0..1: 2 |a_W| |a_XYZ| /
+  // (a_W^2 + |a_XYZ|^2) in SN3D, the window directness of direction_of_arrival.h applied
+  // to the arrival's own coefficients.
+  double directness = 0.0;
   double snr_db = 0.0;      // matched-filter peak power over the local residual power
   std::size_t atom = 0;     // 0: the direct sound's own shape; more: low-passed copies
 };

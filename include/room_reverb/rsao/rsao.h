@@ -23,7 +23,11 @@ struct BiquadSection {
 // The direct sound (index 0 of Rsao::reflections) or one early reflection.
 struct EarlyReflection {
   double time_of_arrival_s = 0.0;  // from the first sample of the RIR (48 kHz time base)
-  double level = 0.0;              // A_k = sqrt(E_k) of the W channel over the analysis window (linear)
+  // A_k (linear): the direct sound's, and with the paper's onsets every arrival's, is
+  // sqrt(E_k) of the W channel over the analysis window; with matching pursuit a
+  // reflection's is its own amplitude in W (early_reflections.h). A renderer scales the
+  // filtered tap to it.
+  double level = 0.0;
   double azimuth_rad = 0.0;        // DESIGN.md: counter-clockwise from +x, [-pi, pi)
   double elevation_rad = 0.0;      // up from the horizontal plane, [-pi/2, pi/2]
   // Distance of the (image) source [m]: the direct sound's distance (given, or c times its
@@ -31,16 +35,19 @@ struct EarlyReflection {
   // it. With the direction this places the image source: distance * (cos el cos az,
   // cos el sin az, sin el) in the microphone's frame (imageSourcePosition).
   double distance_m = 0.0;
-  // How far the estimate can be trusted, 0..1: the share of the analysis window's energy
-  // that arrives as one plane wave (CardioidSteeringStatistics::directness). Low where two
-  // arrivals from different directions share the window or the diffuse field dominates.
-  // Not set for an RSAO that was read from a file without it.
+  // How far the estimate can be trusted, 0..1: the share of the energy that arrives as one
+  // plane wave (CardioidSteeringStatistics::directness), of the analysis window with the
+  // paper's onsets, of the arrival's own projection with matching pursuit. Low where two
+  // arrivals from different directions overlap or the diffuse field dominates. Not set
+  // for an RSAO that was read from a file without it.
   std::optional<double> confidence;
   // All-pole spectral shape 1 / A(z) of the reflection, A(z) = 1 + sum_{i>=1} lpc[i] z^-i
   // (lpc[0] == 1), fitted by Levinson-Durbin; lpc_gain is the prediction-error gain.
   std::vector<double> lpc;
   double lpc_gain = 1.0;
-  std::vector<BiquadSection> sos;  // the same filter (gain included) as cascaded sections
+  // The same filter as cascaded sections, its gain giving the energy of W under the
+  // analysis window.
+  std::vector<BiquadSection> sos;
 };
 
 // The reflection's (image) source in the microphone's frame [m]: distance_m along its

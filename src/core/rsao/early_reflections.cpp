@@ -153,6 +153,9 @@ std::vector<EarlyReflection> matchedReflections(const AudioBuffer& ambix, double
     const DirectionOfArrival doa = directionFromVector(m.direction);
     r.azimuth_rad = doa.azimuth_rad;
     r.elevation_rad = doa.elevation_rad;
+    // The arrival's own projection, not the window it shares with its neighbours: a
+    // reflection 0.3 ms from a stronger one is pointed right, and its confidence says so.
+    r.confidence = m.directness;
     return r;
   };
   std::vector<EarlyReflection> result{analyse(arrivals.front())};

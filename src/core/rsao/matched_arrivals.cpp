@@ -249,6 +249,15 @@ Eigen::Vector3d directionOf(const std::array<double, 4>& a) {
   return v.norm() > 0.0 ? Eigen::Vector3d(v.normalized()) : Eigen::Vector3d::UnitX();
 }
 
+// The window directness of CardioidSteeringStatistics, 2 |p| / (E_ww + tr R), of the
+// arrival's own projection: 2 |a_W| |a_XYZ| / (a_W^2 + |a_XYZ|^2), 1 for a plane wave in
+// SN3D (|a_XYZ| = |a_W|), less where a neighbour or the diffuse field left the directional
+// channels more or less than W.
+double projectionDirectness(const std::array<double, 4>& a) {
+  const double w2 = a[0] * a[0], xyz2 = a[1] * a[1] + a[2] * a[2] + a[3] * a[3];
+  return w2 + xyz2 > 0.0 ? 2.0 * std::sqrt(w2 * xyz2) / (w2 + xyz2) : 0.0;
+}
+
 }  // namespace
 
 void validateMatchedArrivalOptions(const MatchedArrivalOptions& o) {
@@ -323,6 +332,7 @@ std::vector<MatchedArrival> matchedPursuitArrivals(const AudioBuffer& ambix, dou
     m.time_s = direct_time_s;
     m.amplitude = a[0] * std::sqrt(energy);
     m.direction = directionOf(a);
+    m.directness = projectionDirectness(a);
     const double noise = pursuit.localPower(static_cast<double>(direct_lag) + pursuit.reference(), span);
     m.snr_db = noise > 0.0 ? 10.0 * std::log10(m.amplitude * m.amplitude / noise) : 300.0;
     result.push_back(m);
@@ -398,6 +408,7 @@ std::vector<MatchedArrival> matchedPursuitArrivals(const AudioBuffer& ambix, dou
     m.time_s = pursuit.timeOfLag(static_cast<double>(lag) + delta) / fs;
     m.amplitude = a[0] * std::sqrt(energy);
     m.direction = directionOf(a);
+    m.directness = projectionDirectness(a);
     m.snr_db = noise > 0.0 ? 10.0 * std::log10(peak / noise) : 300.0;
     m.atom = atom;
     result.push_back(m);
