@@ -41,3 +41,21 @@ TEST(EnergyDecay, TooShortSignalIsNotAnalysed) {
   EXPECT_FALSE(decay.valid());
   EXPECT_FALSE(decay.lundeby().failure.empty());
 }
+
+// From energies per sample, the curve is the one its signal's squares give.
+TEST(EnergyDecay, FromEnergiesIsTheCurveOfTheSquares) {
+  std::vector<float> rir = room_reverb::test::exponentialDecayNoise(2 * 48000, 0.8, 0, 16);
+  room_reverb::test::addNoiseFloor(rir, -50.0, 17);
+  std::vector<double> squares(rir.size());
+  for (std::size_t n = 0; n < rir.size(); ++n) squares[n] = static_cast<double>(rir[n]) * rir[n];
+  for (std::size_t onset : {0u, 480u}) {
+    const EnergyDecay from_samples(rir, onset, kFs);
+    const EnergyDecay from_energies(squares, onset, kFs);
+    ASSERT_TRUE(from_samples.valid() && from_energies.valid());
+    EXPECT_EQ(from_energies.lundeby().crosspoint, from_samples.lundeby().crosspoint);
+    for (double t : {0.0, 0.2, 0.5}) EXPECT_NEAR(from_energies.levelDb(t), from_samples.levelDb(t), 1e-9) << t;
+    EXPECT_NEAR(from_energies.decayTimeS(-5, -25), from_samples.decayTimeS(-5, -25), 1e-9);
+  }
+  // An onset past the end leaves nothing to analyse.
+  EXPECT_FALSE(EnergyDecay(squares, squares.size() + 10, kFs).valid());
+}

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <complex>
+#include <stdexcept>
 #include <thread>
 
 #include "room_reverb/audio/convolution.h"
@@ -36,6 +37,23 @@ TEST(Fft, InverseUndoesForward) {
   RealFft fft(960);
   const auto back = fft.inverse(fft.forward(x));
   for (std::size_t t = 0; t < x.size(); ++t) EXPECT_NEAR(back[t], x[t], 1e-5);
+}
+
+TEST(Fft, ComplexInverseMatchesDirectDft) {
+  for (std::size_t n : {1u, 7u, 64u, 100u}) {
+    const std::vector<float> re = room_reverb::test::whiteNoise(n, 6), im = room_reverb::test::whiteNoise(n, 7);
+    std::vector<std::complex<float>> spectrum(n), time(n);
+    for (std::size_t k = 0; k < n; ++k) spectrum[k] = {re[k], im[k]};
+    ComplexInverseFft fft(n);
+    fft.inverse(spectrum.data(), time.data());
+    for (std::size_t t = 0; t < n; ++t) {
+      std::complex<double> sum = 0.0;
+      for (std::size_t k = 0; k < n; ++k) sum += std::complex<double>(spectrum[k]) * std::polar(1.0, 2 * M_PI * k * t / n);
+      EXPECT_NEAR(time[t].real(), sum.real(), 1e-4 * std::sqrt(n)) << n << " " << t;
+      EXPECT_NEAR(time[t].imag(), sum.imag(), 1e-4 * std::sqrt(n)) << n << " " << t;
+    }
+  }
+  EXPECT_THROW(ComplexInverseFft(0), std::invalid_argument);
 }
 
 TEST(Fft, PlansAreSharedAcrossThreads) {

@@ -3,7 +3,9 @@
 // on the bundled measured B-format RIRs; and every bad input a user can give it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <string>
@@ -164,23 +166,27 @@ TEST(RsaoEstimator, FixedMixingTimeIsUsed) {
 //     five rooms), and at 16 kHz the octave model carries the 8 kHz band's slower decay
 //     across the crossover (see docs/rsao.md).
 // Measured on the five files (scripts/room_reverb rsao F --resynthesis, then metrics):
-// T20 within 10 % in all 35 band checks, 2.5 % off on average (3.6 % with one slope per
-// band, ROOM_REVERB_ONE_SLOPE=1); EDT within 15 % in 28 of 33. The five misses are
-// listed with their errors (kKnownEdtMisses) so that a change that helps or hurts them
-// shows: Dixon and St Andrew's at 125 Hz (+30 %, +18 %: the early low-frequency energy
-// arrives in a few strong modes the noise model spreads out), St Andrew's at 8 kHz (-39 %)
-// and the Tyndall Bruce monument at 500 Hz and 1 kHz (-30 %, -44 %), whose measured EDT is
-// longer than their T20: a strong late arrival the exponential late model cannot carry.
+// T20 within 10 % in all 35 band checks, 2.7 % off on average (3.6 % with one slope per
+// band, ROOM_REVERB_ONE_SLOPE=1); EDT within 15 % in 29 of 33 (28 with the paper's
+// onsets, ROOM_REVERB_PAPER_ONSETS=1, or one slope). The misses are listed with their
+// errors (kKnownEdtMisses) so that a change that helps or hurts them shows: Dixon at
+// 125 Hz (+30 %: the early low-frequency energy arrives in a few strong modes the noise
+// model spreads out; St Andrew's at 125 Hz, +18 % with the paper's onsets, is within
+// with the defaults), St Andrew's at 8 kHz (-36 %) and the Tyndall Bruce monument at
+// 500 Hz and 1 kHz (-34 %, -44 %), whose measured EDT is longer than their T20: a strong
+// late arrival the exponential late model cannot carry.
 TEST(RsaoEstimatorRealData, StableDirectSoundFirstAndResynthesisKeepsTheDecay) {
   // (file, band) -> the EDT error measured when this test was written.
-  const std::map<std::pair<std::string, int>, double> kKnownEdtMisses = {
+  const bool one_slope = std::getenv("ROOM_REVERB_ONE_SLOPE") != nullptr;
+  const bool paper_onsets = std::getenv("ROOM_REVERB_PAPER_ONSETS") != nullptr;
+  std::map<std::pair<std::string, int>, double> kKnownEdtMisses = {
       {{"dixon_studio_theatre_r1.wav", 125}, +0.296}, {{"st_andrews_church.wav", 125}, +0.182},
       {{"st_andrews_church.wav", 8000}, -0.391},      {{"tyndall_bruce_monument.wav", 500}, -0.296},
       {{"tyndall_bruce_monument.wav", 1000}, -0.440}};
+  // Terry's bent 125 Hz decay with matching pursuit's reflections and one slope.
+  if (one_slope && !paper_onsets) kKnownEdtMisses[{"terrys_typing_room.wav", 125}] = +0.174;
   int edt_checks = 0, edt_within = 0, t20_checks = 0;
   double t20_error_sum = 0.0;
-  const bool one_slope = std::getenv("ROOM_REVERB_ONE_SLOPE") != nullptr;
-  const bool paper_onsets = std::getenv("ROOM_REVERB_PAPER_ONSETS") != nullptr;
   for (const MeasuredCase& c : measuredCases()) {
     SCOPED_TRACE(c.file);
     const AudioBuffer rir = measured(c);
@@ -242,6 +248,8 @@ TEST(RsaoEstimatorRealData, StableDirectSoundFirstAndResynthesisKeepsTheDecay) {
       EXPECT_NEAR(ratio - 1.0, miss->second, 0.10) << "EDT " << *r.edt_s << " vs " << *m.edt_s;
     }
   }
+  std::printf("[ measured ] T20 error mean %.2f %% over %d bands; EDT within 15 %% in %d of %d\n",
+              100.0 * t20_error_sum / std::max(t20_checks, 1), t20_checks, edt_within, edt_checks);
   EXPECT_EQ(edt_checks, 33);
   // Matching pursuit and two slopes: 29 of 33 (Terry's 125 Hz EDT, bent, fits with two
   // slopes); the paper's onsets or one slope: 28.

@@ -1,7 +1,8 @@
 #pragma once
-// Real FFT over FFTW3 (single precision). Plans are made once per size and shared by
-// every RealFft of that size (FFTW's planner is not thread-safe, its execution is), so
-// constructing a RealFft after the first of its size costs only two buffer allocations.
+// Real FFT and complex inverse FFT over FFTW3 (single precision). Plans are made once per
+// size and shared by every transform of that kind and size (FFTW's planner is not
+// thread-safe, its execution is), so constructing one after the first of its size costs
+// only its buffer allocations.
 #include <complex>
 #include <cstddef>
 #include <memory>
@@ -37,6 +38,27 @@ class RealFft {
   std::shared_ptr<const Plans> plans_;
   float* time_buffer_;
   void* spectrum_buffer_;  // fftwf_complex*, kept opaque so FFTW stays out of this header
+};
+
+// Complex inverse FFT, for band signals taken down to baseband (BandFilterBank's energy
+// envelopes): only the band's bins are transformed, at a rate set by its width.
+class ComplexInverseFft {
+ public:
+  explicit ComplexInverseFft(std::size_t size);
+  ~ComplexInverseFft();
+  ComplexInverseFft(const ComplexInverseFft&) = delete;
+  ComplexInverseFft& operator=(const ComplexInverseFft&) = delete;
+
+  std::size_t size() const { return size_; }
+  // spectrum: size() bins -> time: size() samples, unnormalised (sum_k X_k e^{+2 pi i k n / N}).
+  void inverse(const std::complex<float>* spectrum, std::complex<float>* time);
+
+ private:
+  struct Plan;
+  std::size_t size_;
+  std::shared_ptr<const Plan> plan_;
+  void* in_;   // fftwf_complex*
+  void* out_;  // fftwf_complex*
 };
 
 }  // namespace room_reverb::core

@@ -21,6 +21,9 @@ class EnergyDecay {
  public:
   // `signal`: a (band-filtered) impulse response; analysis starts at `onset`.
   EnergyDecay(const std::vector<float>& signal, std::size_t onset, double sample_rate_hz);
+  // From the response's energy per sample instead of its samples (squared samples, or a
+  // band's energy envelope, BandFilterBank::extractEnergyEnvelope), from `onset` on.
+  EnergyDecay(const std::vector<double>& energy, std::size_t onset, double sample_rate_hz);
 
   const LundebyResult& lundeby() const { return lundeby_; }
   bool valid() const { return lundeby_.valid; }
@@ -44,6 +47,7 @@ class EnergyDecay {
   DecayLine fitLine(double start_db, double end_db) const;
 
  private:
+  void integrate(const std::vector<double>& energy);  // Lundeby, then the backward integral
   double tailEnergy() const;    // compensation: energy past the crosspoint
   double decayRatePerS() const; // delta of the energy envelope exp(-delta t)
 

@@ -95,7 +95,7 @@ BandFilterBank::PaddedSpectrum BandFilterBank::analyse(const std::vector<float>&
 }
 
 void BandFilterBank::fillBandSpectrum(const PaddedSpectrum& spectrum, std::size_t band,
-                                      std::vector<std::complex<float>>& out) const {
+                                      std::vector<std::complex<float>>& out, std::size_t shift) const {
   const double bin_hz = sample_rate_hz_ / static_cast<double>(spectrum.fft_size);
   std::fill(out.begin(), out.end(), std::complex<float>(0.0f, 0.0f));
   // Only bins inside the band's support need work; the rest are zero.
@@ -106,10 +106,10 @@ void BandFilterBank::fillBandSpectrum(const PaddedSpectrum& spectrum, std::size_
   const double upper_log2 = std::log2(bands_[band].upper_hz);
   const double flat_low = bands_[band].lower_hz * std::pow(2.0, 0.5 * lower_crossover_octaves_[band]);
   const double flat_high = bands_[band].upper_hz * std::pow(2.0, -0.5 * upper_crossover_octaves_[band]);
-  for (std::size_t k = std::max<std::size_t>(first, 1); k <= last && k < out.size(); ++k) {
+  for (std::size_t k = std::max<std::size_t>({first, shift, 1}); k <= last && k - shift < out.size(); ++k) {
     const double f = k * bin_hz;
     if (f > flat_low && f < flat_high) {
-      out[k] = spectrum.bins[k];
+      out[k - shift] = spectrum.bins[k];
       continue;
     }
     // In one crossover or the other: the rise sin(pi/2 p) or the fall cos(pi/2 q) =
@@ -118,7 +118,7 @@ void BandFilterBank::fillBandSpectrum(const PaddedSpectrum& spectrum, std::size_
     const double amplitude =
         f <= flat_low ? quarterSine(crossoverPosition(f_log2, lower_log2, lower_crossover_octaves_[band]))
                       : quarterSine(1.0 - crossoverPosition(f_log2, upper_log2, upper_crossover_octaves_[band]));
-    out[k] = spectrum.bins[k] * static_cast<float>(complementarity_ == Complementarity::kPower ? amplitude : amplitude * amplitude);
+    out[k - shift] = spectrum.bins[k] * static_cast<float>(complementarity_ == Complementarity::kPower ? amplitude : amplitude * amplitude);
   }
 }
 
@@ -142,38 +142,40 @@ std::vector<float> BandFilterBank::extract(const PaddedSpectrum& spectrum, std::
   return band_signal;
 }
 
-BandFilterBank::DecimatedBand BandFilterBank::extractDecimated(const PaddedSpectrum& spectrum, std::size_t band,
-                                                               double oversampling) const {
-  if (!(oversampling >= 2.0)) throw std::invalid_argument("BandFilterBank: oversampling must be at least 2");
-  DecimatedBand out;
+BandFilterBank::BandEnergy BandFilterBank::extractEnergyEnvelope(const PaddedSpectrum& spectrum, std::size_t band,
+                                                                 double min_rate_hz, double width_oversampling) const {
+  if (!(width_oversampling >= 1.0)) throw std::invalid_argument("BandFilterBank: width oversampling must be at least 1");
+  if (!(min_rate_hz >= 0.0)) throw std::invalid_argument("BandFilterBank: the minimum rate must not be negative");
+  BandEnergy out;
   out.sample_rate_hz = sample_rate_hz_;
   if (spectrum.signal_length == 0) return out;
   if (!bandBelowNyquist(band)) {
-    out.signal.assign(spectrum.signal_length, 0.0f);
+    out.energy.assign(spectrum.signal_length, 0.0);
     return out;
   }
-  // The smallest fast transform whose Nyquist bin lies past the band's support and whose
-  // rate is `oversampling` times the support's top: the inverse of only the bins the band
-  // has gives the band signal's own samples at that rate (it holds nothing above).
   const std::size_t n = spectrum.fft_size;
-  const std::size_t last = supportBins(spectrum, band).second;
-  const auto wanted = static_cast<std::size_t>(std::ceil(oversampling * static_cast<double>(last + 1)));
-  std::size_t m = nextFastFftSize(std::max<std::size_t>(2 * (last + 1), wanted));
-  if (m % 2 != 0) m = nextFastFftSize(m + 1);
-  if (m >= n) {
-    out.signal = extract(spectrum, band);
-    return out;
-  }
-  RealFft fft(m);
-  std::vector<std::complex<float>> band_spectrum(m / 2 + 1);
-  fillBandSpectrum(spectrum, band, band_spectrum);
-  out.signal = fft.inverse(band_spectrum);
-  // Both transforms scale by their own size; the band keeps the input's amplitude.
-  const auto to_input_scale = static_cast<float>(static_cast<double>(m) / static_cast<double>(n));
-  for (float& v : out.signal) v *= to_input_scale;
-  out.signal.resize(static_cast<std::size_t>(
-      std::ceil(static_cast<double>(spectrum.signal_length) * static_cast<double>(m) / static_cast<double>(n))));
-  out.sample_rate_hz = sample_rate_hz_ * static_cast<double>(m) / static_cast<double>(n);
+  const auto [first, last] = supportBins(spectrum, band);
+  const double bin_hz = sample_rate_hz_ / static_cast<double>(n);
+  // m bins of the baseband transform span m * bin_hz: the rate of its samples.
+  const std::size_t width = last - first + 1;
+  const auto wanted = static_cast<std::size_t>(std::ceil(std::max(width_oversampling * static_cast<double>(width),
+                                                                  min_rate_hz / bin_hz)));
+  const std::size_t m = std::min(nextFastFftSize(std::max(width, wanted)), nextFastFftSize(n));
+  // The analytic signal's spectrum is twice the positive bins (the Nyquist bin, shared by
+  // both halves, once), shifted down by `first` bins: that only turns the phase of z(t),
+  // not its magnitude.
+  std::vector<std::complex<float>> baseband(m);
+  fillBandSpectrum(spectrum, band, baseband, first);
+  for (std::size_t k = first; k <= last && k - first < m; ++k) baseband[k - first] *= (2 * k == n) ? 1.0f : 2.0f;
+  std::vector<std::complex<float>> z(m);
+  ComplexInverseFft(m).inverse(baseband.data(), z.data());
+  // The input's inverse scales by 1 / n; each sample then stands for n / m input samples.
+  const double scale = 0.5 / (static_cast<double>(n) * static_cast<double>(n));
+  out.sample_rate_hz = bin_hz * static_cast<double>(m);
+  const auto length = static_cast<std::size_t>(
+      std::ceil(static_cast<double>(spectrum.signal_length) * static_cast<double>(m) / static_cast<double>(n)));
+  out.energy.resize(std::min(length, m));
+  for (std::size_t i = 0; i < out.energy.size(); ++i) out.energy[i] = scale * std::norm(std::complex<double>(z[i]));
   return out;
 }
 

@@ -37,6 +37,21 @@ std::mutex& plannerMutex() {
   return mutex;
 }
 
+// The plans of one kind for `size`, made by `make` (under the planner's lock) the first
+// time and shared after. FFTW_ESTIMATE throughout: measuring would cost seconds for the
+// long transforms of whole RIRs, and plans are executed on other buffers of the same
+// (fftwf_malloc) alignment.
+template <typename PlanSet, typename Make>
+std::shared_ptr<const PlanSet> sharedPlans(std::size_t size, Make make) {
+  std::lock_guard<std::mutex> lock(plannerMutex());
+  static std::map<std::size_t, std::shared_ptr<const PlanSet>> cache;
+  auto found = cache.find(size);
+  if (found != cache.end()) return found->second;
+  std::shared_ptr<const PlanSet> plans = make();
+  cache.emplace(size, plans);
+  return plans;
+}
+
 }  // namespace
 
 RealFft::RealFft(std::size_t size) : size_(size) {
@@ -44,24 +59,15 @@ RealFft::RealFft(std::size_t size) : size_(size) {
   time_buffer_ = fftwf_alloc_real(size_);
   spectrum_buffer_ = fftwf_alloc_complex(spectrumSize());
   if (!time_buffer_ || !spectrum_buffer_) throw std::bad_alloc();
-
-  std::lock_guard<std::mutex> lock(plannerMutex());
-  static std::map<std::size_t, std::shared_ptr<const Plans>> cache;
-  auto found = cache.find(size_);
-  if (found != cache.end()) {
-    plans_ = found->second;
-    return;
-  }
-  // FFTW_ESTIMATE: measuring would cost seconds for the long transforms of whole RIRs and
-  // plans are executed on other buffers of the same (fftwf_malloc) alignment.
-  auto plans = std::make_shared<Plans>();
-  auto* spectrum = static_cast<fftwf_complex*>(spectrum_buffer_);
-  const int n = static_cast<int>(size_);
-  plans->forward = fftwf_plan_dft_r2c_1d(n, time_buffer_, spectrum, FFTW_ESTIMATE);
-  plans->inverse = fftwf_plan_dft_c2r_1d(n, spectrum, time_buffer_, FFTW_ESTIMATE);
-  if (!plans->forward || !plans->inverse) throw std::runtime_error("FFTW could not plan");
-  cache.emplace(size_, plans);
-  plans_ = plans;
+  plans_ = sharedPlans<Plans>(size_, [&] {
+    auto plans = std::make_shared<Plans>();
+    auto* spectrum = static_cast<fftwf_complex*>(spectrum_buffer_);
+    const int n = static_cast<int>(size_);
+    plans->forward = fftwf_plan_dft_r2c_1d(n, time_buffer_, spectrum, FFTW_ESTIMATE);
+    plans->inverse = fftwf_plan_dft_c2r_1d(n, spectrum, time_buffer_, FFTW_ESTIMATE);
+    if (!plans->forward || !plans->inverse) throw std::runtime_error("FFTW could not plan");
+    return plans;
+  });
 }
 
 RealFft::~RealFft() {
@@ -98,6 +104,38 @@ std::vector<float> RealFft::inverse(const std::vector<std::complex<float>>& spec
   std::vector<float> time(size_);
   inverse(spectrum.data(), time.data());
   return time;
+}
+
+struct ComplexInverseFft::Plan {
+  fftwf_plan inverse = nullptr;
+  ~Plan() {
+    if (inverse) fftwf_destroy_plan(inverse);
+  }
+};
+
+ComplexInverseFft::ComplexInverseFft(std::size_t size) : size_(size) {
+  if (size == 0) throw std::invalid_argument("ComplexInverseFft size must be positive");
+  in_ = fftwf_alloc_complex(size_);
+  out_ = fftwf_alloc_complex(size_);
+  if (!in_ || !out_) throw std::bad_alloc();
+  plan_ = sharedPlans<Plan>(size_, [&] {
+    auto plan = std::make_shared<Plan>();
+    plan->inverse = fftwf_plan_dft_1d(static_cast<int>(size_), static_cast<fftwf_complex*>(in_),
+                                      static_cast<fftwf_complex*>(out_), FFTW_BACKWARD, FFTW_ESTIMATE);
+    if (!plan->inverse) throw std::runtime_error("FFTW could not plan");
+    return plan;
+  });
+}
+
+ComplexInverseFft::~ComplexInverseFft() {
+  fftwf_free(in_);
+  fftwf_free(out_);
+}
+
+void ComplexInverseFft::inverse(const std::complex<float>* spectrum, std::complex<float>* time) {
+  std::memcpy(in_, static_cast<const void*>(spectrum), size_ * sizeof(fftwf_complex));
+  fftwf_execute_dft(plan_->inverse, static_cast<fftwf_complex*>(in_), static_cast<fftwf_complex*>(out_));
+  std::memcpy(static_cast<void*>(time), out_, size_ * sizeof(fftwf_complex));
 }
 
 }  // namespace room_reverb::core

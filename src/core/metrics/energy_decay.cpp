@@ -10,6 +10,17 @@ EnergyDecay::EnergyDecay(const std::vector<float>& signal, std::size_t onset, do
   std::vector<double> energy;
   energy.reserve(signal.size() > onset ? signal.size() - onset : 0);
   for (std::size_t n = onset; n < signal.size(); ++n) energy.push_back(static_cast<double>(signal[n]) * signal[n]);
+  integrate(energy);
+}
+
+EnergyDecay::EnergyDecay(const std::vector<double>& energy, std::size_t onset, double fs) : fs_(fs) {
+  integrate(onset == 0 ? energy
+                       : std::vector<double>(energy.begin() + static_cast<std::ptrdiff_t>(std::min(onset, energy.size())),
+                                             energy.end()));
+}
+
+void EnergyDecay::integrate(const std::vector<double>& energy) {
+  const double fs = fs_;
   lundeby_ = lundebyTruncation(energy, fs);
   if (!lundeby_.valid) return;
 

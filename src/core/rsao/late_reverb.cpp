@@ -17,6 +17,7 @@ namespace {
 
 const double kLn10 = std::log(10.0);
 constexpr double kMinAnalysisS = 0.1;
+constexpr double kEnvelopeRateHz = 4000.0;
 
 std::string text(const char* format, double value) {
   char buffer[48];
@@ -48,10 +49,10 @@ TwoSlopeFit twoSlopesFor(const EnergyDecay& decay, double range_db, const LateRe
   return fit;
 }
 
-BandMeasurement measureBand(const std::vector<float>& band, std::size_t mix, double fs,
+BandMeasurement measureBand(const std::vector<double>& energy, std::size_t mix, double fs,
                             const LateReverbOptions& o) {
   BandMeasurement m;
-  const EnergyDecay decay(band, mix, fs);
+  const EnergyDecay decay(energy, mix, fs);
   if (!decay.valid()) {
     m.problem = "noise-dominated: " + decay.lundeby().failure;
     return m;
@@ -106,10 +107,12 @@ double substituteDelta(const std::vector<BandMeasurement>& m, const std::vector<
   return m[lo].delta + (m[hi].delta - m[lo].delta) * (x - x0) / (x1 - x0);
 }
 
-double rmsOver(const std::vector<float>& x, std::size_t first, std::size_t count) {
-  const std::size_t last = std::min(x.size(), first + std::max<std::size_t>(1, count));
+// The RMS amplitude over `count` samples from `first` of a signal given by its energy per
+// sample.
+double rmsOver(const std::vector<double>& energy, std::size_t first, std::size_t count) {
+  const std::size_t last = std::min(energy.size(), first + std::max<std::size_t>(1, count));
   double sum = 0.0;
-  for (std::size_t n = first; n < last; ++n) sum += static_cast<double>(x[n]) * x[n];
+  for (std::size_t n = first; n < last; ++n) sum += energy[n];
   return last > first ? std::sqrt(sum / static_cast<double>(last - first)) : 0.0;
 }
 
@@ -154,12 +157,13 @@ LateReverb estimateLateReverb(const std::vector<float>& w, double first_reflecti
   const double fs = kInternalSampleRateHz;
   const std::vector<FrequencyBand> bands = standardBands(BandResolution::kOctave);
   const BandFilterBank bank(bands, fs);
-  // Each band at a rate of eight times its top frequency: its decay and level read the
-  // same from its own samples at that rate, and the low octaves cost a fraction of the
-  // input's rate (a 1 s response's late part in a third of the time).
+  // Each band's energy envelope (BandFilterBank::extractEnergyEnvelope): its Schroeder
+  // curve and level read the same from it as from the band's samples squared, at a rate
+  // set by the band's width (at least kEnvelopeRateHz, a quarter-millisecond grid), so the
+  // high octaves cost a fraction of the input's rate.
   const BandFilterBank::PaddedSpectrum spectrum = bank.analyse(w);
-  std::vector<BandFilterBank::DecimatedBand> split;
-  for (std::size_t b = 0; b < bands.size(); ++b) split.push_back(bank.extractDecimated(spectrum, b));
+  std::vector<BandFilterBank::BandEnergy> split;
+  for (std::size_t b = 0; b < bands.size(); ++b) split.push_back(bank.extractEnergyEnvelope(spectrum, b, kEnvelopeRateHz));
   auto samplesAt = [](double seconds, double rate) { return static_cast<std::size_t>(std::lround(seconds * rate)); };
 
   LateReverb late;
@@ -176,8 +180,8 @@ LateReverb estimateLateReverb(const std::vector<float>& w, double first_reflecti
           : "";
 
   std::vector<BandMeasurement> measured;
-  for (const BandFilterBank::DecimatedBand& band : split) {
-    measured.push_back(measureBand(band.signal, samplesAt(mixing_time_s, band.sample_rate_hz), band.sample_rate_hz, o));
+  for (const BandFilterBank::BandEnergy& band : split) {
+    measured.push_back(measureBand(band.energy, samplesAt(mixing_time_s, band.sample_rate_hz), band.sample_rate_hz, o));
   }
 
   const double fallback_delta = 3.0 * kLn10 / o.fallback_t60_s;
@@ -203,7 +207,7 @@ LateReverb estimateLateReverb(const std::vector<float>& w, double first_reflecti
     } else {
       band.decay_constant_per_s = substituteDelta(measured, bands, b, fallback_delta, used_fallback);
       const double rate = split[b].sample_rate_hz;
-      band.level = rmsOver(split[b].signal, samplesAt(mixing_time_s, rate), samplesAt(o.substitute_level_window_s, rate));
+      band.level = rmsOver(split[b].energy, samplesAt(mixing_time_s, rate), samplesAt(o.substitute_level_window_s, rate));
     }
     band.t60_s = 3.0 * kLn10 / band.decay_constant_per_s;
     std::string reason = !clipped.empty() ? clipped : m.problem;

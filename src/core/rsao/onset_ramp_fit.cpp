@@ -15,11 +15,10 @@ namespace {
 constexpr double kFs = kInternalSampleRateHz;
 constexpr int kBisectionSteps = 20;  // 80 dB of log range to 1e-4 dB
 constexpr double kFilterMarginS = 0.1;  // longer than the 63 Hz band filter's ringing
-// Band rates for the early course's energies, in multiples of each band's top frequency:
-// sums over a window of 50-150 ms at a reduced rate err at the window's edges, and at 16
-// the fitted onset levels of the bundled RIRs stay within 0.05 dB of the full rate's (at
-// 8, 0.2 dB).
-constexpr double kOnsetOversampling = 16.0;
+// The least rate of the bands' energy envelopes for the early course's energies: a sum
+// over a window of 50-150 ms errs by at most half a sample at each edge, 0.125 ms at
+// 4 kHz.
+constexpr double kEnvelopeRateHz = 4000.0;
 
 double energyBetween(const std::vector<float>& x, std::size_t from, std::size_t to) {
   double sum = 0.0;
@@ -46,18 +45,21 @@ double onsetLevelHolding(LateReverb& late, std::size_t b, std::size_t from, std:
 }
 
 // Per band, the energy of `x` over samples [from, to) at kFs, in those samples' units,
-// from each band at a reduced rate (BandFilterBank::extractDecimated): a band at rate r
-// holds the same signal at kFs / r times fewer samples, each standing for that many.
+// from each band's energy envelope (BandFilterBank::extractEnergyEnvelope): an envelope
+// at rate r holds the band's energy per sample at kFs / r times fewer samples, each
+// standing for that many.
 std::vector<double> bandEnergiesBetween(const BandFilterBank& bank, const std::vector<float>& x, std::size_t from,
                                         std::size_t to) {
   const BandFilterBank::PaddedSpectrum spectrum = bank.analyse(x);
   std::vector<double> energies;
   for (std::size_t b = 0; b < bank.bands().size(); ++b) {
-    const BandFilterBank::DecimatedBand band = bank.extractDecimated(spectrum, b, kOnsetOversampling);
+    const BandFilterBank::BandEnergy band = bank.extractEnergyEnvelope(spectrum, b, kEnvelopeRateHz);
     const double ratio = band.sample_rate_hz / kFs;
     const auto first = static_cast<std::size_t>(std::lround(static_cast<double>(from) * ratio));
-    const auto last = static_cast<std::size_t>(std::lround(static_cast<double>(to) * ratio));
-    energies.push_back(energyBetween(band.signal, first, last) / ratio);
+    const auto last = std::min(band.energy.size(), static_cast<std::size_t>(std::lround(static_cast<double>(to) * ratio)));
+    double sum = 0.0;
+    for (std::size_t i = first; i < last; ++i) sum += band.energy[i];
+    energies.push_back(sum / ratio);
   }
   return energies;
 }
