@@ -176,8 +176,12 @@ struct MovedScore {
 MovedScore scoreMovedRoom(ReflectionRoomSet set, std::size_t index, std::size_t offsets, bool levels = false) {
   const ReflectionRoom capture = reflectionRoom(set, index);
   const Rsao measured = estimateRsao(capture.ambix, AmbisonicFormat::kAmbiX);
+  // The report's completion order can be set (ROOM_REVERB_COMPLETE_ORDER, 0: none) to
+  // measure what the room model's completion adds.
+  ListenerTranslationOptions options;
+  if (const char* order = std::getenv("ROOM_REVERB_COMPLETE_ORDER")) options.complete_order = std::atoi(order);
   const ListenerTranslation translation(measured, capture.geometry.receiver_m, Eigen::Quaterniond::Identity(),
-                                        modelOf(capture.geometry));
+                                        modelOf(capture.geometry), options);
   MovedScore score;
   for (std::size_t k = 1; k < translation.anchors().size(); ++k) {
     const ReflectionAnchor anchor = translation.anchors()[k].anchor;

@@ -8,6 +8,7 @@
 #include "reflection_rooms.h"
 #include "room_reverb/acoustics/room_model.h"
 #include "room_reverb/audio/audio_file.h"
+#include "room_reverb/rsao/rsao_estimator.h"
 #include "room_reverb/rsao/rsao_visr_json.h"
 #include "room_reverb/rsao/rsao_yaml.h"
 #include "room_reverb/common/text_file.h"
@@ -54,6 +55,29 @@ TEST(RsaoTool, WritesTheTableYamlVisrJsonAndResynthesis) {
   const AudioBuffer resynthesis = readAudioFile(wav);
   EXPECT_EQ(resynthesis.channelCount(), 4u);
   EXPECT_EQ(resynthesis.sample_rate_hz, 48000.0);
+}
+
+// --paper-onsets selects the paper's group-delay detector, the default matching pursuit;
+// each file holds what the library gives with that method.
+TEST(RsaoTool, PaperOnsetsSelectTheGroupDelayDetector) {
+  const AudioBuffer rir = readAudioFile(kRir);
+  for (const bool paper : {false, true}) {
+    const std::string yaml = tempPath(paper ? "paper.yaml" : "matched.yaml").string();
+    const auto run = runTool("rsao " + kRir + " --format fuma --yaml " + yaml + (paper ? " --paper-onsets" : ""));
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    RsaoOptions options;
+    options.early.onset_method = paper ? OnsetMethod::kGroupDelay : OnsetMethod::kMatchedPursuit;
+    const Rsao expected = estimateRsao(rir, AmbisonicFormat::kFuMa, options);
+    const Rsao written = loadRsaoYaml(yaml);
+    ASSERT_EQ(written.reflections.size(), expected.reflections.size()) << (paper ? "paper" : "matched");
+    for (std::size_t k = 0; k < written.reflections.size(); ++k) {
+      EXPECT_NEAR(written.reflections[k].time_of_arrival_s, expected.reflections[k].time_of_arrival_s, 1e-12) << k;
+      EXPECT_NEAR(written.reflections[k].azimuth_rad, expected.reflections[k].azimuth_rad, 1e-12) << k;
+    }
+  }
+  expectOneLineError(runTool("rsao " + kRir + " --format fuma --grid"), "--grid goes with --paper-onsets");
+  const auto grid = runTool("rsao " + kRir + " --format fuma --paper-onsets --grid");
+  EXPECT_EQ(grid.exit_code, 0) << grid.err;
 }
 
 TEST(RsaoTool, ADoubtfulFormatIsAWarningOnStderr) {
