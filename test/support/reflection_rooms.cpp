@@ -219,10 +219,14 @@ double sabineT60(const Geometry& g) {
 
 // Diffuse field: independent Gaussian noise in each channel (W variance s^2, X, Y, Z
 // s^2 / 3 each: an isotropic field in SN3D), low-passed thrice where the walls are dull.
+// Its level and decay belong to the room, not to the receiver: they are set by the direct
+// sound at the room's own receiver (`room_direct_time_s`, `room_direct_energy`), and a
+// moved receiver hears the same energy at the same time after the emission. Only its rise
+// starts at the receiver's own direct sound (`direct_time_s`), nothing arriving before it.
 void addDiffuseTail(core::AudioBuffer& ambix, const Geometry& g, const Recipe& recipe, double direct_time_s,
-                    double direct_energy, std::mt19937& rng) {
+                    double room_direct_time_s, double room_direct_energy, std::mt19937& rng) {
   std::normal_distribution<double> normal(0.0, 1.0);
-  const double per_ms = direct_energy * std::pow(10.0, kDiffuseAt30MsDb / 10.0);
+  const double per_ms = room_direct_energy * std::pow(10.0, kDiffuseAt30MsDb / 10.0);
   const double variance_at_reference = per_ms / (0.001 * kFs);
   const double decay_per_s = 6.0 * std::log(10.0) / sabineT60(g);  // energy
   const std::size_t frames = ambix.frameCount();
@@ -239,10 +243,11 @@ void addDiffuseTail(core::AudioBuffer& ambix, const Geometry& g, const Recipe& r
     for (double v : noise) power += v * v;
     const double scale = 1.0 / std::sqrt(power / static_cast<double>(frames)) / (c == 0 ? 1.0 : std::sqrt(3.0));
     for (std::size_t n = 0; n < frames; ++n) {
-      const double tau = static_cast<double>(n) / kFs - direct_time_s;
+      const double t = static_cast<double>(n) / kFs;
+      const double tau = t - direct_time_s;
       if (tau <= 0.0) continue;
       const double variance = variance_at_reference * std::pow(tau / kDiffuseReferenceS, 2) *
-                              std::exp(-decay_per_s * (tau - kDiffuseReferenceS));
+                              std::exp(-decay_per_s * (t - room_direct_time_s - kDiffuseReferenceS));
       ambix.channels[c][n] += static_cast<float>(scale * noise[n] * std::sqrt(variance));
     }
   }
@@ -327,6 +332,7 @@ ReflectionRoom reflectionRoom(ReflectionRoomSet set, std::size_t index, const Ei
     }
   }
 
+  const ImageArrival room_direct = images.front();  // at the room's own receiver
   if (!receiver_offset_m.isZero()) {
     g.receiver += receiver_offset_m;
     const Eigen::Vector3d clearance = (g.receiver.array().min((g.size - g.receiver).array())).matrix();
@@ -353,7 +359,7 @@ ReflectionRoom reflectionRoom(ReflectionRoomSet set, std::size_t index, const Ei
              path / distance);
   }
   const ImageArrival& direct = images.front();
-  addDiffuseTail(room.ambix, g, recipe, direct.time_s, direct.level * direct.level, rng);
+  addDiffuseTail(room.ambix, g, recipe, direct.time_s, room_direct.time_s, room_direct.level * room_direct.level, rng);
   float peak = 0.0f;
   for (float v : room.ambix.channels[0]) peak = std::max(peak, std::abs(v));
   const double floor = peak * std::pow(10.0, -recipe.snr_db / 20.0);
