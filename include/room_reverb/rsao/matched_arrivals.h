@@ -7,13 +7,18 @@
 //
 //   1. the atoms are the direct sound cut from W (a short tapered window around it) and
 //      copies of it low-passed by 1 and 2 one-pole sections at a few cut-offs (the
-//      smeared onset of a dull wall's reflection), each scaled to unit energy;
+//      smeared onset of a dull wall's reflection), each scaled to unit energy; each has a
+//      directional shape beside it, the direct sound's (X, Y, Z) along its own direction
+//      cut and low-passed alike, so a microphone whose directional channels respond
+//      otherwise than W is matched in them too;
 //   2. the strongest correlation of any atom with the W residual over the early part
 //      gives the next arrival: its time (parabolic peak, a fraction of a sample), its
-//      atom; projecting all four channels on the atom, shifted to that fraction, gives
-//      W's amplitude and the direction (X, Y, Z) / W;
-//   3. the arrival is subtracted from all four channels (the direct sound first, so its
-//      tail does not hide the reflections riding on it), and the search goes on.
+//      atom; projecting W on the atom and X, Y, Z on its directional shape, both shifted
+//      to that fraction, gives W's amplitude and the direction (X, Y, Z) / W (the
+//      directional gain measured on the direct sound divided out);
+//   3. the arrival is subtracted from all four channels, each with its own shape (the
+//      direct sound first, so its tail does not hide the reflections riding on it), and
+//      the search goes on.
 //
 // An arrival whose correlation does not stand min_detection_snr_db above the residual's
 // local power (the matched filter's output for noise of that power) is not reported; the

@@ -19,8 +19,14 @@ constexpr double kMedianOfChiSquare1 = 0.4549;
 // Channel order of the residual: W, then the room axes X, Y, Z (AmbiX stores Y, Z, X).
 constexpr std::array<int, 4> kChannels{kAcnW, kAcnX, kAcnY, kAcnZ};
 
+// An arrival's shape in W and in the directional channels, each of unit energy. The
+// directional shape is the direct sound's own (X, Y, Z) along its direction: a
+// microphone whose directional channels respond otherwise than W (a tetrahedral array's
+// B-format rolls off differently above a few kHz) then leaves nothing of an arrival in
+// them when it is taken out, and its direction is not leaned by what was left.
 struct Atom {
-  std::vector<double> samples;  // unit energy
+  std::vector<double> samples;      // W
+  std::vector<double> directional;  // X, Y, Z along the arrival's direction
 };
 
 // A Tukey window over n samples whose cosine tapers take `taper` of the length together.
@@ -45,23 +51,29 @@ void normalise(std::vector<double>& x) {
 // The direct sound's atom, then copies low-passed by `passes` one-pole sections at each
 // cut-off (y[n] = (1 - a) x[n] + a y[n-1], a = exp(-2 pi fc / fs): minimum phase, so the
 // onset stays where it was and only the decay after it is smeared).
-std::vector<Atom> makeAtoms(const std::vector<double>& direct, double fs, const MatchedArrivalOptions& options) {
-  std::vector<Atom> atoms{{direct}};
+std::vector<Atom> makeAtoms(const std::vector<double>& direct, const std::vector<double>& directional, double fs,
+                           const MatchedArrivalOptions& options) {
+  std::vector<Atom> atoms{{direct, directional}};
   for (double cutoff : options.low_pass_cutoffs_hz) {
     const double a = std::exp(-2.0 * kPi * cutoff / fs);
     for (int passes = 1; passes <= options.max_low_pass_passes; ++passes) {
       // Six time constants per pass hold the filter's tail to within e^-6 in amplitude.
       const auto tail = static_cast<std::size_t>(std::ceil(6.0 * passes * fs / (2.0 * kPi * cutoff)));
-      std::vector<double> x = direct;
-      x.resize(direct.size() + tail, 0.0);
-      for (int p = 0; p < passes; ++p) {
-        double y = 0.0;
-        for (double& v : x) v = y = (1.0 - a) * v + a * y;
-      }
-      atoms.push_back({std::move(x)});
+      const auto lowPassed = [&](std::vector<double> x) {
+        x.resize(x.size() + tail, 0.0);
+        for (int p = 0; p < passes; ++p) {
+          double y = 0.0;
+          for (double& v : x) v = y = (1.0 - a) * v + a * y;
+        }
+        return x;
+      };
+      atoms.push_back({lowPassed(direct), lowPassed(directional)});
     }
   }
-  for (Atom& atom : atoms) normalise(atom.samples);
+  for (Atom& atom : atoms) {
+    normalise(atom.samples);
+    normalise(atom.directional);
+  }
   return atoms;
 }
 
@@ -92,10 +104,23 @@ std::vector<double> shiftedAtom(const std::vector<double>& atom, double delta) {
   return out;
 }
 
+// An atom's two shapes delayed by the same fraction of a sample.
+struct ShiftedAtom {
+  std::vector<double> w, directional;
+};
+
+ShiftedAtom shifted(const Atom& atom, double delta) {
+  return {shiftedAtom(atom.samples, delta), shiftedAtom(atom.directional, delta)};
+}
+
 class Pursuit {
  public:
-  Pursuit(const AudioBuffer& ambix, std::size_t first, std::size_t end, std::vector<Atom> atoms, double reference)
-      : first_(first), atoms_(std::move(atoms)), reference_(reference) {
+  // `directional_scale`: the direct sound's W amplitude over its directional amplitude,
+  // each on its own unit-energy shape (1 for an ideal microphone), so that an arrival's
+  // (X, Y, Z) coefficients compare with its W coefficient as a plane wave's do.
+  Pursuit(const AudioBuffer& ambix, std::size_t first, std::size_t end, std::vector<Atom> atoms, double reference,
+          double directional_scale)
+      : first_(first), atoms_(std::move(atoms)), reference_(reference), directional_scale_(directional_scale) {
     for (std::size_t c = 0; c < 4; ++c) {
       const auto& channel = ambix.channels[static_cast<std::size_t>(kChannels[c])];
       residual_[c].assign(channel.begin() + static_cast<long>(first), channel.begin() + static_cast<long>(end));
@@ -169,43 +194,52 @@ class Pursuit {
     return std::clamp(0.5 * (cm - cp) / curvature, -0.5, 0.5);
   }
 
-  // Projections of the four channels on the shifted atom placed at lag (first sample of
-  // the unshifted atom), amplitude per unit of that atom.
-  std::array<double, 4> project(const std::vector<double>& shifted, long lag, double& shifted_energy) const {
+  // Projections of W on the shifted atom's W shape and of X, Y, Z on its directional shape,
+  // placed at lag (first sample of the unshifted atom): amplitudes per unit of each shape,
+  // the directional ones scaled to W's (directional_scale). shifted_energy: the W shape's.
+  std::array<double, 4> project(const ShiftedAtom& atom, long lag, double& shifted_energy) const {
     std::array<double, 4> a{};
     shifted_energy = 0.0;
-    for (std::size_t j = 0; j < shifted.size(); ++j) {
+    double directional_energy = 0.0;
+    for (std::size_t j = 0; j < atom.w.size(); ++j) {
       const long n = lag - kShiftHalfWidth + static_cast<long>(j);
       if (n < 0 || n >= static_cast<long>(size())) continue;
-      shifted_energy += shifted[j] * shifted[j];
-      for (std::size_t c = 0; c < 4; ++c) a[c] += shifted[j] * residual_[c][static_cast<std::size_t>(n)];
+      const auto at = static_cast<std::size_t>(n);
+      shifted_energy += atom.w[j] * atom.w[j];
+      directional_energy += atom.directional[j] * atom.directional[j];
+      a[0] += atom.w[j] * residual_[0][at];
+      for (std::size_t c = 1; c < 4; ++c) a[c] += atom.directional[j] * residual_[c][at];
     }
-    if (shifted_energy > 0.0)
-      for (double& v : a) v /= shifted_energy;
+    if (shifted_energy > 0.0) a[0] /= shifted_energy;
+    for (std::size_t c = 1; c < 4; ++c) a[c] = directional_energy > 0.0 ? directional_scale_ * a[c] / directional_energy : 0.0;
     return a;
   }
 
   // W's residual energy under the shifted atom's support, weighted by the atom's shape
   // (so that a neighbour at the atom's tapered edge counts for little).
-  double supportEnergy(const std::vector<double>& shifted, long lag) const {
+  double supportEnergy(const ShiftedAtom& atom, long lag) const {
+    const std::vector<double>& shape = atom.w;
     double peak = 0.0;
-    for (double v : shifted) peak = std::max(peak, std::abs(v));
+    for (double v : shape) peak = std::max(peak, std::abs(v));
     double sum = 0.0;
-    for (std::size_t j = 0; j < shifted.size(); ++j) {
+    for (std::size_t j = 0; j < shape.size(); ++j) {
       const long n = lag - kShiftHalfWidth + static_cast<long>(j);
       if (n < 0 || n >= static_cast<long>(size()) || peak <= 0.0) continue;
       const double r = residual_[0][static_cast<std::size_t>(n)];
-      sum += std::abs(shifted[j]) / peak * r * r;
+      sum += std::abs(shape[j]) / peak * r * r;
     }
     return sum;
   }
 
-  // residual -= scale * amplitude * shifted atom at lag, in every channel.
-  void subtract(const std::vector<double>& shifted, long lag, const std::array<double, 4>& amplitude, double scale) {
-    for (std::size_t j = 0; j < shifted.size(); ++j) {
+  // residual -= scale * amplitude * shape at lag: W's shape in W, the directional shape in
+  // X, Y and Z.
+  void subtract(const ShiftedAtom& atom, long lag, const std::array<double, 4>& amplitude, double scale) {
+    for (std::size_t j = 0; j < atom.w.size(); ++j) {
       const long n = lag - kShiftHalfWidth + static_cast<long>(j);
       if (n < 0 || n >= static_cast<long>(size())) continue;
-      for (std::size_t c = 0; c < 4; ++c) residual_[c][static_cast<std::size_t>(n)] -= scale * amplitude[c] * shifted[j];
+      const auto at = static_cast<std::size_t>(n);
+      residual_[0][at] -= scale * amplitude[0] * atom.w[j];
+      for (std::size_t c = 1; c < 4; ++c) residual_[c][at] -= scale * amplitude[c] / directional_scale_ * atom.directional[j];
     }
   }
 
@@ -225,7 +259,7 @@ class Pursuit {
     return *middle / kMedianOfChiSquare1;
   }
 
-  const std::vector<double>& atom(std::size_t a) const { return atoms_[a].samples; }
+  const Atom& atom(std::size_t a) const { return atoms_[a]; }
   std::size_t longestAtom() const {
     std::size_t n = 0;
     for (const Atom& a : atoms_) n = std::max(n, a.samples.size());
@@ -237,6 +271,7 @@ class Pursuit {
   std::size_t first_;
   std::vector<Atom> atoms_;
   double reference_;  // the arrival's time inside an atom, in samples from its first sample
+  double directional_scale_;
   std::array<std::vector<double>, 4> residual_;
   std::vector<std::vector<double>> correlation_;
   std::vector<double> best_;            // max over atoms of |correlation| at each lag
@@ -303,10 +338,28 @@ std::vector<MatchedArrival> matchedPursuitArrivals(const AudioBuffer& ambix, dou
   const long cut_last = std::min(frames - 1, static_cast<long>(std::ceil(direct_sample + options.template_after_s * fs)));
   std::vector<double> direct(static_cast<std::size_t>(cut_last - cut_first + 1));
   const std::vector<double> taper = tukey(direct.size(), 2.0 / 3.0);
+  Eigen::Vector3d intensity = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> xyz(direct.size());
   for (std::size_t i = 0; i < direct.size(); ++i) {
-    direct[i] = taper[i] * ambix.channels[kAcnW][static_cast<std::size_t>(cut_first) + i];
+    const auto n = static_cast<std::size_t>(cut_first) + i;
+    direct[i] = taper[i] * ambix.channels[kAcnW][n];
+    xyz[i] = taper[i] * Eigen::Vector3d(ambix.channels[kAcnX][n], ambix.channels[kAcnY][n], ambix.channels[kAcnZ][n]);
+    intensity += direct[i] * xyz[i];
   }
-  std::vector<Atom> atoms = makeAtoms(direct, fs, options);
+  // The directional shape: (X, Y, Z) along the direct sound's intensity. Its norm against
+  // W's is the microphone's directional gain, which the projections divide out.
+  const Eigen::Vector3d u = intensity.norm() > 0.0 ? Eigen::Vector3d(intensity.normalized()) : Eigen::Vector3d::UnitX();
+  std::vector<double> directional(direct.size());
+  double w_norm = 0.0, directional_norm = 0.0;
+  for (std::size_t i = 0; i < direct.size(); ++i) {
+    directional[i] = u.dot(xyz[i]);
+    w_norm += direct[i] * direct[i];
+    directional_norm += directional[i] * directional[i];
+  }
+  const double directional_scale =
+      directional_norm > 0.0 && w_norm > 0.0 ? std::sqrt(w_norm / directional_norm) : 1.0;
+  if (!(directional_norm > 0.0)) directional = direct;
+  std::vector<Atom> atoms = makeAtoms(direct, directional, fs, options);
 
   const long longest = static_cast<long>(std::max_element(atoms.begin(), atoms.end(), [](const Atom& a, const Atom& b) {
                                            return a.samples.size() < b.samples.size();
@@ -314,7 +367,7 @@ std::vector<MatchedArrival> matchedPursuitArrivals(const AudioBuffer& ambix, dou
   const long first = std::max(0L, cut_first - kShiftHalfWidth - 1);
   const long end = std::min(frames, static_cast<long>(std::ceil(end_s * fs)) + longest + kShiftHalfWidth + 1);
   Pursuit pursuit(ambix, static_cast<std::size_t>(first), static_cast<std::size_t>(end), std::move(atoms),
-                  direct_sample - static_cast<double>(cut_first));
+                  direct_sample - static_cast<double>(cut_first), directional_scale);
 
   std::vector<MatchedArrival> result;
   const double span = options.noise_span_s * fs;
@@ -324,9 +377,9 @@ std::vector<MatchedArrival> matchedPursuitArrivals(const AudioBuffer& ambix, dou
   const long direct_lag = cut_first - first;
   {
     double energy = 0.0;
-    const std::vector<double> shifted = shiftedAtom(pursuit.atom(0), 0.0);
-    const auto a = pursuit.project(shifted, direct_lag, energy);
-    pursuit.subtract(shifted, direct_lag, a, 1.0);
+    const ShiftedAtom shifted_atom = shifted(pursuit.atom(0), 0.0);
+    const auto a = pursuit.project(shifted_atom, direct_lag, energy);
+    pursuit.subtract(shifted_atom, direct_lag, a, 1.0);
     pursuit.updateCorrelation(direct_lag - reach, direct_lag + reach);
     MatchedArrival m;
     m.time_s = direct_time_s;
@@ -382,11 +435,11 @@ std::vector<MatchedArrival> matchedPursuitArrivals(const AudioBuffer& ambix, dou
     if (!pursuit.strongest(open, atom, lag)) break;
     if (std::abs(pursuit.correlation(atom, lag)) < floor) break;
     const double delta = pursuit.refine(atom, lag);
-    const std::vector<double> shifted = shiftedAtom(pursuit.atom(atom), delta);
+    const ShiftedAtom shifted_atom = shifted(pursuit.atom(atom), delta);
     double energy = 0.0;
-    const auto a = pursuit.project(shifted, lag, energy);
-    const double support_before = pursuit.supportEnergy(shifted, lag);
-    pursuit.subtract(shifted, lag, a, 1.0);
+    const auto a = pursuit.project(shifted_atom, lag, energy);
+    const double support_before = pursuit.supportEnergy(shifted_atom, lag);
+    pursuit.subtract(shifted_atom, lag, a, 1.0);
     const double centre = static_cast<double>(lag) + delta + pursuit.reference();
     const double noise = pursuit.localPower(centre, span);
     const double peak = a[0] * a[0] * energy;  // the matched filter's output power
@@ -396,7 +449,7 @@ std::vector<MatchedArrival> matchedPursuitArrivals(const AudioBuffer& ambix, dou
     // arrival (a different low-pass, a loudspeaker's ringing) is spread, not a pulse.
     const bool pulse_like = peak >= options.min_explained_share * support_before;
     if ((noise > 0.0 && peak < min_snr * noise) || !pulse_like) {
-      pursuit.subtract(shifted, lag, a, -1.0);  // not an arrival (yet): put it back
+      pursuit.subtract(shifted_atom, lag, a, -1.0);  // not an arrival (yet): put it back
       const auto known = std::find_if(refused.begin(), refused.end(), [&](const Refused& r) { return std::abs(r.lag - lag) <= separation; });
       if (known == refused.end()) refused.push_back({lag, 0});
       continue;
