@@ -25,8 +25,9 @@ using test::JackRecorder;
 
 constexpr double kStreamRate = 48000.0;
 // The producer here is a test thread at normal priority on a loaded machine: it writes
-// 100 ms ahead, so that bit-exactness is tested rather than its scheduling.
-constexpr double kTestLead = 4800.0;
+// 300 ms ahead (the ring holds 500 ms), so that bit-exactness is tested rather than its
+// scheduling. At 100 ms it ran the ring dry when both cores were busy with other work.
+constexpr double kTestLead = 14400.0;
 
 // Writes `left` and `right` in chunks of `chunk` frames, each when the output's clock says
 // it is due, `lead` frames ahead of what JACK has played: as the renderer paces.
