@@ -169,7 +169,7 @@ TEST(RsaoEstimator, FixedMixingTimeIsUsed) {
 // T20 within 10 % in all 35 band checks, 2.7 % off on average (3.6 % with one slope per
 // band, ROOM_REVERB_ONE_SLOPE=1); EDT within 15 % in 29 of 33 (28 with the paper's
 // onsets, ROOM_REVERB_PAPER_ONSETS=1, or one slope). The misses are listed with their
-// errors (kKnownEdtMisses) so that a change that helps or hurts them shows: Dixon at
+// errors (known_edt_misses) so that a change that helps or hurts them shows: Dixon at
 // 125 Hz (+30 %: the early low-frequency energy arrives in a few strong modes the noise
 // model spreads out; St Andrew's at 125 Hz, +18 % with the paper's onsets, is within
 // with the defaults), St Andrew's at 8 kHz (-36 %) and the Tyndall Bruce monument at
@@ -179,12 +179,12 @@ TEST(RsaoEstimatorRealData, StableDirectSoundFirstAndResynthesisKeepsTheDecay) {
   // (file, band) -> the EDT error measured when this test was written.
   const bool one_slope = std::getenv("ROOM_REVERB_ONE_SLOPE") != nullptr;
   const bool paper_onsets = std::getenv("ROOM_REVERB_PAPER_ONSETS") != nullptr;
-  std::map<std::pair<std::string, int>, double> kKnownEdtMisses = {
+  std::map<std::pair<std::string, int>, double> known_edt_misses = {
       {{"dixon_studio_theatre_r1.wav", 125}, +0.296}, {{"st_andrews_church.wav", 125}, +0.182},
       {{"st_andrews_church.wav", 8000}, -0.391},      {{"tyndall_bruce_monument.wav", 500}, -0.296},
       {{"tyndall_bruce_monument.wav", 1000}, -0.440}};
   // Terry's bent 125 Hz decay with matching pursuit's reflections and one slope.
-  if (one_slope && !paper_onsets) kKnownEdtMisses[{"terrys_typing_room.wav", 125}] = +0.174;
+  if (one_slope && !paper_onsets) known_edt_misses[{"terrys_typing_room.wav", 125}] = +0.174;
   int edt_checks = 0, edt_within = 0, t20_checks = 0;
   double t20_error_sum = 0.0;
   for (const MeasuredCase& c : measuredCases()) {
@@ -240,8 +240,8 @@ TEST(RsaoEstimatorRealData, StableDirectSoundFirstAndResynthesisKeepsTheDecay) {
         continue;
       }
       // A known miss keeps its measured error, within 10 points either way.
-      const auto miss = kKnownEdtMisses.find({c.file, static_cast<int>(hz)});
-      if (miss == kKnownEdtMisses.end()) {
+      const auto miss = known_edt_misses.find({c.file, static_cast<int>(hz)});
+      if (miss == known_edt_misses.end()) {
         ADD_FAILURE() << "EDT " << *r.edt_s << " vs " << *m.edt_s << " (" << 100.0 * (ratio - 1.0) << " %)";
         continue;
       }
