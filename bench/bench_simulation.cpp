@@ -312,7 +312,8 @@ bool resetPeakResident() {
 
 // `room_reverb simulate --mesh cr2_scene9.ac --y-up --mode accurate --rays 100000
 // --duration 2 --ambisonic-order 1 --threads 2`, less the file output; the scene is
-// built beforehand (see BM_BuildCr2Scene).
+// built beforehand (see BM_BuildCr2Scene). Arg 1 (the default) continues established
+// decays analytically, arg 0 traces every band to the end (--trace-to-end).
 void BM_SimulateCr2Accurate(benchmark::State& state) {
   const AcousticScene* cr2 = cr2Scene(state);
   if (!cr2) return;
@@ -324,6 +325,7 @@ void BM_SimulateCr2Accurate(benchmark::State& state) {
   settings.ambisonic_order = 1;
   settings.rays.ray_count = 100000;
   settings.rays.threads = 2;
+  settings.rays.continue_established_decays = state.range(0) != 0;
   const double hwm_before_mb = procStatusMb("VmHWM");
   const double rss_before_mb = procStatusMb("VmRSS");
   // With the reset, VmHWM afterwards is the peak of the simulation itself (the scene and
@@ -350,7 +352,7 @@ void BM_SimulateCr2Accurate(benchmark::State& state) {
   state.counters["image_paths"] = static_cast<double>(paths);
   state.counters["leaked_rays"] = static_cast<double>(leaks);
 }
-BENCHMARK(BM_SimulateCr2Accurate)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+BENCHMARK(BM_SimulateCr2Accurate)->ArgName("continued")->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
 
 // The preview modes, one response each: fast (image sources + the room's own decay from
 // 8000 rays, no receiver detection; arg 0) and eyring (image sources + Eyring tail; arg 1),

@@ -59,7 +59,8 @@ int runSimulate(const std::vector<std::string>& raw) {
   if (settings.mode != SimulationMode::kEyring) {
     std::cout << ", " << result.stats.rays << " rays, " << result.stats.reflections << " reflections, "
               << result.stats.leaked_rays << " leaked, " << result.stats.escaped_rays << " escaped, receiver sphere "
-              << result.stats.receiver_radius_m << " m";
+              << result.stats.receiver_radius_m << " m\nbands traced until (s), then continued analytically:";
+    for (double t : result.stats.traced_until_s) std::cout << " " << t;
   }
   std::cout << "\nEyring T60 with air (s):";
   for (double t : result.eyring_t60_s) std::cout << " " << t;

@@ -26,6 +26,9 @@ const char* const kSimulationOptionsHelp = R"(  --mode MODE          accurate (i
   --scattering S       one scattering coefficient for every surface (default: materials')
   --receiver-radius M  detection sphere for specular rays (default 0: from the volume
                        and ray count, see docs/simulation.md)
+  --trace-to-end       trace every band to the end of the response (default: a band whose
+                       decay is established, 30 dB down and straight, is continued
+                       analytically; docs/simulation.md)
 )";
 
 std::set<std::string> simulationValueOptions() {
@@ -33,7 +36,7 @@ std::set<std::string> simulationValueOptions() {
           "humidity", "scattering", "receiver-radius"};
 }
 
-std::set<std::string> simulationFlags() { return {"no-air"}; }
+std::set<std::string> simulationFlags() { return {"no-air", "trace-to-end"}; }
 
 SimulationSettings simulationSettingsFrom(const Arguments& args) {
   SimulationSettings settings;
@@ -45,6 +48,7 @@ SimulationSettings simulationSettingsFrom(const Arguments& args) {
   settings.rays.seed = static_cast<std::uint32_t>(args.intValue("seed", 1));
   settings.rays.threads = args.intValue("threads", 0);
   settings.rays.receiver_radius_m = args.doubleValue("receiver-radius", 0.0);
+  settings.rays.continue_established_decays = !args.has("trace-to-end");
   settings.ambisonic_order = args.intValue("ambisonic-order", 1);
   settings.duration_s = args.doubleValue("duration", 2.0);
   return settings;

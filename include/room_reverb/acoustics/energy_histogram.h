@@ -27,6 +27,8 @@ class EnergyHistogram {
   void addBands(double time_s, const OctaveBandValues& energy, const OctaveBandValues& weight,
                 const Eigen::Vector3d& direction);
   void merge(const EnergyHistogram& other);
+  // Replaces one bin of one band (a continued decay, decay_continuation.h).
+  void set(std::size_t bin, int band, double energy, const Eigen::Vector3d& flux);
 
   double energy(std::size_t bin, int band) const { return energy_[bin * kOctaveBandCount + band]; }
   Eigen::Vector3d flux(std::size_t bin, int band) const;

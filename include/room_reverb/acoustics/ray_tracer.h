@@ -18,6 +18,7 @@
 #include <cstdint>
 
 #include "room_reverb/acoustics/acoustic_scene.h"
+#include "room_reverb/acoustics/decay_continuation.h"
 #include "room_reverb/acoustics/energy_histogram.h"
 #include "room_reverb/acoustics/propagation.h"
 
@@ -41,6 +42,13 @@ struct RayTracingOptions {
   // Also sum the energy every ray carries through the room over time
   // (RayTracingResult::energy_in_flight): the room's own decay, which the fast mode plays.
   bool record_energy_in_flight = false;
+  // Stop tracing a band once its decay is established and continue it analytically
+  // (decay_continuation.h): the rays are traced in slices of time, and after each slice
+  // every band whose energy in flight has fallen `continuation.decayed_db` along a
+  // straight line stops; its receiver energy from there on is that line at the level the
+  // receiver had over the fitted stretch. Bands whose decay still bends are traced on.
+  bool continue_established_decays = true;
+  DecayContinuationOptions continuation;
   std::uint32_t seed = 1;
   int threads = 0;                  // 0: all hardware threads
 };
@@ -57,6 +65,9 @@ struct RayTracingStats {
   // energy emitted: 1 in a lossless closed room.
   OctaveBandValues energy_left_at_time_limit{};
   double receiver_radius_m = 0.0;   // the radius used
+  // Per band: the time from which its decay is continued analytically (the full duration
+  // when it was traced to the end).
+  OctaveBandValues traced_until_s{};
 };
 
 struct RayTracingResult {

@@ -39,6 +39,13 @@ void EnergyHistogram::merge(const EnergyHistogram& other) {
   for (std::size_t i = 0; i < flux_.size(); ++i) flux_[i] += other.flux_[i];
 }
 
+void EnergyHistogram::set(std::size_t bin, int band, double energy, const Eigen::Vector3d& flux) {
+  if (bin >= bins_) throw std::invalid_argument("histogram bin out of range");
+  const std::size_t index = bin * kOctaveBandCount + static_cast<std::size_t>(band);
+  energy_[index] = energy;
+  for (int k = 0; k < 3; ++k) flux_[3 * index + k] = flux[k];
+}
+
 Eigen::Vector3d EnergyHistogram::flux(std::size_t bin, int band) const {
   const std::size_t index = 3 * (bin * kOctaveBandCount + static_cast<std::size_t>(band));
   return {flux_[index], flux_[index + 1], flux_[index + 2]};

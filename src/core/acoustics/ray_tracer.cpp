@@ -1,6 +1,8 @@
 #include "room_reverb/acoustics/ray_tracer.h"
 
 #include <algorithm>
+#include <array>
+#include <limits>
 #include <cmath>
 #include <cstdint>
 #include <optional>
@@ -19,6 +21,12 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr std::size_t kRaysPerChunk = 256;
 // A new leg starts this far off the wall, after the point is put back onto its plane.
 constexpr double kSurfaceOffset_m = 1e-6;
+// With continue_established_decays the rays are traced in slices at least this long, and
+// the energy the walls and the roulette take, which decides which bands are established,
+// is kept on this coarser grid (a line fitted over 15 dB of a 0.3 s T60 still spans 15
+// bins of it).
+constexpr double kSliceS = 0.025;
+constexpr double kFlightBinS = 0.005;
 
 // The tracer's random numbers are not drawn from a running generator but computed from
 // (the branch's key, its reflection order, a slot): common random numbers. Two models that
@@ -100,6 +108,43 @@ struct RayBranch {
   bool last_specular = true;
 };
 
+// The energy in flight on a grid of `bin_m` metres of travel, with the air's loss at each
+// bin's start tabulated ([k][band]).
+struct FlightGrid {
+  double bin_m = 0.0;
+  std::vector<double> air;
+  std::size_t bins() const { return air.size() / kOctaveBandCount; }
+};
+
+FlightGrid flightGrid(double bin_s, std::size_t bins, const PropagationModel& model) {
+  FlightGrid grid;
+  grid.bin_m = bin_s * model.speed_of_sound_m_s;
+  grid.air.resize(bins * kOctaveBandCount);
+  for (std::size_t k = 0; k < bins; ++k) {
+    for (int b = 0; b < kOctaveBandCount; ++b) {
+      grid.air[k * kOctaveBandCount + b] = std::exp(-model.air_attenuation_per_m[b] * (static_cast<double>(k) * grid.bin_m));
+    }
+  }
+  return grid;
+}
+
+// Where one slice of the tracing ends: branches that reach `boundary_m` of travel wait in
+// `parked` for the next slice. The energy in flight goes to `fine` (the result's, when
+// recorded; may be null), and the energy each reflection and roulette takes from the
+// rays to `losses` (per kFlightBinS of time; null without continuation). Bands continued
+// analytically (not in `active`; `live` 0 for them, 1 for the others) reach the receiver
+// no more, but their energies stay on the branches: the roulette and the splits decide as
+// they would with every band traced, so the traced bands follow exactly the paths they
+// would follow alone, and a branch is dropped only when it carries no traced band.
+struct Slice {
+  double boundary_m = std::numeric_limits<double>::infinity();
+  BandMask active = kAllBands;
+  OctaveBandValues live;
+  std::vector<RayBranch>* parked = nullptr;
+  std::vector<OctaveBandValues>* fine = nullptr;
+  std::vector<OctaveBandValues>* losses = nullptr;
+};
+
 struct Tracer {
   const AcousticScene& scene;
   const Eigen::Vector3d& source;
@@ -115,6 +160,8 @@ struct Tracer {
   double roulette_level;  // J: below it a branch plays Russian roulette
   Eigen::Matrix3d launch_rotation;
   std::uint64_t seed_key;  // every ray's key derives from it and the ray's index
+  double loss_bin_m;        // kFlightBinS of travel
+  FlightGrid fine_grid;
 
   Tracer(const AcousticScene& scene_, const Eigen::Vector3d& source_, const Eigen::Vector3d& listener_,
          const PropagationModel& model_, const RayTracingOptions& options_, double receiver_radius_m_,
@@ -140,6 +187,8 @@ struct Tracer {
         air_lower[k * kOctaveBandCount + b] = std::exp(-model.air_attenuation_per_m[b] * (static_cast<double>(k + 1) * bin_length_m));
       }
     }
+    fine_grid = flightGrid(options.bin_s, bins, model);
+    loss_bin_m = kFlightBinS * model.speed_of_sound_m_s;
     roulette_level = ray_energy * std::pow(10.0, options.roulette_db / 10.0);
     launch_rotation = randomRotation(options.seed);
     seed_key = mixBits(0x7ace5eedull ^ static_cast<std::uint64_t>(options.seed));
@@ -148,7 +197,7 @@ struct Tracer {
   // Arrival of `energy` after `distance_m` scaled by `factor`, with air: exp(-m d) as the
   // table's exp(-m k L) times a 5-term series of exp(-x), x = m (d - k L) <= m L (1e-9 exact).
   void deposit(EnergyHistogram& histogram, const OctaveBandValues& energy, double distance_m, double factor,
-               const Eigen::Vector3d& direction) const {
+               const Eigen::Vector3d& direction, const OctaveBandValues& live) const {
     const std::size_t k = std::min(static_cast<std::size_t>(std::max(0.0, distance_m) / bin_length_m), air_upper.size() / kOctaveBandCount - 2);
     const double* upper = &air_upper[k * kOctaveBandCount];
     const double rest = distance_m - static_cast<double>(k) * bin_length_m;
@@ -156,7 +205,7 @@ struct Tracer {
     for (int b = 0; b < kOctaveBandCount; ++b) {
       const double x = model.air_attenuation_per_m[b] * rest;
       const double series = 1.0 - x * (1.0 - x * (0.5 - x * (1.0 / 6.0 - x * (1.0 / 24.0))));
-      weight[b] = factor * upper[b] * series;
+      weight[b] = factor * upper[b] * series * live[b];
     }
     histogram.addBands(distance_m / model.speed_of_sound_m_s, energy, weight, direction);
   }
@@ -183,46 +232,73 @@ struct Tracer {
   // expected energy is unchanged and no energy is lost to a cut-off. A faded branch costs
   // about 1 / (1 - reflectance) more reflections on average instead of running to the
   // time limit. True when the branch ends.
-  bool rouletteEnds(RayBranch& ray) const {
+  // `loss`, when given, gets the energy the roulette takes (negative for the gain of a
+  // survivor).
+  bool rouletteEnds(RayBranch& ray, OctaveBandValues* loss) const {
     const std::optional<double> loudest = loudestBelowRoulette(ray.energy, ray.travelled);
     if (!loudest) return false;
     const double survival = *loudest / roulette_level;
-    if (keyedUniform(ray.key, ray.order, kRoulette) >= survival) return true;
-    for (double& e : ray.energy) e /= survival;
+    if (keyedUniform(ray.key, ray.order, kRoulette) >= survival) {
+      if (loss) {
+        for (int b = 0; b < kOctaveBandCount; ++b) (*loss)[b] += ray.energy[b];
+      }
+      return true;
+    }
+    for (int b = 0; b < kOctaveBandCount; ++b) {
+      const double before = ray.energy[b];
+      ray.energy[b] = before / survival;
+      if (loss) (*loss)[b] += before - ray.energy[b];
+    }
+
     return false;
   }
 
-  // `pending` is the caller's scratch queue of branches (kept across rays so the hot loop
-  // does not allocate per ray); empty on entry and on return.
+  static std::size_t flightBins(double duration_s) {
+    return static_cast<std::size_t>(std::ceil(duration_s / kFlightBinS));
+  }
+
+  // Launches ray `index`. `pending` is the caller's scratch queue of branches (kept across
+  // rays so the hot loop does not allocate per ray); empty on entry and on return.
   void traceRay(std::size_t index, std::vector<RayBranch>& pending, EnergyHistogram& histogram,
-                RayTracingStats& stats, std::vector<OctaveBandValues>* in_flight) const {
+                RayTracingStats& stats, const Slice& slice) const {
     RayBranch start;
     start.position = source;
     start.key = mixBits(seed_key ^ mixBits(index));
     start.direction = stratifiedDirection(index, options.ray_count, launch_rotation, keyedUniform(start.key, 0, kLaunch));
     const double gain = model.directivity.pressureGain(start.direction);
     start.energy.fill(ray_energy * gain * gain);
+
     ++stats.rays;
+    if (slice.losses) {
+      for (int b = 0; b < kOctaveBandCount; ++b) (*slice.losses)[0][b] -= start.energy[b];
+    }
     pending.push_back(start);
+    tracePending(pending, histogram, stats, slice);
+  }
+
+  void tracePending(std::vector<RayBranch>& pending, EnergyHistogram& histogram, RayTracingStats& stats,
+                    const Slice& slice) const {
     while (!pending.empty()) {
       RayBranch branch = pending.back();
       pending.pop_back();
-      traceBranch(branch, pending, histogram, stats, in_flight);
+      traceBranch(branch, pending, histogram, stats, slice);
     }
   }
 
-  // Adds the branch's energy, air included, to every bin it spends travelling between
-  // `from_m` and `to_m` along its path, weighted by the share of the bin it covers.
-  void addInFlight(std::vector<OctaveBandValues>& in_flight, const RayBranch& ray, double from_m, double to_m) const {
-    const double last_m = std::min(to_m, static_cast<double>(in_flight.size()) * bin_length_m);
+  // Adds the branch's energy, air included, to every bin of `grid` it spends travelling
+  // between `from_m` and `to_m` along its path, weighted by the share of the bin it covers.
+  static void addInFlight(std::vector<OctaveBandValues>& in_flight, const FlightGrid& grid, const RayBranch& ray,
+                          double from_m, double to_m) {
+    const double bin_m = grid.bin_m;
+    const double last_m = std::min(to_m, static_cast<double>(in_flight.size()) * bin_m);
     if (!(last_m > from_m)) return;
-    const auto first_bin = static_cast<std::size_t>(from_m / bin_length_m);
-    const auto last_bin = std::min(in_flight.size() - 1, static_cast<std::size_t>(last_m / bin_length_m));
+    const auto first_bin = static_cast<std::size_t>(from_m / bin_m);
+    const auto last_bin = std::min(in_flight.size() - 1, static_cast<std::size_t>(last_m / bin_m));
     for (std::size_t k = first_bin; k <= last_bin; ++k) {
-      const double lower = static_cast<double>(k) * bin_length_m;
-      const double share = (std::min(last_m, lower + bin_length_m) - std::max(from_m, lower)) / bin_length_m;
+      const double lower = static_cast<double>(k) * bin_m;
+      const double share = (std::min(last_m, lower + bin_m) - std::max(from_m, lower)) / bin_m;
       if (!(share > 0.0)) continue;
-      const double* air = &air_upper[k * kOctaveBandCount];
+      const double* air = &grid.air[k * kOctaveBandCount];
       for (int b = 0; b < kOctaveBandCount; ++b) in_flight[k][b] += share * ray.energy[b] * air[b];
     }
   }
@@ -238,11 +314,17 @@ struct Tracer {
   // into a log-normal spread: T20 at 125 Hz varied by 25 % between seeds at 100 000 rays
   // in the sample room.)
   void traceBranch(RayBranch& ray, std::vector<RayBranch>& pending, EnergyHistogram& histogram,
-                   RayTracingStats& stats, std::vector<OctaveBandValues>* in_flight) const {
+                   RayTracingStats& stats, const Slice& slice) const {
     const double max_distance = options.max_time_s * model.speed_of_sound_m_s;
     const double r = receiver_radius_m;
     const double sphere_factor = 1.0 / (kPi * r * r);
     for (;;) {
+      // A leg that starts before the slice's end is traced whole, so every bin before it
+      // is complete when the slice ends.
+      if (ray.travelled >= slice.boundary_m) {
+        slice.parked->push_back(ray);
+        return;
+      }
       const RayHit hit = scene.geometry().intersect(ray.position, ray.direction, 1e-7);
       const double leg = hit.hit ? hit.distance_m : std::numeric_limits<double>::infinity();
       if (ray.last_specular && !(ray.specular_only && ray.order <= options.image_source_order)) {
@@ -250,13 +332,18 @@ struct Tracer {
         const double along = to_listener.dot(ray.direction);
         if (along > 0.0 && along < leg && (to_listener - along * ray.direction).squaredNorm() < r * r &&
             ray.travelled + along < max_distance) {
-          deposit(histogram, ray.energy, ray.travelled + along, sphere_factor, -ray.direction);
+          deposit(histogram, ray.energy, ray.travelled + along, sphere_factor, -ray.direction, slice.live);
           ++stats.sphere_detections;
         }
       }
-      if (in_flight) addInFlight(*in_flight, ray, ray.travelled, std::min(ray.travelled + leg, max_distance));
+      const double leg_end = std::min(ray.travelled + leg, max_distance);
+      if (slice.fine) addInFlight(*slice.fine, fine_grid, ray, ray.travelled, leg_end);
       if (!hit.hit) {
         ++(scene.closed() ? stats.leaked_rays : stats.escaped_rays);
+        if (slice.losses) {  // its energy has left the room
+          OctaveBandValues& loss = (*slice.losses)[std::min(slice.losses->size() - 1, static_cast<std::size_t>(ray.travelled / loss_bin_m))];
+          for (int b = 0; b < kOctaveBandCount; ++b) loss[b] += ray.energy[b];
+        }
         return;
       }
       if (ray.travelled + leg >= max_distance) {
@@ -274,12 +361,17 @@ struct Tracer {
       const bool facing = hit.normal.dot(ray.direction) < 0.0;
       const Eigen::Vector3d normal = facing ? hit.normal : Eigen::Vector3d(-hit.normal);
       const double wall_offset = facing ? plane_offset[hit.triangle] : -plane_offset[hit.triangle];
+      OctaveBandValues* loss = nullptr;
+      if (slice.losses) {
+        loss = &(*slice.losses)[std::min(slice.losses->size() - 1, static_cast<std::size_t>(ray.travelled / loss_bin_m))];
+        for (int b = 0; b < kOctaveBandCount; ++b) (*loss)[b] += ray.energy[b] * (1.0 - m.reflectance[b]);
+      }
       for (int b = 0; b < kOctaveBandCount; ++b) ray.energy[b] *= m.reflectance[b];
-      if (options.diffuse_rain) rain(histogram, ray, m, normal);
+      if (options.diffuse_rain) rain(histogram, ray, m, normal, slice.live);
       // Back onto the wall's plane (the float hit distance leaves the point up to ~1e-6 m
       // either side of it), then just off it on the room's side.
       ray.position += (wall_offset - normal.dot(ray.position)) * normal + kSurfaceOffset_m * normal;
-      if (rouletteEnds(ray)) {
+      if (rouletteEnds(ray, loss)) {
         ++stats.stopped_by_energy;
         return;
       }
@@ -300,8 +392,9 @@ struct Tracer {
           if (diffuse >> b & 1u) specular.energy[b] = 0.0;
           else ray.energy[b] = 0.0;
         }
-        pending.push_back(specular);
+        if (specular.bands & slice.active) pending.push_back(specular);
         ray.bands = diffuse;
+        if (!(ray.bands & slice.active)) return;
       }
       if (diffuse != 0) {
         ray.direction = lambertDirection(normal, keyedUniform(ray.key, ray.order, kLambertRadius),
@@ -317,7 +410,8 @@ struct Tracer {
 
   // Diffuse rain (Schröder 2011): the scattered share of this reflection sent straight to
   // the receiver when it sees the wall point.
-  void rain(EnergyHistogram& histogram, const RayBranch& ray, const MaterialTerms& m, const Eigen::Vector3d& normal) const {
+  void rain(EnergyHistogram& histogram, const RayBranch& ray, const MaterialTerms& m, const Eigen::Vector3d& normal,
+            const OctaveBandValues& live) const {
     const Eigen::Vector3d to_listener = listener - ray.position;
     const double d = to_listener.norm();
     const double cos_theta = normal.dot(to_listener) / d;
@@ -325,11 +419,11 @@ struct Tracer {
     OctaveBandValues scattered;
     bool any = false;
     for (int b = 0; b < kOctaveBandCount; ++b) {
-      scattered[b] = ray.energy[b] * m.scattering[b];
+      scattered[b] = ray.energy[b] * m.scattering[b] * live[b];
       any = any || scattered[b] > 0.0;
     }
     if (!any || scene.geometry().occluded(ray.position, listener, 1e-5)) return;
-    deposit(histogram, scattered, ray.travelled + d, cos_theta / (kPi * d * d), -to_listener / d);
+    deposit(histogram, scattered, ray.travelled + d, cos_theta / (kPi * d * d), -to_listener / d, live);
   }
 };
 
@@ -376,29 +470,117 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
   std::vector<RayTracingStats> stats(static_cast<std::size_t>(threads));
   std::vector<std::vector<OctaveBandValues>> in_flight(
       options.record_energy_in_flight ? static_cast<std::size_t>(threads) : 0, std::vector<OctaveBandValues>(bins, OctaveBandValues{}));
-  auto work = [&](int thread) {
-    std::vector<RayBranch> pending;
-    std::vector<OctaveBandValues>* flight = in_flight.empty() ? nullptr : &in_flight[static_cast<std::size_t>(thread)];
-    for (std::size_t chunk = static_cast<std::size_t>(thread); chunk < chunks; chunk += static_cast<std::size_t>(threads)) {
-      const std::size_t end = std::min(options.ray_count, (chunk + 1) * kRaysPerChunk);
-      for (std::size_t ray = chunk * kRaysPerChunk; ray < end; ++ray) tracer.traceRay(ray, pending, histograms[thread], stats[thread], flight);
+  const bool continuing = options.continue_established_decays;
+  const std::size_t flight_bins = Tracer::flightBins(options.max_time_s);
+  std::vector<std::vector<OctaveBandValues>> losses(continuing ? static_cast<std::size_t>(threads) : 0,
+                                                    std::vector<OctaveBandValues>(flight_bins, OctaveBandValues{}));
+  std::vector<std::vector<RayBranch>> parked(chunks);
+  BandMask active = kAllBands;
+  std::array<std::optional<EstablishedDecay>, kOctaveBandCount> lines;
+  OctaveBandValues traced_until;
+  traced_until.fill(options.max_time_s);
+
+  double next_end_s = kSliceS;
+  for (int slice_index = 0;; ++slice_index) {
+    const double end_s = continuing ? std::min(next_end_s, options.max_time_s) : options.max_time_s;
+    const bool last = end_s >= options.max_time_s - 1e-12;
+    auto work = [&](int thread) {
+      const auto t = static_cast<std::size_t>(thread);
+      std::vector<RayBranch> pending, resumed;
+      Slice slice;
+      slice.boundary_m = last ? std::numeric_limits<double>::infinity() : end_s * model.speed_of_sound_m_s;
+      slice.active = active;
+      for (int b = 0; b < kOctaveBandCount; ++b) slice.live[b] = (active >> b & 1u) ? 1.0 : 0.0;
+      slice.fine = in_flight.empty() ? nullptr : &in_flight[t];
+      slice.losses = losses.empty() ? nullptr : &losses[t];
+      for (std::size_t chunk = t; chunk < chunks; chunk += static_cast<std::size_t>(threads)) {
+        slice.parked = &parked[chunk];
+        if (slice_index == 0) {
+          const std::size_t end = std::min(options.ray_count, (chunk + 1) * kRaysPerChunk);
+          for (std::size_t ray = chunk * kRaysPerChunk; ray < end; ++ray) tracer.traceRay(ray, pending, histograms[t], stats[t], slice);
+          continue;
+        }
+        resumed.clear();
+        resumed.swap(parked[chunk]);
+        for (RayBranch& branch : resumed) {
+          if (!(branch.bands & active)) continue;
+          tracer.traceBranch(branch, pending, histograms[t], stats[t], slice);
+          tracer.tracePending(pending, histograms[t], stats[t], slice);
+        }
+      }
+    };
+    std::vector<std::thread> pool;
+    for (int t = 1; t < threads; ++t) pool.emplace_back(work, t);
+    work(0);
+    for (auto& thread : pool) thread.join();
+    if (last) break;
+    // Which bands the slices so far establish (every flight bin before end_s is complete).
+    const auto complete = static_cast<std::size_t>(std::floor(end_s / kFlightBinS + 1e-9));
+    std::vector<double> band_energy(flight_bins);
+    bool judged = false;  // a traced band has fallen far enough to be judged, and bends
+    double soonest_s = std::numeric_limits<double>::infinity();  // until the next one has
+    for (int b = 0; b < kOctaveBandCount; ++b) {
+      if (!(active >> b & 1u)) continue;
+      // The energy in flight without air is what the launches gave less what the walls and
+      // the roulette took before each bin's end; every ray has travelled the same distance
+      // at one time, so the air's loss is one factor for all. Each bin gets the geometric
+      // mean of its two ends, close to its value at its centre.
+      double left = 0.0, at_start = 0.0;
+      for (std::size_t k = 0; k < flight_bins; ++k) {
+        for (const auto& part : losses) left -= part[k][b];
+        const double at_end = left;
+        band_energy[k] = (k == 0 ? at_end : std::sqrt(std::max(0.0, at_start * at_end))) *
+                         std::exp(-model.air_attenuation_per_m[b] * (static_cast<double>(k) + 0.5) * kFlightBinS *
+                                  model.speed_of_sound_m_s);
+        at_start = at_end;
+      }
+      lines[b] = establishedDecay(band_energy, complete, kFlightBinS, options.continuation);
+      if (lines[b]) {
+        active &= ~(1u << b);
+        traced_until[b] = end_s;
+        continue;
+      }
+      const double fallen_db = 10.0 * std::log10(band_energy[0] / band_energy[complete - 1]);
+      if (!(fallen_db < options.continuation.decayed_db)) {
+        judged = true;
+        continue;
+      }
+      const std::size_t recent = std::min<std::size_t>(complete - 1, 5);
+      const double falling_db_per_s =
+          10.0 * std::log10(band_energy[complete - 1 - recent] / band_energy[complete - 1]) / (static_cast<double>(recent) * kFlightBinS);
+      if (falling_db_per_s > 0.0) soonest_s = std::min(soonest_s, (options.continuation.decayed_db - fallen_db) / falling_db_per_s);
     }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(work, t);
-  work(0);
-  for (auto& thread : pool) thread.join();
+    const bool waiting = std::any_of(parked.begin(), parked.end(), [](const auto& p) { return !p.empty(); });
+    if (active == 0 || !waiting) break;
+    // Every slice parks and resumes each live branch, so the slices are as few as the
+    // judgement allows: a quarter of the time so far (at least kSliceS), and while no traced
+    // band has fallen far enough to be judged, most of the time until the first will.
+    double wait_s = std::max(kSliceS, 0.25 * end_s);
+    if (!judged && std::isfinite(soonest_s)) wait_s = std::max(wait_s, 0.8 * soonest_s);
+    next_end_s = kFlightBinS * std::ceil((end_s + wait_s) / kFlightBinS - 1e-9);
+  }
 
   RayTracingResult result{EnergyHistogram(options.bin_s, bins), {}, {}};
   for (int t = 0; t < threads; ++t) result.histogram.merge(histograms[static_cast<std::size_t>(t)]);
   for (int t = 0; t < threads; ++t) addStats(result.stats, stats[t]);
   result.stats.receiver_radius_m = radius;
+  result.stats.traced_until_s = traced_until;
   if (!in_flight.empty()) {
     result.energy_in_flight.assign(bins, OctaveBandValues{});
     for (const auto& part : in_flight) {
       for (std::size_t k = 0; k < bins; ++k) {
         for (int b = 0; b < kOctaveBandCount; ++b) result.energy_in_flight[k][b] += part[k][b];
       }
+    }
+  }
+  for (int b = 0; b < kOctaveBandCount; ++b) {
+    if (!lines[b]) continue;
+    const EstablishedDecay& line = *lines[b];
+    continueDecay(result.histogram, b, line.fitted_from_s, traced_until[b], line);
+    result.stats.energy_left_at_time_limit[b] = line.energyAt(options.max_time_s);
+    const auto from_bin = static_cast<std::size_t>(std::floor(traced_until[b] / options.bin_s + 1e-9));
+    for (std::size_t k = from_bin; k < result.energy_in_flight.size(); ++k) {
+      result.energy_in_flight[k][b] = line.energyAt((static_cast<double>(k) + 0.5) * options.bin_s);
     }
   }
   return result;
