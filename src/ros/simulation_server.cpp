@@ -45,7 +45,7 @@ bool SimulationServer::simulate(room_reverb::SimulateRoom::Request& request,
       throw core::InputError("image_source_order, rays, ambisonic_order and duration_s must not be negative (0: the node's default)");
     }
     if (request.rays > max_rays_) {
-      // Refused up front: the count sets the time (the BRAS CR2 room: 18.5 s for 10^5 rays
+      // Refused up front: the count sets the time (the BRAS CR2 room: about 15 s for 10^5 rays
       // on two cores), and a caller's extra zeros would hold the node for hours.
       throw core::InputError("rays: " + std::to_string(request.rays) + " is more than this node's ~max_rays (" +
                              std::to_string(max_rays_) + "); raise ~max_rays to allow it");
