@@ -108,26 +108,6 @@ struct RayBranch {
   bool last_specular = true;
 };
 
-// The energy in flight on a grid of `bin_m` metres of travel, with the air's loss at each
-// bin's start tabulated ([k][band]).
-struct FlightGrid {
-  double bin_m = 0.0;
-  std::vector<double> air;
-  std::size_t bins() const { return air.size() / kOctaveBandCount; }
-};
-
-FlightGrid flightGrid(double bin_s, std::size_t bins, const PropagationModel& model) {
-  FlightGrid grid;
-  grid.bin_m = bin_s * model.speed_of_sound_m_s;
-  grid.air.resize(bins * kOctaveBandCount);
-  for (std::size_t k = 0; k < bins; ++k) {
-    for (int b = 0; b < kOctaveBandCount; ++b) {
-      grid.air[k * kOctaveBandCount + b] = std::exp(-model.air_attenuation_per_m[b] * (static_cast<double>(k) * grid.bin_m));
-    }
-  }
-  return grid;
-}
-
 // Where one slice of the tracing ends: branches that reach `boundary_m` of travel wait in
 // `parked` for the next slice. The energy in flight goes to `fine` (the result's, when
 // recorded; may be null), and the energy each reflection and roulette takes from the
@@ -161,7 +141,6 @@ struct Tracer {
   Eigen::Matrix3d launch_rotation;
   std::uint64_t seed_key;  // every ray's key derives from it and the ray's index
   double loss_bin_m;        // kFlightBinS of travel
-  FlightGrid fine_grid;
 
   Tracer(const AcousticScene& scene_, const Eigen::Vector3d& source_, const Eigen::Vector3d& listener_,
          const PropagationModel& model_, const RayTracingOptions& options_, double receiver_radius_m_,
@@ -187,7 +166,6 @@ struct Tracer {
         air_lower[k * kOctaveBandCount + b] = std::exp(-model.air_attenuation_per_m[b] * (static_cast<double>(k + 1) * bin_length_m));
       }
     }
-    fine_grid = flightGrid(options.bin_s, bins, model);
     loss_bin_m = kFlightBinS * model.speed_of_sound_m_s;
     roulette_level = ray_energy * std::pow(10.0, options.roulette_db / 10.0);
     launch_rotation = randomRotation(options.seed);
@@ -253,6 +231,11 @@ struct Tracer {
     return false;
   }
 
+  // The slice's loss bin at `travelled_m` of travel.
+  OctaveBandValues& lossAt(const Slice& slice, double travelled_m) const {
+    return (*slice.losses)[std::min(slice.losses->size() - 1, static_cast<std::size_t>(travelled_m / loss_bin_m))];
+  }
+
   static std::size_t flightBins(double duration_s) {
     return static_cast<std::size_t>(std::ceil(duration_s / kFlightBinS));
   }
@@ -285,11 +268,10 @@ struct Tracer {
     }
   }
 
-  // Adds the branch's energy, air included, to every bin of `grid` it spends travelling
-  // between `from_m` and `to_m` along its path, weighted by the share of the bin it covers.
-  static void addInFlight(std::vector<OctaveBandValues>& in_flight, const FlightGrid& grid, const RayBranch& ray,
-                          double from_m, double to_m) {
-    const double bin_m = grid.bin_m;
+  // Adds the branch's energy, air included, to every bin it spends travelling between
+  // `from_m` and `to_m` along its path, weighted by the share of the bin it covers.
+  void addInFlight(std::vector<OctaveBandValues>& in_flight, const RayBranch& ray, double from_m, double to_m) const {
+    const double bin_m = bin_length_m;
     const double last_m = std::min(to_m, static_cast<double>(in_flight.size()) * bin_m);
     if (!(last_m > from_m)) return;
     const auto first_bin = static_cast<std::size_t>(from_m / bin_m);
@@ -298,7 +280,7 @@ struct Tracer {
       const double lower = static_cast<double>(k) * bin_m;
       const double share = (std::min(last_m, lower + bin_m) - std::max(from_m, lower)) / bin_m;
       if (!(share > 0.0)) continue;
-      const double* air = &grid.air[k * kOctaveBandCount];
+      const double* air = &air_upper[k * kOctaveBandCount];
       for (int b = 0; b < kOctaveBandCount; ++b) in_flight[k][b] += share * ray.energy[b] * air[b];
     }
   }
@@ -337,11 +319,11 @@ struct Tracer {
         }
       }
       const double leg_end = std::min(ray.travelled + leg, max_distance);
-      if (slice.fine) addInFlight(*slice.fine, fine_grid, ray, ray.travelled, leg_end);
+      if (slice.fine) addInFlight(*slice.fine, ray, ray.travelled, leg_end);
       if (!hit.hit) {
         ++(scene.closed() ? stats.leaked_rays : stats.escaped_rays);
         if (slice.losses) {  // its energy has left the room
-          OctaveBandValues& loss = (*slice.losses)[std::min(slice.losses->size() - 1, static_cast<std::size_t>(ray.travelled / loss_bin_m))];
+          OctaveBandValues& loss = lossAt(slice, ray.travelled);
           for (int b = 0; b < kOctaveBandCount; ++b) loss[b] += ray.energy[b];
         }
         return;
@@ -363,7 +345,7 @@ struct Tracer {
       const double wall_offset = facing ? plane_offset[hit.triangle] : -plane_offset[hit.triangle];
       OctaveBandValues* loss = nullptr;
       if (slice.losses) {
-        loss = &(*slice.losses)[std::min(slice.losses->size() - 1, static_cast<std::size_t>(ray.travelled / loss_bin_m))];
+        loss = &lossAt(slice, ray.travelled);
         for (int b = 0; b < kOctaveBandCount; ++b) (*loss)[b] += ray.energy[b] * (1.0 - m.reflectance[b]);
       }
       for (int b = 0; b < kOctaveBandCount; ++b) ray.energy[b] *= m.reflectance[b];
