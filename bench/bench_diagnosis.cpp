@@ -8,15 +8,20 @@
 // in scripts/demo, cannot: docs/diagnosis.md). The second case gives the ray tracer four
 // times the rays and its detection sphere four times the crossings (the sphere the first
 // case gets, where the listener's clearance allows), to see whether the rays then lower the
-// noise: they do not (about 4 times the runtime; docs/validation/diagnosis.md).
+// noise: they do not (about 4 times the runtime; docs/validation/diagnosis.md). The third
+// hands the simulations to two worker processes of the tool (simulation_runner.h): the
+// same diagnosis to the bit, and on one 2-core machine what that costs.
 // Run: scripts/bench, or .ws/devel/lib/room_reverb/bench_diagnosis.
 #include <benchmark/benchmark.h>
 
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "room_reverb/acoustics/room_simulation.h"
+#include "sample_room_pairs.h"
+#include "room_reverb/acoustics/simulation_runner.h"
 #include "room_reverb/diagnosis/diagnosis.h"
 #include "room_reverb/diagnosis/diagnosis_setup.h"
 
@@ -26,22 +31,6 @@ using namespace room_reverb::core;
 
 const std::string kSampleRoom = std::string(ROOM_REVERB_SOURCE_DIR) + "/data/sample_room/";
 
-// Two loudspeaker positions, five microphone positions, all clear of the furniture.
-std::vector<MeasurementPair> fivePairs() {
-  const Eigen::Vector3d s1(4.6, 2.9, 1.5), s2(1.5, 0.9, 1.6);
-  const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> positions{
-      {s1, {2.7, 2.1, 1.4}}, {s1, {1.6, 3.4, 1.3}}, {s2, {3.6, 2.2, 1.2}}, {s2, {4.8, 1.6, 1.4}}, {s1, {3.0, 0.9, 1.2}}};
-  std::vector<MeasurementPair> pairs;
-  for (const auto& [source, receiver] : positions) {
-    MeasurementPair p;
-    p.source_m = source;
-    p.receiver_m = receiver;
-    p.format = "ambix";
-    p.label = "pair" + std::to_string(pairs.size() + 1);
-    pairs.push_back(p);
-  }
-  return pairs;
-}
 
 // The five "measured" responses: more rays and other seeds than the diagnosis uses, so
 // the measurement's ray noise is its own.
@@ -56,7 +45,7 @@ const MeasuredEvidence& measuredEvidence() {
     s.air = truth.air();
     s.rays.ray_count = 40000;
     MeasuredEvidence e;
-    e.positions = fivePairs();
+    e.positions = room_reverb::bench::sampleRoomFivePairs();
     for (std::size_t i = 0; i < e.positions.size(); ++i) {
       s.rays.seed = 9000 + static_cast<std::uint32_t>(i);
       const SimulationResult r = simulateRoom(scene, e.positions[i].source_m, e.positions[i].receiver_m, s);
@@ -77,6 +66,10 @@ void BM_DiagnoseSampleRoomFivePairs(benchmark::State& state) {
   options.evaluation.simulation.image_source_order = 3;
   options.evaluation.simulation.rays.seed = 1;
   options.evaluation.simulation.duration_s = diagnosisDurationS(evidence);
+  if (state.range(2) > 0) {
+    options.evaluation.runner = std::make_shared<WorkerProcessSimulationRunner>(
+        localWorkerCommands(static_cast<int>(state.range(2)), ROOM_REVERB_TOOL));
+  }
   Diagnosis last;
   for (auto _ : state) {
     last = diagnose(model, evidence, options);
@@ -97,9 +90,10 @@ void BM_DiagnoseSampleRoomFivePairs(benchmark::State& state) {
 }
 // One diagnosis takes about a minute: one iteration per repetition.
 BENCHMARK(BM_DiagnoseSampleRoomFivePairs)
-    ->ArgNames({"rays", "crossings_per_ms"})
-    ->Args({10000, 300})
-    ->Args({40000, 1200})
+    ->ArgNames({"rays", "crossings_per_ms", "workers"})
+    ->Args({10000, 300, 0})
+    ->Args({40000, 1200, 0})
+    ->Args({10000, 300, 2})
     ->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 
 }  // namespace

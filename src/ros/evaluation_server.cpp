@@ -12,6 +12,7 @@
 #include "room_reverb/acoustics/room_model.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/text_file.h"
+#include "room_reverb/common/worker_process.h"
 #include "room_reverb/diagnosis/diagnosis_output.h"
 #include "room_reverb/diagnosis/diagnosis_setup.h"
 #include "room_reverb/evaluation/measurement_comparison.h"
@@ -19,6 +20,7 @@
 #include "room_reverb/ros/audio_conversions.h"
 #include "room_reverb/ros/parameters.h"
 #include "room_reverb/ros/room_conversions.h"
+#include "room_reverb/ros/service_simulation_runner.h"
 
 namespace room_reverb::ros_bridge {
 namespace {
@@ -99,6 +101,24 @@ EvaluationServer::EvaluationServer(::ros::NodeHandle& private_nh) {
   }
   typedParam(private_nh, "threads", threads_, 0);
   if (threads_ < 0) throw core::InputError("parameter ~threads must not be negative");
+  const std::vector<std::string> simulators = stringListParam(private_nh, "simulators");
+  int workers = 0;
+  typedParam(private_nh, "simulation_workers", workers, 0);
+  if (workers < 0 || workers > 256) throw core::InputError("parameter ~simulation_workers must be 0 to 256");
+  double wait_s = 10.0;
+  typedParam(private_nh, "simulator_wait_s", wait_s, 10.0);
+  if (!(wait_s >= 0.0)) throw core::InputError("parameter ~simulator_wait_s must not be negative");
+  if (!simulators.empty() && workers > 0) {
+    throw core::InputError("parameters ~simulators and ~simulation_workers: give one of them, not both");
+  }
+  if (!simulators.empty()) runner_ = std::make_shared<ServiceSimulationRunner>(simulators, wait_s);
+  if (workers > 0) {
+    // The tool stands next to this node's executable (devel/lib/room_reverb, or the install's).
+    const std::string tool = (std::filesystem::path(core::executablePath()).parent_path() / "room_reverb").string();
+    core::requireExistingFile(tool, "room_reverb tool", "the workers of ~simulation_workers run it");
+    runner_ = std::make_shared<core::WorkerProcessSimulationRunner>(core::localWorkerCommands(workers, tool));
+  }
+  if (runner_) ROS_INFO("evaluation: simulations run on %s", runner_->description().c_str());
   typedParam(private_nh, "out_root", out_root_, std::string("/tmp/room_reverb_evaluation"));
   std::string materials_file;
   typedParam(private_nh, "materials_file", materials_file, std::string(""));
@@ -240,7 +260,8 @@ bool EvaluationServer::compare(room_reverb::CompareMeasurement::Request& request
     const core::RoomUnderTest room =
         roomOf(request.room, request.mesh_file, request.mesh_y_up, measurements, false, library_);
     settings.air = room.airWith({});
-    const core::MeasurementComparison comparison = core::compareMeasurement(room.scene({}), evidence, settings);
+    const core::MeasurementComparison comparison =
+        core::compareMeasurement(room.scene({}), evidence, settings, {}, runner_.get());
     for (const core::BandComparison& row : comparison.average) {
       for (core::ComparedParameter p : core::kComparedParameters) {
         const auto i = static_cast<std::size_t>(p);
@@ -285,6 +306,7 @@ bool EvaluationServer::diagnose(room_reverb::DiagnoseRoom::Request& request,
     sim.rays.seed = static_cast<std::uint32_t>(request.seed > 0 ? request.seed : seed_);
     sim.rays.threads = threads_;
     sim.duration_s = request.duration_s > 0.0 ? request.duration_s : core::diagnosisDurationS(evidence);
+    options.evaluation.runner = runner_;
 
     const core::Diagnosis diagnosis = core::diagnose(room, evidence, options);
     const std::string out = request.out_dir.empty() ? stampedFolder(out_root_, "diagnosis").string() : request.out_dir;

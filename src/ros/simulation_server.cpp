@@ -34,6 +34,29 @@ SimulationServer::SimulationServer(::ros::NodeHandle& private_nh) {
   typedParam(private_nh, "materials_file", materials_file, std::string(""));
   library_ = materials_file.empty() ? core::MaterialLibrary::loadDefault() : core::MaterialLibrary::load(materials_file);
   server_ = private_nh.advertiseService("simulate", &SimulationServer::simulate, this);
+  job_server_ = private_nh.advertiseService("simulate_job", &SimulationServer::simulateJob, this);
+}
+
+bool SimulationServer::simulateJob(room_reverb::SimulateJob::Request& request, room_reverb::SimulateJob::Response& response) {
+  response = room_reverb::SimulateJob::Response();
+  try {
+    const core::JobParts parts = core::splitJob(request.job.data(), request.job.size());
+    const core::SimulationSettings& s = parts.request.settings;
+    const std::size_t rays = s.mode == core::SimulationMode::kFast ? s.fast_ray_count : s.rays.ray_count;
+    if (rays > static_cast<std::size_t>(max_rays_)) {
+      throw core::InputError("rays: " + std::to_string(rays) + " is more than this node's ~max_rays (" +
+                             std::to_string(max_rays_) + "); raise ~max_rays to allow it");
+    }
+    std::lock_guard<std::mutex> lock(job_mutex_);
+    response.result = executor_.run(request.job.data(), request.job.size());
+    response.success = true;
+  } catch (const core::InputError& e) {
+    response.message = e.what();
+    response.input_error = true;
+  } catch (const std::exception& e) {
+    response.message = core::printableLine(std::string("room_simulator: ") + e.what());
+  }
+  return true;
 }
 
 bool SimulationServer::simulate(room_reverb::SimulateRoom::Request& request,

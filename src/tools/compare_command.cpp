@@ -11,6 +11,7 @@
 #include "room_reverb/common/text_file.h"
 #include "room_reverb/evaluation/measurement_comparison.h"
 #include "simulation_arguments.h"
+#include "simulation_workers.h"
 
 namespace room_reverb::tool {
 namespace {
@@ -58,6 +59,7 @@ std::string summaryLine(const std::vector<BandComparison>& octaves, ComparedPara
 int runCompare(const std::vector<std::string>& raw) {
   std::set<std::string> valued = simulationValueOptions();
   valued.insert({"measurements", "markdown", "pairs", "room", "mesh", "out"});
+  for (const std::string& option : simulationWorkerOptions()) valued.insert(option);
   std::set<std::string> flags = simulationFlags();
   flags.insert("y-up");
   const Arguments args(raw, valued, flags);
@@ -86,11 +88,14 @@ int runCompare(const std::vector<std::string>& raw) {
   settings.air = air;
 
   const std::size_t n_pairs = evidence.positions.size();
-  const MeasurementComparison comparison =
-      compareMeasurement(scene, evidence, settings, [&](std::size_t i, const MeasuredPairComparison& pair) {
+  const std::shared_ptr<SimulationRunner> runner = simulationRunnerFrom(args);
+  const MeasurementComparison comparison = compareMeasurement(
+      scene, evidence, settings,
+      [&](std::size_t i, const MeasuredPairComparison& pair) {
         std::cerr << "pair " << i + 1 << "/" << n_pairs << " " << pair.pair.label << ": " << std::fixed
                   << std::setprecision(1) << pair.wall_time_s << " s, " << pair.stats.leaked_rays << " rays leaked\n";
-      });
+      },
+      runner.get());
   std::vector<double> times;
   std::size_t leaked = 0, rays = 0;
   for (const MeasuredPairComparison& pair : comparison.pairs) {
@@ -138,7 +143,7 @@ int runCompare(const std::vector<std::string>& raw) {
 }
 
 const CommandRegistration registration({"compare", "simulate a measurement's pairs and compare parameters (JND)",
-                                         std::string(kHelpHead) + kSimulationOptionsHelp, runCompare});
+                                         std::string(kHelpHead) + kSimulationOptionsHelp + kSimulationWorkersHelp, runCompare});
 
 }  // namespace
 }  // namespace room_reverb::tool

@@ -1,6 +1,7 @@
 // room_reverb diagnose: what the simulation of a room gets wrong against a measurement,
 // the causes, the corrected model and the gain on held-out evidence.
 #include <iomanip>
+#include <set>
 #include <iostream>
 #include <sstream>
 
@@ -11,6 +12,7 @@
 #include "room_reverb/common/error.h"
 #include "room_reverb/diagnosis/diagnosis_output.h"
 #include "room_reverb/diagnosis/diagnosis_setup.h"
+#include "simulation_workers.h"
 
 namespace room_reverb::tool {
 namespace {
@@ -39,7 +41,8 @@ DIR/extended_room.yaml (the corrected room).
   --order N          image-source order (default 3)
   --duration S       response length (default: 1.1 x the longest measured T20, 0.5-3 s)
   --seed N           base seed of the simulations (default 1)
-  --threads N        worker threads (default: all cores)
+  --threads N        worker threads (default: all cores); with workers, the pairs of an
+                     evaluation get the thread counts they would get here
   --materials FILE   material library (default config/materials.yaml)
   --no-air           the model has no air absorption (whatever the files say)
   --noise-seeds N    extra ray-tracing seeds that measure the simulation's noise, which a
@@ -53,10 +56,10 @@ DIR/extended_room.yaml (the corrected room).
 )";
 
 int runDiagnose(const std::vector<std::string>& raw) {
-  const Arguments args(raw,
-                       {"measured", "room", "mesh", "out", "causes", "max-causes", "rays", "order", "duration", "seed",
-                        "threads", "materials", "noise-seeds"},
-                       {"y-up", "no-air", "no-reflection-term", "no-direction-term"});
+  std::set<std::string> valued{"measured", "room", "mesh", "out", "causes", "max-causes", "rays", "order", "duration",
+                               "seed", "threads", "materials", "noise-seeds"};
+  for (const std::string& option : simulationWorkerOptions()) valued.insert(option);
+  const Arguments args(raw, valued, {"y-up", "no-air", "no-reflection-term", "no-direction-term"});
   if (!args.positional().empty()) throw UsageError("unexpected argument '" + args.positional().front() + "'");
   if (!args.has("measured")) throw UsageError("--measured FILE is required");
   if (!args.has("out")) throw UsageError("--out DIR is required");
@@ -95,6 +98,7 @@ int runDiagnose(const std::vector<std::string>& raw) {
   sim.rays.threads = args.intValue("threads", 0);
   sim.duration_s = args.has("duration") ? args.doubleValue("duration", 1.0) : diagnosisDurationS(evidence);
   if (!(sim.duration_s > 0.0)) throw InputError("--duration must be positive");
+  options.evaluation.runner = simulationRunnerFrom(args);
 
   const Diagnosis diagnosis = diagnose(room, evidence, options);
   const DiagnosisFiles files = writeDiagnosis(diagnosis, room, evidence, args.value("out", ""));
@@ -116,7 +120,7 @@ int runDiagnose(const std::vector<std::string>& raw) {
 }
 
 const CommandRegistration registration({"diagnose", "name what a room's simulation gets wrong against a measurement",
-                                         kHelp, runDiagnose});
+                                         std::string(kHelp) + kSimulationWorkersHelp, runDiagnose});
 
 }  // namespace
 }  // namespace room_reverb::tool

@@ -232,16 +232,16 @@ TEST(ModelEvaluation, PairsRunInRoundsWithReproducibleThreadCounts) {
   // Five pairs on two threads: two full rounds of one thread each, then the last pair alone
   // with both (the tracer's threads).
   std::vector<int> threads_of(5, 0);
-  runPairsInRounds(5, 2, [&](std::size_t i, int threads) { threads_of[i] = threads; });
+  runInRounds(5, 2, [&](std::size_t i, int threads) { threads_of[i] = threads; });
   EXPECT_EQ(threads_of, (std::vector<int>{1, 1, 1, 1, 2}));
   std::vector<int> one(1, 0);
-  runPairsInRounds(1, 2, [&](std::size_t i, int threads) { one[i] = threads; });
+  runInRounds(1, 2, [&](std::size_t i, int threads) { one[i] = threads; });
   EXPECT_EQ(one, std::vector<int>{2});
   // A failing pair (an extension that puts it outside the room) fails the evaluation, with
   // its own message, after the other pairs have run.
   std::vector<std::atomic<int>> ran(4);
   try {
-    runPairsInRounds(4, 2, [&](std::size_t i, int) {
+    runInRounds(4, 2, [&](std::size_t i, int) {
       ran[i] = 1;
       if (i == 1 || i == 3) throw InputError("pair " + std::to_string(i) + " is outside the room");
     });

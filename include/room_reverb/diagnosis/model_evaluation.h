@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "room_reverb/acoustics/room_simulation.h"
+#include "room_reverb/acoustics/simulation_runner.h"
 #include "room_reverb/evaluation/measured_evidence.h"
 #include "room_reverb/diagnosis/model_extension.h"
 #include "room_reverb/diagnosis/response_extensions.h"
@@ -32,6 +33,9 @@ struct EvaluationSettings {
   // terms (all omni) see only how much absorption a surface adds, not which surface: four
   // pairs put a planted absorbing wall on the right surface in 2 of 7 rooms.
   bool score_directions = true;
+  // Where the simulations run (simulation_runner.h): null, this process. Worker processes
+  // or room_simulator nodes give the same evaluations, to the bit.
+  std::shared_ptr<SimulationRunner> runner;
 };
 
 // One number of the comparison: parameter `group` (T20, T30, EDT, C80, D50, DRR, early or
@@ -109,6 +113,10 @@ class ModelEvaluator {
   // the noise of the error itself). Never throws for a model the extension made impossible
   // (a pair outside the room): returns valid = false with the reason.
   Evaluation evaluate(const ModelExtension& extension, std::uint32_t seed_offset = 0) const;
+  // evaluate() at each seed offset. With a runner, every pair of every offset is one batch,
+  // so that up to pairs x offsets simulators work at once; the evaluations are the same.
+  std::vector<Evaluation> evaluateAtSeeds(const ModelExtension& extension,
+                                          const std::vector<std::uint32_t>& seed_offsets) const;
   const RoomUnderTest& room() const { return room_; }
   const MeasuredEvidence& evidence() const { return evidence_; }
   const EvaluationSettings& settings() const { return settings_; }

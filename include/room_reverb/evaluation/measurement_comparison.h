@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "room_reverb/acoustics/room_simulation.h"
+#include "room_reverb/acoustics/simulation_runner.h"
 #include "room_reverb/evaluation/measured_evidence.h"
 #include "room_reverb/evaluation/parameter_comparison.h"
 #include "room_reverb/evaluation/reflection_matching.h"
@@ -39,11 +40,14 @@ struct MeasurementComparison {
 };
 
 // Simulates every pair (pair i with pairSeed(settings.rays.seed, i); first-order AmbiX
-// where the measured file is B-format, so both sides get an RSAO) and compares.
-// `progress` (may be empty) is called after each pair.
+// where the measured file is B-format, so both sides get an RSAO) and compares. The pairs
+// are simulated by `runner` (null: in this process, one after another, each on every
+// thread of settings.rays.threads), with the same results wherever they run.
+// `progress` (may be empty) is called after each pair's comparison.
 MeasurementComparison compareMeasurement(
     const AcousticScene& scene, const MeasuredEvidence& evidence, const SimulationSettings& settings,
-    const std::function<void(std::size_t, const MeasuredPairComparison&)>& progress = {});
+    const std::function<void(std::size_t, const MeasuredPairComparison&)>& progress = {},
+    SimulationRunner* runner = nullptr);
 
 // Each parameter's mean of |error| in JND over the average's rows (125 Hz - 4 kHz octaves
 // or their thirds), and over all of them; empty where nothing was compared.

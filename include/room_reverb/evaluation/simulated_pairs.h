@@ -6,6 +6,8 @@
 #include <vector>
 
 #include "room_reverb/acoustics/room_simulation.h"
+#include "room_reverb/acoustics/simulation_runner.h"
+#include "room_reverb/common/parallel_rounds.h"
 #include "room_reverb/evaluation/measurements.h"
 #include "room_reverb/metrics/room_acoustic_parameters.h"
 
@@ -21,19 +23,23 @@ struct SimulatedPair {
 // noise; every simulation of measured pairs (compare, the diagnosis) follows this rule.
 std::uint32_t pairSeed(std::uint32_t base_seed, std::size_t pair);
 
-// Calls job(i, threads_of_i) for every pair i in [0, count): up to `threads` pairs at once
-// (0: all hardware threads), in rounds; each pair of a full round gets one thread and the
-// pairs of a last, smaller round share the threads (the tracer parallelises within a
-// simulation, the analysis of a response does not). Which thread count a pair gets
-// depends only on i, count and threads, so results are reproducible. The first exception
-// (lowest i) of a job is rethrown after every job has ended.
-void runPairsInRounds(std::size_t count, int threads, const std::function<void(std::size_t, int)>& job);
+// The simulation of every pair: pair i with pairSeed(settings.rays.seed, i) and the thread
+// count runInRounds gives it for settings.rays.threads, so that its result is the same
+// wherever a runner runs it.
+std::vector<SimulationRequest> pairRequests(const std::vector<MeasurementPair>& pairs, const SimulationSettings& settings);
 
-// Pair i is simulated with pairSeed(settings.rays.seed, i), in rounds (runPairsInRounds)
-// with settings.rays.threads. `progress` (may be empty) is called on the calling thread
-// with each pair's index, in order, once every pair has been simulated.
+// The requests' results from `runner`, or, when there is none, in this process, `threads`
+// at a time (0: all hardware threads). `wall_times_s` (may be null): as SimulationRunner's.
+std::vector<SimulationResult> runSimulations(const AcousticScene& scene, const std::vector<SimulationRequest>& requests,
+                                             int threads, SimulationRunner* runner,
+                                             std::vector<double>* wall_times_s = nullptr);
+
+// Pair i is simulated as pairRequests says, by `runner` (null: this process, in rounds of
+// settings.rays.threads), and analysed here. `progress` (may be empty) is called on the
+// calling thread with each pair's index, in order, once every pair has been simulated.
 std::vector<SimulatedPair> simulatePairs(const AcousticScene& scene, const std::vector<MeasurementPair>& pairs,
                                          const SimulationSettings& settings, BandResolution resolution,
-                                         const std::function<void(std::size_t, const SimulatedPair&)>& progress = {});
+                                         const std::function<void(std::size_t, const SimulatedPair&)>& progress = {},
+                                         SimulationRunner* runner = nullptr);
 
 }  // namespace room_reverb::core

@@ -16,6 +16,7 @@
 #include <room_reverb/ImpulseResponse.h>
 #include <room_reverb/RoomModel.h>
 
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -23,6 +24,7 @@
 #include <vector>
 
 #include "room_reverb/acoustics/material.h"
+#include "room_reverb/acoustics/simulation_runner.h"
 
 namespace room_reverb::ros_bridge {
 
@@ -57,6 +59,8 @@ class EvaluationServer {
   int noise_seeds_ = 5;  // ~noise_seeds
   std::vector<std::string> causes_;  // ~causes: tried when a request names none; empty: the catalogue
   int threads_ = 0;
+  // ~simulators or ~simulation_workers: where the simulations run (null: this process).
+  std::shared_ptr<core::SimulationRunner> runner_;
   std::string out_root_;
   core::MaterialLibrary library_;
   ::ros::ServiceServer compare_server_, diagnose_server_;

@@ -89,7 +89,7 @@ Evaluation reanalyseWith(const FitContext& context, const ModelExtension& extens
   try {
     const std::vector<PairPrediction>& bases = context.current.predictions;
     evaluation.predictions = bases;
-    runPairsInRounds(bases.size(), evaluator.settings().simulation.rays.threads, [&](std::size_t i, int) {
+    runInRounds(bases.size(), evaluator.settings().simulation.rays.threads, [&](std::size_t i, int) {
       const PairPrediction& base = bases[i];
       const MeasurementPair& pair = base.analysis.pair;
       const AudioBuffer extended = on_top ? extendedResponse(base.analysis.omni, base, pair, extension, nullptr)

@@ -18,8 +18,9 @@ namespace {
 std::vector<double> heldoutOverSeeds(const ModelEvaluator& evaluator, const ModelExtension& extension,
                                      const Evaluation& first, int seeds) {
   std::vector<double> errors{first.heldout_error_jnd};
-  for (int k = 1; k <= seeds; ++k) {
-    const Evaluation other = evaluator.evaluate(extension, static_cast<std::uint32_t>(k));
+  std::vector<std::uint32_t> offsets;
+  for (int k = 1; k <= seeds; ++k) offsets.push_back(static_cast<std::uint32_t>(k));
+  for (const Evaluation& other : evaluator.evaluateAtSeeds(extension, offsets)) {
     errors.push_back(other.valid ? other.heldout_error_jnd : std::nan(""));
   }
   return errors;

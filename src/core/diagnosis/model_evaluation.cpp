@@ -182,8 +182,14 @@ ModelEvaluator::ModelEvaluator(const RoomUnderTest& room, const MeasuredEvidence
 }
 
 Evaluation ModelEvaluator::evaluate(const ModelExtension& extension, std::uint32_t seed_offset) const {
-  ++evaluations_;
-  Evaluation evaluation;
+  return std::move(evaluateAtSeeds(extension, {seed_offset}).front());
+}
+
+std::vector<Evaluation> ModelEvaluator::evaluateAtSeeds(const ModelExtension& extension,
+                                                        const std::vector<std::uint32_t>& seed_offsets) const {
+  evaluations_ += static_cast<int>(seed_offsets.size());
+  std::vector<Evaluation> evaluations(seed_offsets.size());
+  const std::size_t pairs = evidence_.positions.size();
   try {
     const AcousticScene scene = room_.scene(extension);
     SimulationSettings s = settings_.simulation;
@@ -191,44 +197,73 @@ Evaluation ModelEvaluator::evaluate(const ModelExtension& extension, std::uint32
     std::optional<ModalRoom> modal_room;
     if (extension.modes) modal_room = modalRoomFor(scene, s.air);
     if (extension.directivity) s.directivity = *extension.directivity;
-    // The pairs in parallel: a response's analysis (band filters, decay fits) does not
-    // parallelise as the tracer does, and was half of a five-pair diagnosis's wall time.
-    evaluation.predictions.resize(evidence_.positions.size());
-    runPairsInRounds(evidence_.positions.size(), s.rays.threads, [&](std::size_t i, int threads) {
-      const MeasurementPair& pair = evidence_.positions[i];
-      SimulationSettings pair_settings = s;
-      pair_settings.rays.seed = pairSeed(settings_.simulation.rays.seed + 7919u * seed_offset, i);
-      pair_settings.rays.threads = threads;
-      SimulationResult result = simulateRoom(scene, pair.source_m, pair.receiver_m, pair_settings);
-      PairPrediction& prediction = evaluation.predictions[i];
-      prediction.simulated_omni = std::move(result.impulse_response.channels.front());
-      prediction.paths = std::move(result.paths);
-      prediction.seed = pair_settings.rays.seed;
-      if (given_scene_ && i < evidence_.rirs.size() && evidence_.rirs[i].reflections) {
-        prediction.reflection_error_jnd =
-            reflectionMismatchJnd(*evidence_.rirs[i].reflections, prediction.paths, pair, *given_scene_,
-                                  result.speed_of_sound_m_s);
-      }
-      const AudioBuffer extended = extendedResponse(prediction.simulated_omni, prediction, pair, extension,
-                                                    modal_room ? &*modal_room : nullptr);
-      prediction.analysis = analysePair(pair, extended);
-      if (score_directions_ && i < evidence_.rirs.size() && evidence_.rirs[i].directions) {
-        const std::size_t keep = prediction.analysis.metrics.onset_sample +
-                                 static_cast<std::size_t>((EarlyDirectionOptions{}.end_s + 0.02) * extended.sample_rate_hz);
-        for (std::size_t c = 1; c < 4; ++c) {
-          std::vector<float>& channel = result.impulse_response.channels[c];
-          channel.resize(std::min(channel.size(), keep));
-          prediction.simulated_velocity.push_back(std::move(channel));
+    // Pair i at seed offset k: pairSeed(base + 7919 k, i), with the thread count its place in
+    // the rounds of one evaluation gives it. In this process the evaluations run one after
+    // another; a runner gets every pair of every seed at once, so that as many simulators
+    // as there are simulations can work together. Either way each result is the same.
+    std::vector<SimulationRequest> requests;
+    for (std::uint32_t offset : seed_offsets) {
+      SimulationSettings base = s;
+      base.rays.seed = settings_.simulation.rays.seed + 7919u * offset;
+      for (SimulationRequest& r : pairRequests(evidence_.positions, base)) requests.push_back(std::move(r));
+    }
+    // The pairs' analyses in parallel: a response's analysis (band filters, decay fits) does
+    // not parallelise as the tracer does, and was half of a five-pair diagnosis's wall time.
+    std::vector<SimulationResult> results(requests.size());
+    const auto analyse = [&](std::size_t k) {
+      Evaluation& evaluation = evaluations[k];
+      evaluation.predictions.resize(pairs);
+      runInRounds(pairs, s.rays.threads, [&](std::size_t i, int) {
+        const MeasurementPair& pair = evidence_.positions[i];
+        SimulationResult& result = results[k * pairs + i];
+        PairPrediction& prediction = evaluation.predictions[i];
+        prediction.simulated_omni = std::move(result.impulse_response.channels.front());
+        prediction.paths = std::move(result.paths);
+        prediction.seed = requests[k * pairs + i].settings.rays.seed;
+        if (given_scene_ && i < evidence_.rirs.size() && evidence_.rirs[i].reflections) {
+          prediction.reflection_error_jnd =
+              reflectionMismatchJnd(*evidence_.rirs[i].reflections, prediction.paths, pair, *given_scene_,
+                                    result.speed_of_sound_m_s);
         }
-        prediction.analysis.directions = predictedDirections(extended, prediction);
+        const AudioBuffer extended = extendedResponse(prediction.simulated_omni, prediction, pair, extension,
+                                                      modal_room ? &*modal_room : nullptr);
+        prediction.analysis = analysePair(pair, extended);
+        if (score_directions_ && i < evidence_.rirs.size() && evidence_.rirs[i].directions) {
+          const std::size_t keep = prediction.analysis.metrics.onset_sample +
+                                   static_cast<std::size_t>((EarlyDirectionOptions{}.end_s + 0.02) * extended.sample_rate_hz);
+          for (std::size_t c = 1; c < 4; ++c) {
+            std::vector<float>& channel = result.impulse_response.channels[c];
+            channel.resize(std::min(channel.size(), keep));
+            prediction.simulated_velocity.push_back(std::move(channel));
+          }
+          prediction.analysis.directions = predictedDirections(extended, prediction);
+        }
+      });
+    };
+    if (settings_.runner) {
+      results = settings_.runner->simulate(scene, requests, nullptr);
+      for (std::size_t k = 0; k < seed_offsets.size(); ++k) analyse(k);
+    } else {
+      // One evaluation at a time, its responses freed before the next is simulated.
+      for (std::size_t k = 0; k < seed_offsets.size(); ++k) {
+        const auto first = requests.begin() + static_cast<std::ptrdiff_t>(k * pairs);
+        std::vector<SimulationResult> one =
+            runSimulations(scene, std::vector<SimulationRequest>(first, first + static_cast<std::ptrdiff_t>(pairs)),
+                           s.rays.threads, nullptr);
+        std::move(one.begin(), one.end(), results.begin() + static_cast<std::ptrdiff_t>(k * pairs));
+        analyse(k);
+        for (std::size_t i = 0; i < pairs; ++i) results[k * pairs + i] = SimulationResult{};
       }
-    });
+    }
   } catch (const InputError& e) {
-    evaluation.reason = e.what();
-    return evaluation;
+    for (Evaluation& evaluation : evaluations) {
+      evaluation = Evaluation{};
+      evaluation.reason = e.what();
+    }
+    return evaluations;
   }
-  score(evaluation, evidence_, settings_);
-  return evaluation;
+  for (Evaluation& evaluation : evaluations) score(evaluation, evidence_, settings_);
+  return evaluations;
 }
 
 }  // namespace room_reverb::core

@@ -15,14 +15,24 @@ namespace {
 
 using nlohmann::json;
 
-MeasuredPairComparison comparePair(const AcousticScene& scene, std::size_t index, const MeasurementPair& pair,
-                           const PairEvidence* measured, const MeasuredParameters& table,
-                           const SimulationSettings& settings) {
+// The request of pair `index`: its own seed, first-order AmbiX where the measured file is
+// B-format (so both sides get an RSAO), every thread of the comparison (pairs run one after
+// another in this process).
+SimulationRequest pairRequest(std::size_t index, const MeasurementPair& pair, bool measured_rir,
+                              const SimulationSettings& settings) {
+  SimulationRequest request;
+  request.source_m = pair.source_m;
+  request.listener_m = pair.receiver_m;
+  request.settings = settings;
+  request.settings.rays.seed = pairSeed(settings.rays.seed, index);
+  request.settings.rays.threads = roundThreads(1, settings.rays.threads, 0);
+  request.settings.ambisonic_order = measured_rir && isBFormat(pair) ? 1 : 0;
+  return request;
+}
+
+MeasuredPairComparison comparePair(const SimulationResult& result, double simulation_s, const MeasurementPair& pair,
+                                   const PairEvidence* measured, const MeasuredParameters& table) {
   const auto start = std::chrono::steady_clock::now();
-  SimulationSettings s = settings;
-  s.rays.seed = pairSeed(settings.rays.seed, index);
-  s.ambisonic_order = measured != nullptr && isBFormat(pair) ? 1 : 0;
-  const SimulationResult result = simulateRoom(scene, pair.source_m, pair.receiver_m, s);
   MeasuredPairComparison out;
   out.pair = pair;
   out.stats = result.stats;
@@ -39,7 +49,7 @@ MeasuredPairComparison comparePair(const AcousticScene& scene, std::size_t index
     options.resolution = table.resolution;
     out.bands = compareWithMeasured({analyseImpulseResponse(result.impulse_response, 0, options)}, table);
   }
-  out.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.wall_time_s = simulation_s + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
 
@@ -117,7 +127,8 @@ std::string matchingMarkdown(const ReflectionMatching& m) {
 
 MeasurementComparison compareMeasurement(const AcousticScene& scene, const MeasuredEvidence& evidence,
                                          const SimulationSettings& settings,
-                                         const std::function<void(std::size_t, const MeasuredPairComparison&)>& progress) {
+                                         const std::function<void(std::size_t, const MeasuredPairComparison&)>& progress,
+                                         SimulationRunner* runner) {
   if (evidence.positions.empty()) throw InputError("the measurement has no source-receiver pairs to simulate");
   if (!evidence.usesRirs() && evidence.table.empty()) {
     throw InputError("the measurement has neither RIR files nor a parameters table to compare with");
@@ -127,10 +138,16 @@ MeasurementComparison compareMeasurement(const AcousticScene& scene, const Measu
   out.resolution = out.from_rirs ? BandResolution::kOctave : evidence.table.resolution;
   out.flags = evidence.flags;
   out.settings = settings;
+  std::vector<SimulationRequest> requests;
+  for (std::size_t i = 0; i < evidence.positions.size(); ++i) {
+    requests.push_back(pairRequest(i, evidence.positions[i], out.from_rirs, settings));
+  }
+  std::vector<double> times;
+  const std::vector<SimulationResult> results = runSimulations(scene, requests, 1, runner, &times);
   std::vector<std::vector<BandComparison>> per_pair;
   for (std::size_t i = 0; i < evidence.positions.size(); ++i) {
     const PairEvidence* measured = out.from_rirs ? &evidence.rirs[i] : nullptr;
-    out.pairs.push_back(comparePair(scene, i, evidence.positions[i], measured, evidence.table, settings));
+    out.pairs.push_back(comparePair(results[i], times[i], evidence.positions[i], measured, evidence.table));
     per_pair.push_back(out.pairs.back().bands);
     if (progress) progress(i, out.pairs.back());
   }

@@ -1,9 +1,6 @@
 #include "room_reverb/evaluation/simulated_pairs.h"
 
-#include <algorithm>
 #include <chrono>
-#include <exception>
-#include <thread>
 
 #include "room_reverb/metrics/impulse_response_metrics.h"
 
@@ -13,45 +10,41 @@ std::uint32_t pairSeed(std::uint32_t base_seed, std::size_t pair) {
   return base_seed + static_cast<std::uint32_t>(pair);
 }
 
-void runPairsInRounds(std::size_t count, int threads, const std::function<void(std::size_t, int)>& job) {
-  const std::size_t workers =
-      static_cast<std::size_t>(threads > 0 ? threads : std::max(1u, std::thread::hardware_concurrency()));
-  std::vector<std::exception_ptr> failures(count);
-  for (std::size_t first = 0; first < count; first += workers) {
-    const std::size_t in_round = std::min(workers, count - first);
-    const int each = static_cast<int>(std::max<std::size_t>(1, workers / in_round));
-    auto run = [&](std::size_t i) {
-      try {
-        job(i, each);
-      } catch (...) {
-        failures[i] = std::current_exception();
-      }
-    };
-    std::vector<std::thread> pool;
-    for (std::size_t i = first + 1; i < first + in_round; ++i) pool.emplace_back(run, i);
-    run(first);
-    for (std::thread& t : pool) t.join();
+std::vector<SimulationRequest> pairRequests(const std::vector<MeasurementPair>& pairs, const SimulationSettings& settings) {
+  std::vector<SimulationRequest> requests(pairs.size());
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    requests[i].source_m = pairs[i].source_m;
+    requests[i].listener_m = pairs[i].receiver_m;
+    requests[i].settings = settings;
+    requests[i].settings.rays.seed = pairSeed(settings.rays.seed, i);
+    requests[i].settings.rays.threads = roundThreads(pairs.size(), settings.rays.threads, i);
   }
-  for (const std::exception_ptr& failure : failures) {
-    if (failure) std::rethrow_exception(failure);
-  }
+  return requests;
+}
+
+std::vector<SimulationResult> runSimulations(const AcousticScene& scene, const std::vector<SimulationRequest>& requests,
+                                             int threads, SimulationRunner* runner, std::vector<double>* wall_times_s) {
+  if (runner) return runner->simulate(scene, requests, wall_times_s);
+  InProcessSimulationRunner here(threads > 0 ? threads : roundThreads(1, threads, 0));
+  return here.simulate(scene, requests, wall_times_s);
 }
 
 std::vector<SimulatedPair> simulatePairs(const AcousticScene& scene, const std::vector<MeasurementPair>& pairs,
                                          const SimulationSettings& settings, BandResolution resolution,
-                                         const std::function<void(std::size_t, const SimulatedPair&)>& progress) {
+                                         const std::function<void(std::size_t, const SimulatedPair&)>& progress,
+                                         SimulationRunner* runner) {
+  std::vector<double> times;
+  std::vector<SimulationResult> results =
+      runSimulations(scene, pairRequests(pairs, settings), settings.rays.threads, runner, &times);
   std::vector<SimulatedPair> out(pairs.size());
-  runPairsInRounds(pairs.size(), settings.rays.threads, [&](std::size_t i, int threads) {
+  runInRounds(pairs.size(), settings.rays.threads, [&](std::size_t i, int) {
     const auto start = std::chrono::steady_clock::now();
-    SimulationSettings pair_settings = settings;
-    pair_settings.rays.seed = pairSeed(settings.rays.seed, i);
-    pair_settings.rays.threads = threads;
-    const SimulationResult result = simulateRoom(scene, pairs[i].source_m, pairs[i].receiver_m, pair_settings);
     MetricsOptions options;
     options.resolution = resolution;
-    out[i].metrics = analyseImpulseResponse(result.impulse_response, 0, options);
-    out[i].stats = result.stats;
-    out[i].wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    out[i].metrics = analyseImpulseResponse(results[i].impulse_response, 0, options);
+    out[i].stats = results[i].stats;
+    out[i].wall_time_s = times[i] + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    results[i] = SimulationResult{};  // its memory back before the next analyses
   });
   if (progress) {
     for (std::size_t i = 0; i < out.size(); ++i) progress(i, out[i]);

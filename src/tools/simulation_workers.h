@@ -1,0 +1,20 @@
+#pragma once
+// The options that hand a command's simulations to worker processes (compare, diagnose):
+// --workers N local processes of this tool, --worker-commands FILE for workers started by
+// other commands (one per line: e.g. `ssh lab2 room_reverb simulate-worker`).
+#include <memory>
+#include <set>
+#include <string>
+
+#include "arguments.h"
+#include "room_reverb/acoustics/simulation_runner.h"
+
+namespace room_reverb::tool {
+
+extern const char* const kSimulationWorkersHelp;
+std::set<std::string> simulationWorkerOptions();
+
+// The runner the options ask for; null (this process) when they ask for none.
+std::shared_ptr<core::SimulationRunner> simulationRunnerFrom(const Arguments& args);
+
+}  // namespace room_reverb::tool
