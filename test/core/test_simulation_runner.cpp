@@ -14,6 +14,7 @@
 #include "room_reverb/acoustics/simulation_wire.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/worker_process.h"
+#include "room_reverb/diagnosis/diagnosis.h"
 #include "room_reverb/diagnosis/model_evaluation.h"
 #include "room_reverb/evaluation/measurement_comparison.h"
 #include "room_reverb/evaluation/simulated_pairs.h"
@@ -141,7 +142,7 @@ TEST(SimulationWire, BrokenBytesAreAnInputErrorNeverACrash) {
     executor.run(unfixed.data(), unfixed.size());
     ADD_FAILURE() << "a job without a fixed thread count was run";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("thread count"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("thread count must be fixed"), std::string::npos) << e.what();
   }
   // A material coefficient outside [0, 1] is refused as the scene's own error.
   const std::vector<std::uint8_t> scene_bytes = encodeScene(scene);
@@ -255,6 +256,35 @@ TEST(WorkerProcessSimulationRunner, TheDiagnosisEvaluatesTheSameOnWorkers) {
   ASSERT_EQ(a.pairs.size(), b.pairs.size());
   for (std::size_t i = 0; i < a.pairs.size(); ++i) EXPECT_EQ(a.pairs[i].simulated_omni, b.pairs[i].simulated_omni) << i;
   EXPECT_EQ(comparisonReportMarkdown(a), comparisonReportMarkdown(b));
+}
+
+TEST(WorkerProcessSimulationRunner, ADiagnosisOnWorkersNamesWhatThisProcessNames) {
+  // The candidates of a fit go to the workers together (the surface probes and first
+  // steps, the humidity grid, the noise seeds): the diagnosis must not change by a bit.
+  const PlantedCase c = plantedCase("surface_absorption", 12);
+  const RoomUnderTest room = RoomUnderTest::fromRoomModel(c.room, c.library);
+  DiagnosisOptions options = testDiagnosisOptions();
+  options.causes = {"surface_absorption", "air_absorption"};
+  options.max_causes = 1;
+  options.noise_seeds = 2;
+  options.evaluation.simulation.rays.ray_count = 1000;
+  const Diagnosis here = diagnose(room, c.evidence, options);
+  options.evaluation.runner = std::make_shared<WorkerProcessSimulationRunner>(std::vector<std::string>{kWorker, kWorker});
+  const Diagnosis there = diagnose(room, c.evidence, options);
+  EXPECT_EQ(there.simulations, here.simulations);
+  EXPECT_EQ(there.baseline_error_jnd, here.baseline_error_jnd);
+  EXPECT_EQ(there.noise_jnd, here.noise_jnd);
+  ASSERT_EQ(there.trials.size(), here.trials.size());
+  for (std::size_t i = 0; i < here.trials.size(); ++i) {
+    EXPECT_EQ(there.trials[i].target, here.trials[i].target) << here.trials[i].cause;
+    EXPECT_EQ(there.trials[i].heldout_gain_jnd, here.trials[i].heldout_gain_jnd) << here.trials[i].cause;
+    EXPECT_EQ(there.trials[i].note, here.trials[i].note) << here.trials[i].cause;
+  }
+  ASSERT_EQ(there.causes.size(), here.causes.size());
+  for (std::size_t i = 0; i < here.causes.size(); ++i) {
+    EXPECT_EQ(there.causes[i].cause, here.causes[i].cause);
+    EXPECT_EQ(there.causes[i].heldout_after_jnd, here.causes[i].heldout_after_jnd);
+  }
 }
 
 TEST(ParallelRounds, APairsThreadCountDependsOnlyOnItsPlaceInTheRounds) {

@@ -19,13 +19,20 @@ namespace room_reverb::core {
 class SimulationRunner {
  public:
   virtual ~SimulationRunner() = default;
-  // Result i is that of requests[i] in `scene`. When a request's input is wrong (a
-  // source outside the room...), the InputError of the lowest such index is thrown after
-  // every request has ended; a worker or node that fails is a std::runtime_error.
-  // `wall_times_s` (may be null) gets each request's wall time where it ran, transfer
-  // included.
-  virtual std::vector<SimulationResult> simulate(const AcousticScene& scene, const std::vector<SimulationRequest>& requests,
-                                                 std::vector<double>* wall_times_s) = 0;
+  // Result i is that of requests[i] in scenes[scene_of[i]]. When a request's input is
+  // wrong (a source outside the room...), the InputError of the lowest such index is
+  // thrown after every request has ended; a worker or node that fails is a
+  // std::runtime_error. `wall_times_s` (may be null) gets each request's wall time where it
+  // ran, transfer included.
+  virtual std::vector<SimulationResult> simulateScenes(const std::vector<const AcousticScene*>& scenes,
+                                                       const std::vector<SimulationRequest>& requests,
+                                                       const std::vector<std::size_t>& scene_of,
+                                                       std::vector<double>* wall_times_s) = 0;
+  // Every request in one scene.
+  std::vector<SimulationResult> simulate(const AcousticScene& scene, const std::vector<SimulationRequest>& requests,
+                                         std::vector<double>* wall_times_s) {
+    return simulateScenes({&scene}, requests, std::vector<std::size_t>(requests.size(), 0), wall_times_s);
+  }
   // For reports: "this process", "2 worker processes", ...
   virtual std::string description() const = 0;
 };
@@ -35,8 +42,10 @@ class SimulationRunner {
 class InProcessSimulationRunner : public SimulationRunner {
  public:
   explicit InProcessSimulationRunner(int parallel) : parallel_(parallel < 1 ? 1 : parallel) {}
-  std::vector<SimulationResult> simulate(const AcousticScene& scene, const std::vector<SimulationRequest>& requests,
-                                         std::vector<double>* wall_times_s) override;
+  std::vector<SimulationResult> simulateScenes(const std::vector<const AcousticScene*>& scenes,
+                                               const std::vector<SimulationRequest>& requests,
+                                               const std::vector<std::size_t>& scene_of,
+                                               std::vector<double>* wall_times_s) override;
   std::string description() const override { return "this process"; }
 
  private:
@@ -48,8 +57,10 @@ class InProcessSimulationRunner : public SimulationRunner {
 class RemoteSimulationRunner : public SimulationRunner {
  public:
   // Batches from several threads run one after another (the slots are shared).
-  std::vector<SimulationResult> simulate(const AcousticScene& scene, const std::vector<SimulationRequest>& requests,
-                                         std::vector<double>* wall_times_s) override;
+  std::vector<SimulationResult> simulateScenes(const std::vector<const AcousticScene*>& scenes,
+                                               const std::vector<SimulationRequest>& requests,
+                                               const std::vector<std::size_t>& scene_of,
+                                               std::vector<double>* wall_times_s) override;
 
   // What a slot answers for one job.
   struct Reply {

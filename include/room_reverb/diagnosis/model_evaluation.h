@@ -113,8 +113,16 @@ class ModelEvaluator {
   // the noise of the error itself). Never throws for a model the extension made impossible
   // (a pair outside the room): returns valid = false with the reason.
   Evaluation evaluate(const ModelExtension& extension, std::uint32_t seed_offset = 0) const;
-  // evaluate() at each seed offset. With a runner, every pair of every offset is one batch,
-  // so that up to pairs x offsets simulators work at once; the evaluations are the same.
+  // evaluate() of each case. With a runner, every pair of every case is one batch, so that
+  // up to pairs x cases simulators work at once; in this process the cases run one after
+  // another. The evaluations are the same either way. Cases that point to the same
+  // extension one after another share its scene.
+  struct EvaluationCase {
+    const ModelExtension* extension = nullptr;
+    std::uint32_t seed_offset = 0;
+  };
+  std::vector<Evaluation> evaluateMany(const std::vector<EvaluationCase>& cases) const;
+  // evaluateMany() of one extension at each seed offset.
   std::vector<Evaluation> evaluateAtSeeds(const ModelExtension& extension,
                                           const std::vector<std::uint32_t>& seed_offsets) const;
   const RoomUnderTest& room() const { return room_; }
@@ -133,6 +141,12 @@ class ModelEvaluator {
   std::shared_ptr<const AcousticScene> given_scene_;
   bool score_directions_ = false;  // settings' score_directions and a measured profile to score
   mutable int evaluations_ = 0;
+  struct PreparedCase;
+  // The case's scene and requests (the scene and settings of `same_model` when given: the
+  // same extension at another seed).
+  PreparedCase prepare(const EvaluationCase& c, const PreparedCase* same_model) const;
+  // The case's evaluation from its pairs' results (moved from), scored.
+  Evaluation analyse(const PreparedCase& prepared, std::vector<SimulationResult>& results) const;
 };
 
 // Marks the evaluation valid and scores its predictions: terms and the three errors.

@@ -22,31 +22,48 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
-std::vector<SimulationResult> InProcessSimulationRunner::simulate(const AcousticScene& scene,
-                                                                  const std::vector<SimulationRequest>& requests,
-                                                                  std::vector<double>* wall_times_s) {
+namespace {
+
+void requireSceneIndices(std::size_t scenes, const std::vector<SimulationRequest>& requests,
+                         const std::vector<std::size_t>& scene_of) {
+  if (scene_of.size() != requests.size()) throw std::logic_error("simulateScenes: one scene index per request");
+  for (std::size_t s : scene_of) {
+    if (s >= scenes) throw std::logic_error("simulateScenes: a scene index out of range");
+  }
+}
+
+}  // namespace
+
+std::vector<SimulationResult> InProcessSimulationRunner::simulateScenes(const std::vector<const AcousticScene*>& scenes,
+                                                                        const std::vector<SimulationRequest>& requests,
+                                                                        const std::vector<std::size_t>& scene_of,
+                                                                        std::vector<double>* wall_times_s) {
+  requireSceneIndices(scenes.size(), requests, scene_of);
   std::vector<SimulationResult> results(requests.size());
   std::vector<double> times(requests.size(), 0.0);
   // The round's thread share is not used: each request says how many threads it has.
   runInRounds(requests.size(), parallel_, [&](std::size_t i, int) {
     const auto start = std::chrono::steady_clock::now();
     const SimulationRequest& r = requests[i];
-    results[i] = simulateRoom(scene, r.source_m, r.listener_m, r.settings);
+    results[i] = simulateRoom(*scenes[scene_of[i]], r.source_m, r.listener_m, r.settings);
     times[i] = secondsSince(start);
   });
   if (wall_times_s) *wall_times_s = std::move(times);
   return results;
 }
 
-std::vector<SimulationResult> RemoteSimulationRunner::simulate(const AcousticScene& scene,
-                                                               const std::vector<SimulationRequest>& requests,
-                                                               std::vector<double>* wall_times_s) {
+std::vector<SimulationResult> RemoteSimulationRunner::simulateScenes(const std::vector<const AcousticScene*>& scenes,
+                                                                     const std::vector<SimulationRequest>& requests,
+                                                                     const std::vector<std::size_t>& scene_of,
+                                                                     std::vector<double>* wall_times_s) {
+  requireSceneIndices(scenes.size(), requests, scene_of);
   for (const SimulationRequest& r : requests) {
     if (r.settings.rays.threads <= 0) {
       throw std::logic_error("a request to another process needs a fixed thread count (roundThreads)");
     }
   }
-  const std::vector<std::uint8_t> scene_bytes = encodeScene(scene);
+  std::vector<std::vector<std::uint8_t>> scene_bytes;
+  for (const AcousticScene* scene : scenes) scene_bytes.push_back(encodeScene(*scene));
   std::lock_guard<std::mutex> batch(batch_mutex_);
   const std::size_t n = requests.size();
   std::vector<std::optional<SimulationResult>> results(n);
@@ -57,7 +74,7 @@ std::vector<SimulationResult> RemoteSimulationRunner::simulate(const AcousticSce
     for (std::size_t i = next++; i < n; i = next++) {
       const auto start = std::chrono::steady_clock::now();
       try {
-        const Reply reply = runOn(slot, encodeJob(scene_bytes, requests[i]));
+        const Reply reply = runOn(slot, encodeJob(scene_bytes[scene_of[i]], requests[i]));
         if (reply.status == Reply::Status::kResult) {
           results[i] = decodeResult(reply.result.data(), reply.result.size());
         } else if (reply.status == Reply::Status::kInputError) {

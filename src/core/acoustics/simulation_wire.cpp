@@ -126,7 +126,10 @@ SimulationRequest getRequest(ByteReader& r) {
   request.source_m = getVector(r);
   request.listener_m = getVector(r);
   request.settings = getSettings(r);
-  if (request.settings.rays.threads <= 0) r.fail("the request's thread count must be fixed (1 or more)");
+  const RayTracingOptions& o = request.settings.rays;
+  if (o.threads <= 0 || o.threads > 1024) r.fail("the request's thread count must be fixed (1 to 1024)");
+  // What simulateRoom does not check itself, because its callers build these values.
+  if (!(o.bin_s >= 1e-5 && o.bin_s <= 0.1)) r.fail("the histogram's bin width must be 10 us to 100 ms");
   return request;
 }
 
@@ -215,6 +218,9 @@ std::unique_ptr<AcousticScene> decodeScene(const std::uint8_t* data, std::size_t
       o.confidence = r.get<double>();
       o.runner_up = r.getString();
       o.runner_up_confidence = r.get<double>();
+      if (!o.center_m.allFinite() || !o.size_m.allFinite() || (o.size_m.array() <= 0.0).any() || !std::isfinite(o.yaw_rad)) {
+        r.fail("object '" + o.label + "' has a size that is not positive or a position that is not finite");
+      }
     }
     if (!shape.size_m.allFinite() || (shape.size_m.array() <= 0.0).any()) r.fail("the room shape's size must be positive");
     r.requireEnd();

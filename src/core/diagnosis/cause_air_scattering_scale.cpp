@@ -8,7 +8,8 @@ namespace {
 FittedCause scalarCause(const FitContext& context, const std::string& name, const std::string& key,
                         const std::function<ModelExtension(double)>& make, double lo, double hi, int grid,
                         int refinements) {
-  const ScalarFit fit = fitScalar([&](double x) { return evaluateWith(context, make(x)); }, lo, hi, grid, refinements);
+  const ScalarFit fit = fitScalar([&](double x) { return evaluateWith(context, make(x)); }, lo, hi, grid, refinements,
+                                  evaluateEachOf(context, make));
   FittedCause cause;
   cause.cause = name;
   cause.extension = make(fit.value);

@@ -72,6 +72,25 @@ Evaluation evaluateWith(const FitContext& context, const ModelExtension& extensi
   return context.evaluator.evaluate(combined);
 }
 
+std::vector<Evaluation> evaluateWithEach(const FitContext& context, const std::vector<ModelExtension>& extensions) {
+  std::vector<ModelExtension> combined(extensions.size(), context.accepted);
+  std::vector<ModelEvaluator::EvaluationCase> cases;
+  for (std::size_t k = 0; k < extensions.size(); ++k) {
+    combined[k].add(extensions[k]);
+    cases.push_back({&combined[k], 0});
+  }
+  return context.evaluator.evaluateMany(cases);
+}
+
+std::function<std::vector<Evaluation>(const std::vector<double>&)> evaluateEachOf(
+    const FitContext& context, const std::function<ModelExtension(double)>& make) {
+  return [&context, make](const std::vector<double>& xs) {
+    std::vector<ModelExtension> extensions;
+    for (double x : xs) extensions.push_back(make(x));
+    return evaluateWithEach(context, extensions);
+  };
+}
+
 Evaluation reanalyseWith(const FitContext& context, const ModelExtension& extension, const ModalRoom* modal_room) {
   const ModelEvaluator& evaluator = context.evaluator;
   // The coupled decay is the last response effect: a candidate with only that is added to
@@ -106,7 +125,8 @@ Evaluation reanalyseWith(const FitContext& context, const ModelExtension& extens
   return evaluation;
 }
 
-ScalarFit fitScalar(const std::function<Evaluation(double)>& evaluate, double lo, double hi, int grid, int refinements) {
+ScalarFit fitScalar(const std::function<Evaluation(double)>& evaluate, double lo, double hi, int grid, int refinements,
+                    const std::function<std::vector<Evaluation>(const std::vector<double>&)>& evaluate_grid) {
   if (grid < 3) throw InputError("fitScalar: need at least three grid points");
   std::vector<double> xs(static_cast<std::size_t>(grid));
   std::vector<double> errors(xs.size());
@@ -115,7 +135,15 @@ ScalarFit fitScalar(const std::function<Evaluation(double)>& evaluate, double lo
   std::size_t best_index = 0;
   for (std::size_t i = 0; i < xs.size(); ++i) {
     xs[i] = lo + (hi - lo) * static_cast<double>(i) / static_cast<double>(grid - 1);
-    Evaluation e = evaluate(xs[i]);
+  }
+  std::vector<Evaluation> at_grid;
+  if (evaluate_grid) {
+    at_grid = evaluate_grid(xs);
+  } else {
+    for (double x : xs) at_grid.push_back(evaluate(x));
+  }
+  for (std::size_t i = 0; i < xs.size(); ++i) {
+    Evaluation& e = at_grid[i];
     errors[i] = fitError(e);
     if (errors[i] < best_error) {
       best_error = errors[i];

@@ -41,6 +41,12 @@ std::optional<FittedCause> fitLowFrequencyModes(const FitContext& context, std::
 
 // The evaluation of accepted + extension.
 Evaluation evaluateWith(const FitContext& context, const ModelExtension& extension);
+// evaluateWith for each extension, in one batch (ModelEvaluator::evaluateMany): with a
+// runner, the candidates are simulated together.
+std::vector<Evaluation> evaluateWithEach(const FitContext& context, const std::vector<ModelExtension>& extensions);
+// For fitScalar's grid: evaluateWithEach of make(x) for every value x.
+std::function<std::vector<Evaluation>(const std::vector<double>&)> evaluateEachOf(
+    const FitContext& context, const std::function<ModelExtension(double)>& make);
 // The same for an extension that acts only on responses (modes, a coupled decay): the
 // responses simulated for `current` are re-analysed, nothing is simulated again. The
 // modal room is built from the accepted scene when none is given and one is needed.
@@ -53,7 +59,11 @@ struct ScalarFit {
   double value = 0.0;
   Evaluation evaluation;
 };
+// `evaluate_grid` (may be empty): the evaluations of several values at once, for the grid
+// (evaluateWithEach, so that a runner simulates the grid together); the same results as
+// `evaluate` for each value.
 ScalarFit fitScalar(const std::function<Evaluation(double)>& evaluate, double lo, double hi, int grid = 5,
-                    int refinements = 5);
+                    int refinements = 5,
+                    const std::function<std::vector<Evaluation>(const std::vector<double>&)>& evaluate_grid = {});
 
 }  // namespace room_reverb::core

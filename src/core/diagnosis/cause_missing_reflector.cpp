@@ -130,7 +130,8 @@ std::optional<FittedCause> fitMissingReflector(const FitContext& context, std::s
     return e;
   };
   // The area from the decay terms; 0.5-2.5 m a side in five steps (each one simulation).
-  const ScalarFit fit = fitScalar([&](double side) { return evaluateWith(context, make(side)); }, 0.5, 2.5, 5, 0);
+  const ScalarFit fit =
+      fitScalar([&](double side) { return evaluateWith(context, make(side)); }, 0.5, 2.5, 5, 0, evaluateEachOf(context, make));
   const PanelExtent extent = placePanel(bounds, fit.value);
   const CuboidObject panel = panelOver(plane, extent);
   FittedCause cause;

@@ -12,6 +12,7 @@
 #include <deque>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include "cause_fitting.h"
@@ -192,26 +193,38 @@ std::optional<FittedCause> fitSurfaceAbsorption(const FitContext& context, std::
   std::deque<Evaluation> evaluations;
   const OffsetEvaluation current{{}, &context.current};
   const OctaveBandValues room_area = absorptionArea(context);
+  // The probes of every target are one batch (evaluateWithEach), as are their first steps:
+  // a runner simulates them together.
+  std::vector<ModelExtension> probes;
   for (TargetFit& fit : candidates) {
-    TargetSearch t;
-    t.fit = &fit;
     ModelExtension extension;
     extension.absorption = withOffset(fit, probeOffset(context, fit, room_area));
-    evaluations.push_back(evaluateWith(context, extension));
+    probes.push_back(std::move(extension));
+  }
+  std::vector<Evaluation> probed = evaluateWithEach(context, probes);
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    TargetSearch t;
+    t.fit = &candidates[k];
+    evaluations.push_back(std::move(probed[k]));
     if (!evaluations.back().valid) continue;
-    t.known = {current, {appliedOffset(context, fit, extension.absorption), &evaluations.back()}};
+    t.known = {current, {appliedOffset(context, candidates[k], probes[k].absorption), &evaluations.back()}};
     t.at = current;
     t.step = gaussNewtonAbsorptionStep(current, {t.known.back()});
     searches.push_back(std::move(t));
   }
-  const auto take_step = [&](TargetSearch& t) {
-    if (std::none_of(t.step.change.begin(), t.step.change.end(), [](const auto& c) { return c.has_value(); })) return;
+  const auto next_step = [&](const TargetSearch& t) -> std::optional<ModelExtension> {
+    if (std::none_of(t.step.change.begin(), t.step.change.end(), [](const auto& c) { return c.has_value(); })) {
+      return std::nullopt;
+    }
     const OctaveBandValues change = interpolatedChange(t.step.change);
     OctaveBandValues asked{};
     for (std::size_t b = 0; b < asked.size(); ++b) asked[b] = t.at.offset[b] + change[b];
     ModelExtension extension;
     extension.absorption = withOffset(*t.fit, asked);
-    evaluations.push_back(evaluateWith(context, extension));
+    return extension;
+  };
+  const auto record_step = [&](TargetSearch& t, const ModelExtension& extension, Evaluation evaluation) {
+    evaluations.push_back(std::move(evaluation));
     if (!evaluations.back().valid) {
       t.step = {};
       return;
@@ -225,7 +238,19 @@ std::optional<FittedCause> fitSurfaceAbsorption(const FitContext& context, std::
     t.known.push_back(next);
     t.at = next;
   };
-  for (TargetSearch& t : searches) take_step(t);
+  const auto take_step = [&](TargetSearch& t) {
+    if (const std::optional<ModelExtension> extension = next_step(t)) record_step(t, *extension, evaluateWith(context, *extension));
+  };
+  std::vector<TargetSearch*> stepping;
+  std::vector<ModelExtension> steps;
+  for (TargetSearch& t : searches) {
+    if (std::optional<ModelExtension> extension = next_step(t)) {
+      stepping.push_back(&t);
+      steps.push_back(std::move(*extension));
+    }
+  }
+  std::vector<Evaluation> stepped = evaluateWithEach(context, steps);
+  for (std::size_t k = 0; k < stepping.size(); ++k) record_step(*stepping[k], steps[k], std::move(stepped[k]));
   searches.erase(std::remove_if(searches.begin(), searches.end(), [](const TargetSearch& t) { return !t.best; }),
                  searches.end());
   std::sort(searches.begin(), searches.end(), [](const TargetSearch& a, const TargetSearch& b) {

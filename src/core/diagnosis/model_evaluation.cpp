@@ -182,87 +182,163 @@ ModelEvaluator::ModelEvaluator(const RoomUnderTest& room, const MeasuredEvidence
 }
 
 Evaluation ModelEvaluator::evaluate(const ModelExtension& extension, std::uint32_t seed_offset) const {
-  return std::move(evaluateAtSeeds(extension, {seed_offset}).front());
+  return std::move(evaluateMany({{&extension, seed_offset}}).front());
 }
 
 std::vector<Evaluation> ModelEvaluator::evaluateAtSeeds(const ModelExtension& extension,
                                                         const std::vector<std::uint32_t>& seed_offsets) const {
-  evaluations_ += static_cast<int>(seed_offsets.size());
-  std::vector<Evaluation> evaluations(seed_offsets.size());
-  const std::size_t pairs = evidence_.positions.size();
-  try {
-    const AcousticScene scene = room_.scene(extension);
-    SimulationSettings s = settings_.simulation;
-    s.air = room_.airWith(extension);
-    std::optional<ModalRoom> modal_room;
-    if (extension.modes) modal_room = modalRoomFor(scene, s.air);
-    if (extension.directivity) s.directivity = *extension.directivity;
-    // Pair i at seed offset k: pairSeed(base + 7919 k, i), with the thread count its place in
-    // the rounds of one evaluation gives it. In this process the evaluations run one after
-    // another; a runner gets every pair of every seed at once, so that as many simulators
-    // as there are simulations can work together. Either way each result is the same.
-    std::vector<SimulationRequest> requests;
-    for (std::uint32_t offset : seed_offsets) {
-      SimulationSettings base = s;
-      base.rays.seed = settings_.simulation.rays.seed + 7919u * offset;
-      for (SimulationRequest& r : pairRequests(evidence_.positions, base)) requests.push_back(std::move(r));
+  std::vector<EvaluationCase> cases;
+  for (std::uint32_t offset : seed_offsets) cases.push_back({&extension, offset});
+  return evaluateMany(cases);
+}
+
+// One case of evaluateMany: its scene and settings, and the requests of its pairs.
+struct ModelEvaluator::PreparedCase {
+  const ModelExtension* extension = nullptr;
+  std::shared_ptr<const AcousticScene> scene;
+  SimulationSettings settings;
+  std::shared_ptr<const ModalRoom> modal_room;
+  std::vector<SimulationRequest> requests;
+};
+
+ModelEvaluator::PreparedCase ModelEvaluator::prepare(const EvaluationCase& c, const PreparedCase* same_model) const {
+  PreparedCase p;
+  p.extension = c.extension;
+  if (same_model) {
+    p.scene = same_model->scene;
+    p.settings = same_model->settings;
+    p.modal_room = same_model->modal_room;
+  } else {
+    p.scene = std::make_shared<const AcousticScene>(room_.scene(*c.extension));
+    p.settings = settings_.simulation;
+    p.settings.air = room_.airWith(*c.extension);
+    if (c.extension->modes) p.modal_room = std::make_shared<const ModalRoom>(modalRoomFor(*p.scene, p.settings.air));
+    if (c.extension->directivity) p.settings.directivity = *c.extension->directivity;
+  }
+  // Pair i at seed offset k: pairSeed(base + 7919 k, i), with the thread count its place in
+  // the rounds of one evaluation gives it, wherever it runs.
+  SimulationSettings base = p.settings;
+  base.rays.seed = settings_.simulation.rays.seed + 7919u * c.seed_offset;
+  p.requests = pairRequests(evidence_.positions, base);
+  return p;
+}
+
+Evaluation ModelEvaluator::analyse(const PreparedCase& p, std::vector<SimulationResult>& results) const {
+  // The pairs' analyses in parallel: a response's analysis (band filters, decay fits) does
+  // not parallelise as the tracer does, and was half of a five-pair diagnosis's wall time.
+  Evaluation evaluation;
+  const ModelExtension& extension = *p.extension;
+  evaluation.predictions.resize(evidence_.positions.size());
+  runInRounds(evidence_.positions.size(), p.settings.rays.threads, [&](std::size_t i, int) {
+    const MeasurementPair& pair = evidence_.positions[i];
+    SimulationResult& result = results[i];
+    PairPrediction& prediction = evaluation.predictions[i];
+    prediction.simulated_omni = std::move(result.impulse_response.channels.front());
+    prediction.paths = std::move(result.paths);
+    prediction.seed = p.requests[i].settings.rays.seed;
+    if (given_scene_ && i < evidence_.rirs.size() && evidence_.rirs[i].reflections) {
+      prediction.reflection_error_jnd =
+          reflectionMismatchJnd(*evidence_.rirs[i].reflections, prediction.paths, pair, *given_scene_,
+                                result.speed_of_sound_m_s);
     }
-    // The pairs' analyses in parallel: a response's analysis (band filters, decay fits) does
-    // not parallelise as the tracer does, and was half of a five-pair diagnosis's wall time.
-    std::vector<SimulationResult> results(requests.size());
-    const auto analyse = [&](std::size_t k) {
-      Evaluation& evaluation = evaluations[k];
-      evaluation.predictions.resize(pairs);
-      runInRounds(pairs, s.rays.threads, [&](std::size_t i, int) {
-        const MeasurementPair& pair = evidence_.positions[i];
-        SimulationResult& result = results[k * pairs + i];
-        PairPrediction& prediction = evaluation.predictions[i];
-        prediction.simulated_omni = std::move(result.impulse_response.channels.front());
-        prediction.paths = std::move(result.paths);
-        prediction.seed = requests[k * pairs + i].settings.rays.seed;
-        if (given_scene_ && i < evidence_.rirs.size() && evidence_.rirs[i].reflections) {
-          prediction.reflection_error_jnd =
-              reflectionMismatchJnd(*evidence_.rirs[i].reflections, prediction.paths, pair, *given_scene_,
-                                    result.speed_of_sound_m_s);
-        }
-        const AudioBuffer extended = extendedResponse(prediction.simulated_omni, prediction, pair, extension,
-                                                      modal_room ? &*modal_room : nullptr);
-        prediction.analysis = analysePair(pair, extended);
-        if (score_directions_ && i < evidence_.rirs.size() && evidence_.rirs[i].directions) {
-          const std::size_t keep = prediction.analysis.metrics.onset_sample +
-                                   static_cast<std::size_t>((EarlyDirectionOptions{}.end_s + 0.02) * extended.sample_rate_hz);
-          for (std::size_t c = 1; c < 4; ++c) {
-            std::vector<float>& channel = result.impulse_response.channels[c];
-            channel.resize(std::min(channel.size(), keep));
-            prediction.simulated_velocity.push_back(std::move(channel));
-          }
-          prediction.analysis.directions = predictedDirections(extended, prediction);
-        }
-      });
-    };
-    if (settings_.runner) {
-      results = settings_.runner->simulate(scene, requests, nullptr);
-      for (std::size_t k = 0; k < seed_offsets.size(); ++k) analyse(k);
-    } else {
-      // One evaluation at a time, its responses freed before the next is simulated.
-      for (std::size_t k = 0; k < seed_offsets.size(); ++k) {
-        const auto first = requests.begin() + static_cast<std::ptrdiff_t>(k * pairs);
-        std::vector<SimulationResult> one =
-            runSimulations(scene, std::vector<SimulationRequest>(first, first + static_cast<std::ptrdiff_t>(pairs)),
-                           s.rays.threads, nullptr);
-        std::move(one.begin(), one.end(), results.begin() + static_cast<std::ptrdiff_t>(k * pairs));
-        analyse(k);
-        for (std::size_t i = 0; i < pairs; ++i) results[k * pairs + i] = SimulationResult{};
+    const AudioBuffer extended = extendedResponse(prediction.simulated_omni, prediction, pair, extension,
+                                                  p.modal_room.get());
+    prediction.analysis = analysePair(pair, extended);
+    if (score_directions_ && i < evidence_.rirs.size() && evidence_.rirs[i].directions) {
+      const std::size_t keep = prediction.analysis.metrics.onset_sample +
+                               static_cast<std::size_t>((EarlyDirectionOptions{}.end_s + 0.02) * extended.sample_rate_hz);
+      for (std::size_t c = 1; c < 4; ++c) {
+        std::vector<float>& channel = result.impulse_response.channels[c];
+        channel.resize(std::min(channel.size(), keep));
+        prediction.simulated_velocity.push_back(std::move(channel));
       }
+      prediction.analysis.directions = predictedDirections(extended, prediction);
     }
-  } catch (const InputError& e) {
-    for (Evaluation& evaluation : evaluations) {
-      evaluation = Evaluation{};
-      evaluation.reason = e.what();
+  });
+  score(evaluation, evidence_, settings_);
+  return evaluation;
+}
+
+std::vector<Evaluation> ModelEvaluator::evaluateMany(const std::vector<EvaluationCase>& cases) const {
+  evaluations_ += static_cast<int>(cases.size());
+  std::vector<Evaluation> evaluations(cases.size());
+  const auto invalid = [](const InputError& e) {
+    Evaluation evaluation;
+    evaluation.reason = e.what();
+    return evaluation;
+  };
+  if (!settings_.runner) {
+    // In this process one case after another, each freed before the next is simulated.
+    const PreparedCase* previous = nullptr;
+    PreparedCase kept;
+    for (std::size_t k = 0; k < cases.size(); ++k) {
+      try {
+        const bool same = previous && cases[k].extension == previous->extension;
+        PreparedCase p = prepare(cases[k], same ? previous : nullptr);
+        std::vector<SimulationResult> results = runSimulations(*p.scene, p.requests, p.settings.rays.threads, nullptr);
+        evaluations[k] = analyse(p, results);
+        kept = std::move(p);
+        previous = &kept;
+      } catch (const InputError& e) {
+        evaluations[k] = invalid(e);
+        previous = nullptr;
+      }
     }
     return evaluations;
   }
-  for (Evaluation& evaluation : evaluations) score(evaluation, evidence_, settings_);
+  // A runner gets every pair of every case at once, so that as many simulators as there
+  // are simulations can work together; each result is the same as in this process.
+  std::vector<std::optional<PreparedCase>> prepared(cases.size());
+  std::vector<const AcousticScene*> scenes;
+  std::vector<SimulationRequest> requests;
+  std::vector<std::size_t> scene_of;
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    try {
+      const PreparedCase* same = nullptr;
+      for (std::size_t j = k; j-- > 0;) {
+        if (prepared[j] && cases[j].extension == cases[k].extension) same = &*prepared[j];
+        if (same || prepared[j]) break;
+      }
+      prepared[k] = prepare(cases[k], same);
+    } catch (const InputError& e) {
+      evaluations[k] = invalid(e);
+      continue;
+    }
+    if (scenes.empty() || scenes.back() != prepared[k]->scene.get()) scenes.push_back(prepared[k]->scene.get());
+    for (const SimulationRequest& r : prepared[k]->requests) {
+      requests.push_back(r);
+      scene_of.push_back(scenes.size() - 1);
+    }
+  }
+  std::vector<SimulationResult> results;
+  try {
+    results = settings_.runner->simulateScenes(scenes, requests, scene_of, nullptr);
+  } catch (const InputError&) {
+    // A request the room refuses: each case again on its own, to tell which it was.
+    for (std::size_t k = 0; k < cases.size(); ++k) {
+      if (!prepared[k]) continue;
+      try {
+        std::vector<SimulationResult> own = settings_.runner->simulate(*prepared[k]->scene, prepared[k]->requests, nullptr);
+        evaluations[k] = analyse(*prepared[k], own);
+      } catch (const InputError& e) {
+        evaluations[k] = invalid(e);
+      }
+    }
+    return evaluations;
+  }
+  std::size_t at = 0;
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    if (!prepared[k]) continue;
+    const std::size_t n = prepared[k]->requests.size();
+    std::vector<SimulationResult> own(std::make_move_iterator(results.begin() + static_cast<std::ptrdiff_t>(at)),
+                                      std::make_move_iterator(results.begin() + static_cast<std::ptrdiff_t>(at + n)));
+    at += n;
+    try {
+      evaluations[k] = analyse(*prepared[k], own);
+    } catch (const InputError& e) {
+      evaluations[k] = invalid(e);
+    }
+  }
   return evaluations;
 }
 
