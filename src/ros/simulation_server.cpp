@@ -18,6 +18,10 @@ SimulationServer::SimulationServer(::ros::NodeHandle& private_nh) {
   defaults_.image_source_order = positiveIntParam(private_nh, "image_source_order", 3);
   defaults_.rays.ray_count = static_cast<std::size_t>(positiveIntParam(private_nh, "rays", 100000));
   defaults_.fast_ray_count = static_cast<std::size_t>(positiveIntParam(private_nh, "fast_rays", 8000));
+  typedParam(private_nh, "fast_rate_tolerance", defaults_.fast_rays.rate_tolerance, defaults_.fast_rays.rate_tolerance);
+  if (!(defaults_.fast_rays.rate_tolerance >= 0.0 && defaults_.fast_rays.rate_tolerance < 1.0)) {
+    throw core::InputError("parameter ~fast_rate_tolerance must be 0 (a fixed ray count) or a share below 1");
+  }
   max_rays_ = positiveIntParam(private_nh, "max_rays", 10000000);
   if (defaults_.rays.ray_count > static_cast<std::size_t>(max_rays_) ||
       defaults_.fast_ray_count > static_cast<std::size_t>(max_rays_)) {

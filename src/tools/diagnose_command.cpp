@@ -114,6 +114,11 @@ int runDiagnose(const std::vector<std::string>& raw) {
               << c.over_seeds.gains.size() << " seeds)\n";
   }
   for (const MeasurementFlag& f : diagnosis.flags) std::cout << "measurement_limits: " << f.pair << ": " << f.issue << "\n";
+  if (const auto* remote = dynamic_cast<const RemoteSimulationRunner*>(options.evaluation.runner.get())) {
+    const RemoteSimulationRunner::Counts counts = remote->counts();
+    std::cout << "simulated on " << remote->description() << ": " << counts.jobs << " simulations in " << counts.batches
+              << " batches, the largest " << counts.largest_batch << "\n";
+  }
   std::cout << "wrote " << files.json << ", " << files.report << (files.extended_room.empty() ? "" : ", " + files.extended_room)
             << " (" << diagnosis.simulations << " simulations, " << diagnosis.wall_time_s << " s)\n";
   return 0;

@@ -14,7 +14,10 @@ const char* const kSimulationOptionsHelp = R"(  --mode MODE          accurate (i
                        thousand rays) or eyring (image sources + Eyring tail: the
                        paper's fast route)
   --order N            image-source order (default 3)
-  --rays N             rays (default 100000; fast mode 8000)
+  --rays N             rays (default 100000; fast mode: at most 8000, see --fast-tolerance)
+  --fast-tolerance X   the fast mode traces rays in batches until every octave from 125 Hz
+                       to 4 kHz knows its decay rate within this relative standard error
+                       (default 0.01, at least 2000 rays); 0: exactly --rays rays
   --seed N             random seed (default 1); same seed and threads, same output
   --threads N          worker threads (default: all cores)
   --ambisonic-order N  0 to 3 (default 1)
@@ -33,7 +36,7 @@ const char* const kSimulationOptionsHelp = R"(  --mode MODE          accurate (i
 
 std::set<std::string> simulationValueOptions() {
   return {"mode", "order", "rays", "seed", "threads", "ambisonic-order", "duration", "materials", "temperature",
-          "humidity", "scattering", "receiver-radius"};
+          "humidity", "scattering", "receiver-radius", "fast-tolerance"};
 }
 
 std::set<std::string> simulationFlags() { return {"no-air", "trace-to-end"}; }
@@ -42,9 +45,14 @@ SimulationSettings simulationSettingsFrom(const Arguments& args) {
   SimulationSettings settings;
   settings.mode = parseSimulationMode(args.value("mode", "accurate"));
   settings.image_source_order = args.intValue("order", 3);
-  const int rays = args.intValue("rays", settings.mode == SimulationMode::kFast ? 8000 : 100000);
+  const int rays = args.intValue("rays", static_cast<int>(settings.mode == SimulationMode::kFast ? settings.fast_ray_count
+                                                                                                  : settings.rays.ray_count));
   if (rays <= 0) throw InputError("--rays must be at least 1");
   (settings.mode == SimulationMode::kFast ? settings.fast_ray_count : settings.rays.ray_count) = static_cast<std::size_t>(rays);
+  settings.fast_rays.rate_tolerance = args.doubleValue("fast-tolerance", settings.fast_rays.rate_tolerance);
+  if (!(settings.fast_rays.rate_tolerance >= 0.0 && settings.fast_rays.rate_tolerance < 1.0)) {
+    throw InputError("--fast-tolerance must be 0 (a fixed ray count) or a share below 1");
+  }
   settings.rays.seed = static_cast<std::uint32_t>(args.intValue("seed", 1));
   settings.rays.threads = args.intValue("threads", 0);
   settings.rays.receiver_radius_m = args.doubleValue("receiver-radius", 0.0);

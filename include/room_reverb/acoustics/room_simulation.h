@@ -15,6 +15,7 @@
 #include <string>
 
 #include "room_reverb/acoustics/acoustic_scene.h"
+#include "room_reverb/acoustics/fast_mode_rays.h"
 #include "room_reverb/acoustics/image_sources.h"
 #include "room_reverb/acoustics/impulse_response_synthesis.h"
 #include "room_reverb/acoustics/ray_tracer.h"
@@ -33,10 +34,15 @@ struct SimulationSettings {
   AirConditions air;
   SourceDirectivity directivity;
   RayTracingOptions rays;   // ray count, seed, threads, receiver radius (accurate mode)
-  // Rays of the fast mode's decay (seed and threads from `rays`). The decay's seed spread
-  // falls as 1 / sqrt(rays): in the sample room T20's spread over seeds is 6-16 % at 2000
-  // rays and 5-9 % at 8000 (docs/simulation.md).
+  // The most rays of the fast mode's decay (seed and threads from `rays`); `fast_rays`
+  // says when fewer will do (fast_mode_rays.h). The decay's seed spread falls as
+  // 1 / sqrt(rays) and depends on the room: in the sample room T20's spread over seeds is
+  // 6-16 % at 2000 rays and 5-9 % at 8000, in BRAS CR2 1-2 % at either. More than 8000 do
+  // not pay there: at 32 000 the sample room's T20 spreads by 1-4 %, but it lies 13-14 %
+  // long at 1-2 kHz against the accurate mode (6-8 % at 8000): the fast mode's diffuse
+  // assumption, which more of its grazing rays expose (docs/simulation.md).
   std::size_t fast_ray_count = 8000;
+  FastRayOptions fast_rays;
 };
 
 struct SimulationResult {

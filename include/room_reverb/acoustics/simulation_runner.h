@@ -62,6 +62,14 @@ class RemoteSimulationRunner : public SimulationRunner {
                                                const std::vector<std::size_t>& scene_of,
                                                std::vector<double>* wall_times_s) override;
 
+  // How the work came: batches run, jobs in them, the largest batch (for reports).
+  struct Counts {
+    std::size_t batches = 0;
+    std::size_t jobs = 0;
+    std::size_t largest_batch = 0;
+  };
+  Counts counts() const;
+
   // What a slot answers for one job.
   struct Reply {
     enum class Status { kResult, kInputError, kFailure } status = Status::kFailure;
@@ -75,7 +83,8 @@ class RemoteSimulationRunner : public SimulationRunner {
   virtual Reply runOn(std::size_t slot, const std::vector<std::uint8_t>& job) = 0;
 
  private:
-  std::mutex batch_mutex_;
+  mutable std::mutex batch_mutex_;
+  Counts counts_;
 };
 
 // Frame kinds of the worker protocol (worker_process.h): a job, and the three replies.

@@ -122,9 +122,7 @@ SimulationResult simulateRoom(const AcousticScene& scene, const Eigen::Vector3d&
     result.late = std::move(traced.histogram);
     result.stats = traced.stats;
   } else if (settings.mode == SimulationMode::kFast) {
-    if (settings.fast_ray_count == 0) throw InputError("the fast mode's ray count must be at least 1");
     RayTracingOptions rays = settings.rays;
-    rays.ray_count = settings.fast_ray_count;
     rays.max_time_s = settings.duration_s;
     rays.record_energy_in_flight = true;
     rays.diffuse_rain = false;  // the receiver's share is not used: only the energy in flight
@@ -132,7 +130,8 @@ SimulationResult simulateRoom(const AcousticScene& scene, const Eigen::Vector3d&
     // off the time with T20, T30 and EDT unchanged to 0.1 % (docs/simulation.md); only
     // the tail below -40 dB, which no decay measure reads, gets noisier.
     rays.roulette_db = std::max(rays.roulette_db, -40.0);
-    RayTracingResult traced = traceRays(scene, source, listener, model, rays);
+    const FastModeTrace traced =
+        traceFastModeDecay(scene, source, listener, model, rays, settings.fast_ray_count, settings.fast_rays);
     result.stats = traced.stats;
     const double direct_delay = (source - listener).norm() / model.speed_of_sound_m_s;
     result.late = roomDecayLateEnergy(scene, model, traced.energy_in_flight, direct_delay, settings.image_source_order,

@@ -66,6 +66,9 @@ std::vector<SimulationResult> RemoteSimulationRunner::simulateScenes(const std::
   for (const AcousticScene* scene : scenes) scene_bytes.push_back(encodeScene(*scene));
   std::lock_guard<std::mutex> batch(batch_mutex_);
   const std::size_t n = requests.size();
+  ++counts_.batches;
+  counts_.jobs += n;
+  counts_.largest_batch = std::max(counts_.largest_batch, n);
   std::vector<std::optional<SimulationResult>> results(n);
   std::vector<std::exception_ptr> failures(n);
   std::vector<double> times(n, 0.0);
@@ -106,6 +109,11 @@ std::vector<SimulationResult> RemoteSimulationRunner::simulateScenes(const std::
   out.reserve(n);
   for (std::optional<SimulationResult>& r : results) out.push_back(std::move(*r));
   return out;
+}
+
+RemoteSimulationRunner::Counts RemoteSimulationRunner::counts() const {
+  std::lock_guard<std::mutex> lock(batch_mutex_);
+  return counts_;
 }
 
 struct WorkerProcessSimulationRunner::Workers {

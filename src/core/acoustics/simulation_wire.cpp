@@ -22,7 +22,8 @@ static_assert(sizeof(AirConditions) == 32, "AirConditions changed: encode the ne
 static_assert(sizeof(SourceDirectivity) == 32, "SourceDirectivity changed: encode the new field");
 static_assert(sizeof(DecayContinuationOptions) == 40, "DecayContinuationOptions changed: encode the new field");
 static_assert(sizeof(RayTracingOptions) == 104, "RayTracingOptions changed: encode the new field");
-static_assert(sizeof(SimulationSettings) == 200, "SimulationSettings changed: encode the new field");
+static_assert(sizeof(SimulationSettings) == 224, "SimulationSettings changed: encode the new field");
+static_assert(sizeof(FastRayOptions) == 24, "FastRayOptions changed: encode the new field");
 static_assert(sizeof(RayTracingStats) == 208, "RayTracingStats changed: encode the new field");
 static_assert(sizeof(SpecularPath) == 168, "SpecularPath changed: encode the new field");
 static_assert(sizeof(CuboidObject) == 168, "CuboidObject changed: encode the new field");
@@ -75,6 +76,9 @@ void putSettings(ByteWriter& w, const SimulationSettings& s) {
   w.put<std::uint32_t>(o.seed);
   w.put<std::int32_t>(o.threads);
   w.put<std::uint64_t>(s.fast_ray_count);
+  w.put<double>(s.fast_rays.rate_tolerance);
+  w.put<std::uint64_t>(s.fast_rays.min_rays);
+  w.put<std::uint64_t>(s.fast_rays.batch_rays);
 }
 
 SimulationSettings getSettings(ByteReader& r) {
@@ -110,6 +114,9 @@ SimulationSettings getSettings(ByteReader& r) {
   o.seed = r.get<std::uint32_t>();
   o.threads = r.get<std::int32_t>();
   s.fast_ray_count = static_cast<std::size_t>(r.get<std::uint64_t>());
+  s.fast_rays.rate_tolerance = r.get<double>();
+  s.fast_rays.min_rays = static_cast<std::size_t>(r.get<std::uint64_t>());
+  s.fast_rays.batch_rays = static_cast<std::size_t>(r.get<std::uint64_t>());
   return s;
 }
 

@@ -1,0 +1,48 @@
+#pragma once
+// How many rays the fast mode's decay needs. The fast mode plays the energy all rays carry
+// through the room over time (RayTracingResult::energy_in_flight); its seed spread falls as
+// one over the root of the ray count and depends on the room: in BRAS CR2, whose walls
+// scatter, 2000 rays give T20 as steady as 8000 (1-2 % between seeds, the synthesis's own
+// noise), while a room whose late sound rides on a few grazing paths between an absorbing
+// floor and ceiling spreads by 5-17 % at 8000. So a pilot of a few rays comes first, in
+// batches, each batch's fall giving one decay rate per band: when every band from 125 Hz to
+// 4 kHz knows its mean rate within a tolerance (the standard error over the batches), the
+// pilot is the decay; otherwise every ray is traced in one run, as with a fixed count.
+#include <optional>
+#include <vector>
+
+#include "room_reverb/acoustics/ray_tracer.h"
+
+namespace room_reverb::core {
+
+struct FastRayOptions {
+  // The standard error of the batches' mean decay rate, relative to it, that every band
+  // from 125 Hz to 4 kHz must reach (T20 is one over the rate, so its error is the same
+  // share). 0: exactly the fast mode's ray count, in one run.
+  double rate_tolerance = 0.01;
+  std::size_t min_rays = 2000;  // the pilot's rays (four batches: a spread to go by)
+  std::size_t batch_rays = 500;
+};
+
+// The decay rate (dB/s, negative) of one band's energy in flight: the least-squares line
+// through its level from 5 to 25 dB below where it starts, the range T20 reads; where it
+// falls less than 25 dB within the trace, from 5 dB down to the lowest level it reaches
+// if that spans 10 dB. None where it falls less.
+std::optional<double> energyDecayRateDbPerS(const std::vector<OctaveBandValues>& energy_in_flight, int band,
+                                            double bin_s);
+
+struct FastModeTrace {
+  std::vector<OctaveBandValues> energy_in_flight;  // mean over every ray traced
+  RayTracingStats stats;                            // summed over the batches
+  std::size_t batches = 0;
+};
+
+// The fast mode's rays: `rays` as the fast mode sets them up (energy in flight recorded):
+// the pilot (options.min_rays in batches, batch b > 0 with a seed of its own drawn from
+// rays.seed and b) when it knows every band's rate, else `max_rays` in one run with
+// rays.seed, which is what a fixed count gives. InputError for a zero ray count or batch.
+FastModeTrace traceFastModeDecay(const AcousticScene& scene, const Eigen::Vector3d& source,
+                                 const Eigen::Vector3d& listener, const PropagationModel& model,
+                                 const RayTracingOptions& rays, std::size_t max_rays, const FastRayOptions& options);
+
+}  // namespace room_reverb::core

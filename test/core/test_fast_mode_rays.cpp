@@ -1,0 +1,121 @@
+// The fast mode's rays in batches (fast_mode_rays.h): a band's decay rate from its energy
+// in flight, and a pilot of batches that is the decay in a diffuse room and gives way to
+// one run of every ray where the sound rides on a few grazing paths.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+
+#include "room_reverb/acoustics/fast_mode_rays.h"
+#include "room_reverb/acoustics/room_model.h"
+#include "room_reverb/acoustics/room_simulation.h"
+#include "room_reverb/common/error.h"
+#include "shoebox.h"
+
+namespace room_reverb::test {
+namespace {
+
+using namespace room_reverb::core;
+
+std::vector<OctaveBandValues> exponentialEnergy(double tau_s, std::size_t bins, double bin_s) {
+  std::vector<OctaveBandValues> e(bins);
+  for (std::size_t bin = 0; bin < bins; ++bin) e[bin].fill(std::exp(-(static_cast<double>(bin) + 0.5) * bin_s / tau_s));
+  return e;
+}
+
+TEST(FastModeRays, TheRateOfAnExponentialIsItsSlopeInDecibels) {
+  const double tau = 0.1;  // 43.4 dB/s
+  const auto rate = energyDecayRateDbPerS(exponentialEnergy(tau, 2000, 0.001), 3, 0.001);
+  ASSERT_TRUE(rate);
+  EXPECT_NEAR(*rate, -10.0 / std::log(10.0) / tau, 1e-9);
+  // Falling only 12 dB in the trace: 5-12 dB is too short a line to go by.
+  EXPECT_FALSE(energyDecayRateDbPerS(exponentialEnergy(tau, 320, 0.001), 3, 0.001));
+  // 20 dB: the line from 5 dB down to the lowest level is used.
+  const auto short_rate = energyDecayRateDbPerS(exponentialEnergy(tau, 460, 0.001), 3, 0.001);
+  ASSERT_TRUE(short_rate);
+  EXPECT_NEAR(*short_rate, -10.0 / std::log(10.0) / tau, 1e-9);
+  EXPECT_FALSE(energyDecayRateDbPerS({}, 3, 0.001));
+  std::vector<OctaveBandValues> silent(100, OctaveBandValues{});
+  EXPECT_FALSE(energyDecayRateDbPerS(silent, 3, 0.001));
+}
+
+struct Traced {
+  FastModeTrace trace;
+  double rate_1k = 0.0;
+};
+
+Traced trace(const AcousticScene& scene, const Eigen::Vector3d& source, const Eigen::Vector3d& listener,
+             std::size_t max_rays, const FastRayOptions& options, std::uint32_t seed) {
+  RayTracingOptions rays;
+  rays.max_time_s = 1.5;
+  rays.record_energy_in_flight = true;
+  rays.diffuse_rain = false;
+  rays.roulette_db = -40.0;
+  rays.seed = seed;
+  Traced t;
+  t.trace = traceFastModeDecay(scene, source, listener, PropagationModel::from(AirConditions{}, {}), rays, max_rays,
+                               options);
+  t.rate_1k = *energyDecayRateDbPerS(t.trace.energy_in_flight, 4, rays.bin_s);
+  return t;
+}
+
+TEST(FastModeRays, ADiffuseRoomStopsAtTheLeastRaysAndKeepsItsRate) {
+  // A shoebox whose walls scatter half of what they reflect: every ray sees every wall.
+  const AcousticScene scene(shoeboxMesh({6, 5, 3}), uniformLibrary(0.15, 0.5));
+  const Eigen::Vector3d source(1.5, 1.2, 1.4), listener(4.2, 3.1, 1.3);
+  const FastRayOptions options;
+  const Traced adaptive = trace(scene, source, listener, 32000, options, 1);
+  FastRayOptions fixed;
+  fixed.rate_tolerance = 0.0;
+  const Traced all = trace(scene, source, listener, 32000, fixed, 1);
+  std::cout << "[ measured ] diffuse room: " << adaptive.trace.stats.rays << " rays in " << adaptive.trace.batches
+            << " batches; 1 kHz rate " << adaptive.rate_1k << " dB/s, " << all.rate_1k << " dB/s from 32000\n";
+  EXPECT_EQ(adaptive.trace.stats.rays, options.min_rays);
+  EXPECT_EQ(adaptive.trace.batches, options.min_rays / options.batch_rays);
+  EXPECT_EQ(all.trace.stats.rays, 32000u);
+  EXPECT_EQ(all.trace.batches, 1u);
+  EXPECT_NEAR(adaptive.rate_1k / all.rate_1k, 1.0, 0.02);
+}
+
+TEST(FastModeRays, GrazingPathsBetweenAnAbsorbingFloorAndCeilingTakeEveryRay) {
+  // Carpet and ceiling tiles between hard, hardly scattering walls: the decay that lasts
+  // is carried by the few rays that travel between the walls.
+  RoomModel room;
+  room.size_m = {7.0, 5.0, 3.2};
+  for (const char* name : kRoomSurfaceNames) room.surfaces[name] = {"plaster_smooth", 1.0};
+  room.surfaces["floor"] = {"carpet_thick", 1.0};
+  room.surfaces["ceiling"] = {"acoustic_ceiling_tiles", 1.0};
+  const AcousticScene scene = roomModelToScene(room, MaterialLibrary::loadDefault(), {});
+  const Eigen::Vector3d source(1.8, 1.6, 1.5), listener(5.1, 3.4, 1.3);
+  const Traced adaptive = trace(scene, source, listener, 8000, FastRayOptions{}, 1);
+  FastRayOptions fixed;
+  fixed.rate_tolerance = 0.0;
+  const Traced all = trace(scene, source, listener, 8000, fixed, 1);
+  std::cout << "[ measured ] grazing room: " << adaptive.trace.stats.rays << " rays in " << adaptive.trace.batches
+            << " batches\n";
+  // The pilot did not know the rates: every ray in one run, exactly what a fixed count gives.
+  EXPECT_EQ(adaptive.trace.stats.rays, 8000u);
+  EXPECT_EQ(adaptive.trace.batches, 1u);
+  ASSERT_EQ(adaptive.trace.energy_in_flight.size(), all.trace.energy_in_flight.size());
+  for (std::size_t bin = 0; bin < all.trace.energy_in_flight.size(); bin += 97) {
+    EXPECT_EQ(adaptive.trace.energy_in_flight[bin], all.trace.energy_in_flight[bin]) << bin;
+  }
+  // At most the rays asked for: with fewer than the pilot's, they are the one run.
+  const Traced few = trace(scene, source, listener, 1500, FastRayOptions{}, 1);
+  EXPECT_EQ(few.trace.stats.rays, 1500u);
+  EXPECT_EQ(few.trace.batches, 1u);
+}
+
+TEST(FastModeRays, BadCountsAreClearErrors) {
+  const AcousticScene scene(shoeboxMesh({5, 4, 3}), uniformLibrary(0.2, 0.2));
+  RayTracingOptions rays;
+  rays.record_energy_in_flight = true;
+  const PropagationModel model = PropagationModel::from(AirConditions{}, {});
+  EXPECT_THROW(traceFastModeDecay(scene, {1, 1, 1}, {3, 2, 1}, model, rays, 0, FastRayOptions{}), InputError);
+  FastRayOptions no_batch;
+  no_batch.batch_rays = 0;
+  EXPECT_THROW(traceFastModeDecay(scene, {1, 1, 1}, {3, 2, 1}, model, rays, 5000, no_batch), InputError);
+}
+
+}  // namespace
+}  // namespace room_reverb::test
