@@ -89,13 +89,15 @@ int runCompare(const std::vector<std::string>& raw) {
 
   const std::size_t n_pairs = evidence.positions.size();
   const std::shared_ptr<SimulationRunner> runner = simulationRunnerFrom(args);
-  const MeasurementComparison comparison = compareMeasurement(
-      scene, evidence, settings,
-      [&](std::size_t i, const MeasuredPairComparison& pair) {
-        std::cerr << "pair " << i + 1 << "/" << n_pairs << " " << pair.pair.label << ": " << std::fixed
-                  << std::setprecision(1) << pair.wall_time_s << " s, " << pair.stats.leaked_rays << " rays leaked\n";
-      },
-      runner.get());
+  const MeasurementComparison comparison = reportingWorkerFailures([&] {
+    return compareMeasurement(
+        scene, evidence, settings,
+        [&](std::size_t i, const MeasuredPairComparison& pair) {
+          std::cerr << "pair " << i + 1 << "/" << n_pairs << " " << pair.pair.label << ": " << std::fixed
+                    << std::setprecision(1) << pair.wall_time_s << " s, " << pair.stats.leaked_rays << " rays leaked\n";
+        },
+        runner.get());
+  });
   std::vector<double> times;
   std::size_t leaked = 0, rays = 0;
   for (const MeasuredPairComparison& pair : comparison.pairs) {

@@ -100,7 +100,7 @@ int runDiagnose(const std::vector<std::string>& raw) {
   if (!(sim.duration_s > 0.0)) throw InputError("--duration must be positive");
   options.evaluation.runner = simulationRunnerFrom(args);
 
-  const Diagnosis diagnosis = diagnose(room, evidence, options);
+  const Diagnosis diagnosis = reportingWorkerFailures([&] { return diagnose(room, evidence, options); });
   const DiagnosisFiles files = writeDiagnosis(diagnosis, room, evidence, args.value("out", ""));
   std::cout << std::fixed << std::setprecision(2) << "baseline error " << diagnosis.baseline_error_jnd
             << " JND (held out " << diagnosis.baseline_heldout_jnd << ", noise " << diagnosis.noise_jnd << ")\n";

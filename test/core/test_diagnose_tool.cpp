@@ -106,6 +106,33 @@ TEST(DiagnoseTool, BadInputsGetOneLineErrors) {
   quiet.channels.assign(4, silence);
   writeAudioFile(tempPath("silent.wav").string(), quiet);
   expectOneLineError(diagnose(measurements("silent.yaml", tempPath("silent.wav").string(), "ambix")), "silent");
+  // Workers: a count out of range, a list with no command, a command that is not a worker.
+  const std::string meas = measurements("workers.yaml", good, "ambix");
+  expectOneLineError(diagnose(meas, "--workers -1"), "--workers must be 0 to 256");
+  expectOneLineError(diagnose(meas, "--worker-commands " + writeFile("none.txt", "# nothing here\n\n")),
+                     "no worker command");
+  expectOneLineError(diagnose(meas, "--worker-commands " + tempPath("no_list.txt").string()), "no_list.txt");
+  expectOneLineError(diagnose(meas, "--causes air_absorption --worker-commands " + writeFile("bad.txt", "exit 3\n")),
+                     "worker 'exit 3' exited with status 3");
+}
+
+TEST(DiagnoseTool, WorkersGiveTheSameDiagnosis) {
+  const std::string room = writeFile("room3.yaml", kRoom);
+  const std::string meas = measurements("w.yaml", measuredFile("w.wav"), "ambix");
+  const std::string args = "diagnose --measured " + meas + " --room " + room +
+                           " --causes air_absorption --rays 1000 --max-causes 1 --noise-seeds 2 --out ";
+  const ToolRun here = runTool(args + tempPath("w_here").string());
+  const ToolRun there = runTool(args + tempPath("w_there").string() + " --workers 2");
+  ASSERT_EQ(here.exit_code, 0) << here.err;
+  ASSERT_EQ(there.exit_code, 0) << there.err;
+  EXPECT_NE(there.out.find("simulated on 2 worker processes"), std::string::npos) << there.out;
+  const auto figures = [](const std::string& dir) {
+    nlohmann::json j = nlohmann::json::parse(std::ifstream(dir + "/diagnosis.json"));
+    j.erase("wall_time_s");
+    j.erase("extended_room");
+    return j;
+  };
+  EXPECT_EQ(figures(tempPath("w_here").string()), figures(tempPath("w_there").string()));
 }
 
 }  // namespace

@@ -8,11 +8,20 @@
 // died is an error to report (MSG_NOSIGNAL), not a SIGPIPE that kills the caller.
 #include <cstdint>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <sys/types.h>
 #include <vector>
 
 namespace room_reverb::core {
+
+// A worker that did not start, died or answered with something that is not a frame. Not
+// an InputError: the job may be fine, and a runner must not take it for a job's own
+// refusal; a tool that started the worker from the user's command reports it as one.
+class WorkerFailure : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 struct Frame {
   std::uint8_t kind = 0;
@@ -33,14 +42,14 @@ std::string shellQuoted(const std::string& text);
 class WorkerProcess {
  public:
   // Starts `/bin/sh -c command` with its standard input and output on a socket to this
-  // process (its standard error is this process's). Throws std::runtime_error if it cannot.
+  // process (its standard error is this process's). Throws WorkerFailure if it cannot.
   explicit WorkerProcess(std::string command);
   // Closes the socket (a worker ends at the end of its input) and waits for the process.
   ~WorkerProcess();
   WorkerProcess(const WorkerProcess&) = delete;
   WorkerProcess& operator=(const WorkerProcess&) = delete;
 
-  // Sends one frame and waits for the reply. Throws std::runtime_error, naming the command
+  // Sends one frame and waits for the reply. Throws WorkerFailure, naming the command
   // and how the process ended, when it has gone.
   Frame exchange(std::uint8_t kind, const std::vector<std::uint8_t>& payload);
   const std::string& command() const { return command_; }

@@ -20,10 +20,6 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-}  // namespace
-
-namespace {
-
 void requireSceneIndices(std::size_t scenes, const std::vector<SimulationRequest>& requests,
                          const std::vector<std::size_t>& scene_of) {
   if (scene_of.size() != requests.size()) throw std::logic_error("simulateScenes: one scene index per request");
@@ -102,7 +98,9 @@ std::vector<SimulationResult> RemoteSimulationRunner::simulateScenes(const std::
   for (std::thread& t : threads) t.join();
   for (std::size_t i = 0; i < n; ++i) {
     if (failures[i]) std::rethrow_exception(failures[i]);
-    if (!results[i]) throw std::runtime_error("simulation " + std::to_string(i) + " was not run: every " + description() + " failed");
+    if (!results[i]) {
+      throw WorkerFailure("simulation " + std::to_string(i) + " was not run: all of the " + description() + " failed");
+    }
   }
   if (wall_times_s) *wall_times_s = std::move(times);
   std::vector<SimulationResult> out;
@@ -135,17 +133,19 @@ std::string WorkerProcessSimulationRunner::description() const {
 RemoteSimulationRunner::Reply WorkerProcessSimulationRunner::runOn(std::size_t slot, const std::vector<std::uint8_t>& job) {
   std::unique_ptr<WorkerProcess>& process = workers_->processes[slot];
   if (!process) process = std::make_unique<WorkerProcess>(commands_[slot]);
-  const Frame frame = process->exchange(kJobFrame, job);
+  Frame frame = process->exchange(kJobFrame, job);
   Reply reply;
   if (frame.kind == kResultFrame) {
     reply.status = Reply::Status::kResult;
-    reply.result = frame.payload;
+    reply.result = std::move(frame.payload);
   } else {
     reply.status = frame.kind == kInputErrorFrame ? Reply::Status::kInputError : Reply::Status::kFailure;
     reply.message.assign(frame.payload.begin(), frame.payload.end());
     if (frame.kind != kInputErrorFrame && frame.kind != kFailureFrame) {
-      reply.message = "worker '" + commands_[slot] + "' answered with an unknown frame kind";
+      throw WorkerFailure("worker '" + commands_[slot] + "' answered with an unknown frame kind");
     }
+    // A worker's own failure (not its job's) is the worker's: the runner stops using it.
+    if (frame.kind == kFailureFrame) throw WorkerFailure("worker '" + commands_[slot] + "': " + reply.message);
   }
   return reply;
 }

@@ -99,7 +99,7 @@ std::optional<Frame> readFrame(int fd) {
 WorkerProcess::WorkerProcess(std::string command) : command_(std::move(command)) {
   int sockets[2];
   if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sockets) != 0) {
-    throw std::runtime_error(std::string("worker '") + command_ + "': socketpair: " + std::strerror(errno));
+    throw WorkerFailure(std::string("worker '") + command_ + "': socketpair: " + std::strerror(errno));
   }
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
@@ -111,7 +111,7 @@ WorkerProcess::WorkerProcess(std::string command) : command_(std::move(command))
   ::close(sockets[1]);
   if (rc != 0) {
     ::close(sockets[0]);
-    throw std::runtime_error(std::string("worker '") + command_ + "' did not start: " + std::strerror(rc));
+    throw WorkerFailure(std::string("worker '") + command_ + "' did not start: " + std::strerror(rc));
   }
   fd_ = sockets[0];
 }
@@ -138,11 +138,11 @@ void WorkerProcess::failGone(const std::string& when) {
     if (WIFSIGNALED(status)) how = "was killed by signal " + std::to_string(WTERMSIG(status));
   }
   pid_ = -1;
-  throw std::runtime_error("worker '" + command_ + "' " + how + " " + when);
+  throw WorkerFailure("worker '" + command_ + "' " + how + " " + when);
 }
 
 Frame WorkerProcess::exchange(std::uint8_t kind, const std::vector<std::uint8_t>& payload) {
-  if (fd_ < 0) throw std::runtime_error("worker '" + command_ + "' has ended");
+  if (fd_ < 0) throw WorkerFailure("worker '" + command_ + "' has ended");
   if (!writeFrame(fd_, kind, payload)) failGone("before it took a job");
   std::optional<Frame> reply;
   try {
