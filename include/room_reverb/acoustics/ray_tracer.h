@@ -81,6 +81,10 @@ struct RayTracingResult {
   std::vector<OctaveBandValues> energy_in_flight;
 };
 
+// Adds `part`'s counts (rays, reflections, leaked, escaped, stopped by time and by
+// energy, sphere detections) to `total`'s.
+void addRayCounts(RayTracingStats& total, const RayTracingStats& part);
+
 // Radius of the detection sphere when none is given. Its crossings are the only estimate
 // of specular energy after the image sources, and their count sets the seed-to-seed
 // spread of late decay times in rooms with low scattering: about N pi r^2 c / V

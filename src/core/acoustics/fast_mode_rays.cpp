@@ -19,22 +19,17 @@ std::uint32_t batchSeed(std::uint32_t seed, std::size_t batch) {
   return static_cast<std::uint32_t>(mixBits((static_cast<std::uint64_t>(seed) << 32) ^ (0xfa57ull + batch)) >> 32);
 }
 
-void addStats(RayTracingStats& total, const RayTracingStats& part) {
+// A batch's share: each batch's energies are shares of its own emission, so the total's
+// are their mean, weighted by the batches' rays.
+void addBatchStats(RayTracingStats& total, const RayTracingStats& part) {
   const double before = static_cast<double>(total.rays);
   const double added = static_cast<double>(part.rays);
   for (int b = 0; b < kOctaveBandCount; ++b) {
-    // A share of the energy emitted: the batches' mean, weighted by their rays.
     total.energy_left_at_time_limit[b] =
         (total.energy_left_at_time_limit[b] * before + part.energy_left_at_time_limit[b] * added) / (before + added);
     total.traced_until_s[b] = std::max(total.traced_until_s[b], part.traced_until_s[b]);
   }
-  total.rays += part.rays;
-  total.reflections += part.reflections;
-  total.leaked_rays += part.leaked_rays;
-  total.escaped_rays += part.escaped_rays;
-  total.stopped_by_time += part.stopped_by_time;
-  total.stopped_by_energy += part.stopped_by_energy;
-  total.sphere_detections += part.sphere_detections;
+  addRayCounts(total, part);
   total.receiver_radius_m = part.receiver_radius_m;
 }
 
@@ -122,7 +117,7 @@ FastModeTrace traceFastModeDecay(const AcousticScene& scene, const Eigen::Vector
     std::array<std::optional<double>, kOctaveBandCount> batch_rates;
     for (int b = 0; b < kOctaveBandCount; ++b) batch_rates[b] = energyDecayRateDbPerS(traced.energy_in_flight, b, batch.bin_s);
     rates.push_back(batch_rates);
-    addStats(pilot.stats, traced.stats);
+    addBatchStats(pilot.stats, traced.stats);
     traced_rays += batch.ray_count;
     ++pilot.batches;
   }

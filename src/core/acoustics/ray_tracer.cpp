@@ -409,7 +409,15 @@ struct Tracer {
   }
 };
 
+// A thread's share: its energies are shares of the same emission, so they add.
 void addStats(RayTracingStats& total, const RayTracingStats& part) {
+  addRayCounts(total, part);
+  for (int b = 0; b < kOctaveBandCount; ++b) total.energy_left_at_time_limit[b] += part.energy_left_at_time_limit[b];
+}
+
+}  // namespace
+
+void addRayCounts(RayTracingStats& total, const RayTracingStats& part) {
   total.rays += part.rays;
   total.reflections += part.reflections;
   total.leaked_rays += part.leaked_rays;
@@ -417,10 +425,7 @@ void addStats(RayTracingStats& total, const RayTracingStats& part) {
   total.stopped_by_time += part.stopped_by_time;
   total.stopped_by_energy += part.stopped_by_energy;
   total.sphere_detections += part.sphere_detections;
-  for (int b = 0; b < kOctaveBandCount; ++b) total.energy_left_at_time_limit[b] += part.energy_left_at_time_limit[b];
 }
-
-}  // namespace
 
 double autoReceiverRadius(const AcousticScene& scene, const Eigen::Vector3d& listener, std::size_t ray_count,
                           double speed_of_sound_m_s, double crossings_per_ms) {
