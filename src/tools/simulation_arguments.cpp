@@ -15,9 +15,10 @@ const char* const kSimulationOptionsHelp = R"(  --mode MODE          accurate (i
                        paper's fast route)
   --order N            image-source order (default 3)
   --rays N             rays (default 100000; fast mode: at most 8000, see --fast-tolerance)
-  --fast-tolerance X   the fast mode traces rays in batches until every octave from 125 Hz
-                       to 4 kHz knows its decay rate within this relative standard error
-                       (default 0.01, at least 2000 rays); 0: exactly --rays rays
+  --fast-tolerance X   the fast mode's pilot of 2000 rays (four batches) is its decay when
+                       every octave from 125 Hz to 4 kHz knows its decay rate within this
+                       relative standard error there (default 0.02), else --rays rays in
+                       one run; 0: always --rays rays
   --seed N             random seed (default 1); same seed and threads, same output
   --threads N          worker threads (default: all cores)
   --ambisonic-order N  0 to 3 (default 1)

@@ -18,8 +18,11 @@ namespace room_reverb::core {
 struct FastRayOptions {
   // The standard error of the batches' mean decay rate, relative to it, that every band
   // from 125 Hz to 4 kHz must reach (T20 is one over the rate, so its error is the same
-  // share). 0: exactly the fast mode's ray count, in one run.
-  double rate_tolerance = 0.01;
+  // share). 0: exactly the fast mode's ray count, in one run. The pilot's standard error
+  // is 0.5-1.3 % in BRAS CR2 and 0.6-0.9 % in a hard church; 3.1-12.6 % in the rooms whose
+  // late sound rides on grazing paths (scripts/fast-mode-check's rooms, four seeds each):
+  // 2 % stops the first and leaves the others the full run, with a margin on both sides.
+  double rate_tolerance = 0.02;
   std::size_t min_rays = 2000;  // the pilot's rays (four batches: a spread to go by)
   std::size_t batch_rays = 500;
 };

@@ -38,9 +38,10 @@ struct SimulationSettings {
   // says when fewer will do (fast_mode_rays.h). The decay's seed spread falls as
   // 1 / sqrt(rays) and depends on the room: in the sample room T20's spread over seeds is
   // 6-16 % at 2000 rays and 5-9 % at 8000, in BRAS CR2 1-2 % at either. More than 8000 do
-  // not pay there: at 32 000 the sample room's T20 spreads by 1-4 %, but it lies 13-14 %
-  // long at 1-2 kHz against the accurate mode (6-8 % at 8000): the fast mode's diffuse
-  // assumption, which more of its grazing rays expose (docs/simulation.md).
+  // not pay in the rooms with grazing paths: one run of 32 000 spreads as much as 8000 in
+  // the carpeted room and the corridor, and 64 batches of 500 put the sample room's T20
+  // 13-14 % long at 1-2 kHz against the accurate mode (6-8 % from one run of 8000;
+  // docs/simulation.md).
   std::size_t fast_ray_count = 8000;
   FastRayOptions fast_rays;
 };

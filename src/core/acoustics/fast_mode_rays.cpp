@@ -123,11 +123,9 @@ FastModeTrace traceFastModeDecay(const AcousticScene& scene, const Eigen::Vector
   }
   if (ratesKnown(rates, options.rate_tolerance)) return pilot;
   // Not known: every ray in one run, as with a fixed count. Batches are not traced on
-  // instead: where the late sound rides on a few grazing paths its tail is heavy-tailed,
-  // and 16 batches of 500 rays read T20 10-30 % longer than one run of 8000 in the sample
-  // room, the carpeted room and the corridor of scripts/fast-mode-check (as 32 000 rays
-  // in one run do: the fast mode's diffuse assumption shows more the more such rays it
-  // has), which takes the fast mode further from the accurate mode there.
+  // instead: where the late sound rides on a few grazing paths, 16 batches of 500 rays
+  // read T20 10-30 % longer than one run of 8000 in the sample room, the carpeted room and
+  // the corridor of scripts/fast-mode-check, further from the accurate mode there.
   return one_run();
 }
 
