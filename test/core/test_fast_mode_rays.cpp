@@ -11,6 +11,7 @@
 #include "room_reverb/acoustics/room_simulation.h"
 #include "room_reverb/common/error.h"
 #include "shoebox.h"
+#include "test_rooms.h"
 
 namespace room_reverb::test {
 namespace {
@@ -78,14 +79,8 @@ TEST(FastModeRays, ADiffuseRoomStopsAtTheLeastRaysAndKeepsItsRate) {
 }
 
 TEST(FastModeRays, GrazingPathsBetweenAnAbsorbingFloorAndCeilingTakeEveryRay) {
-  // Carpet and ceiling tiles between hard, hardly scattering walls: the decay that lasts
-  // is carried by the few rays that travel between the walls.
-  RoomModel room;
-  room.size_m = {7.0, 5.0, 3.2};
-  for (const char* name : kRoomSurfaceNames) room.surfaces[name] = {"plaster_smooth", 1.0};
-  room.surfaces["floor"] = {"carpet_thick", 1.0};
-  room.surfaces["ceiling"] = {"acoustic_ceiling_tiles", 1.0};
-  const AcousticScene scene = roomModelToScene(room, MaterialLibrary::loadDefault(), {});
+  // The decay that lasts is carried by the few rays that travel between the walls.
+  const AcousticScene scene = roomModelToScene(unevenAbsorptionRoom(), MaterialLibrary::loadDefault(), {});
   const Eigen::Vector3d source(1.8, 1.6, 1.5), listener(5.1, 3.4, 1.3);
   const Traced adaptive = trace(scene, source, listener, 8000, FastRayOptions{}, 1);
   FastRayOptions fixed;

@@ -12,6 +12,7 @@
 #include "room_reverb/common/sample_statistics.h"
 #include "room_reverb/metrics/room_acoustic_parameters.h"
 #include "shoebox.h"
+#include "test_rooms.h"
 
 using namespace room_reverb::core;
 
@@ -153,13 +154,7 @@ TEST(RayTracer, EnergyInFlightIsConservedAndFallsWithAir) {
 // mode's in every octave 250 Hz - 2 kHz; the eyring mode's is not. (This room is used by
 // no other check; docs/simulation.md has the figures of the sample room and others.)
 TEST(RoomSimulation, FastModeFollowsTheDecayWhereTheAbsorptionIsUneven) {
-  RoomModel room;
-  room.size_m = {7.0, 5.0, 3.2};
-  for (const char* name : kRoomSurfaceNames) room.surfaces[name] = {"plaster_smooth", 1.0};
-  room.surfaces["floor"] = {"carpet_thick", 1.0};
-  room.surfaces["ceiling"] = {"acoustic_ceiling_tiles", 1.0};
-  room.surfaces["wall_y_min"] = {"concrete_painted", 1.0};
-  const AcousticScene scene = roomModelToScene(room, MaterialLibrary::loadDefault(), {});
+  const AcousticScene scene = roomModelToScene(room_reverb::test::unevenAbsorptionRoom(), MaterialLibrary::loadDefault(), {});
   const Eigen::Vector3d source(1.8, 1.6, 1.5), listener(5.1, 3.4, 1.3);
   SimulationSettings settings;
   settings.duration_s = 2.0;

@@ -28,6 +28,19 @@ inline core::RoomModel plasterRoom(const Eigen::Vector3d& size, const Eigen::Vec
   return model;
 }
 
+// A 7 x 5 x 3.2 m room whose absorption sits on the floor (thick carpet) and the ceiling
+// (tiles) between hard, hardly scattering walls (plaster, one painted concrete): its
+// lasting sound travels between the walls, far longer than Eyring's mean allows.
+inline core::RoomModel unevenAbsorptionRoom() {
+  core::RoomModel room;
+  room.size_m = {7.0, 5.0, 3.2};
+  for (const char* name : core::kRoomSurfaceNames) room.surfaces[name] = {"plaster_smooth", 1.0};
+  room.surfaces["floor"] = {"carpet_thick", 1.0};
+  room.surfaces["ceiling"] = {"acoustic_ceiling_tiles", 1.0};
+  room.surfaces["wall_y_min"] = {"concrete_painted", 1.0};
+  return room;
+}
+
 // A 5 x 4 x 3 m studio of library materials (carpet, ceiling tiles, plaster, glass,
 // plasterboard) with air at 20 C / 50 %: low scattering, absorbing floor and ceiling.
 inline constexpr const char* kStudioRoomYaml = R"(frame: room

@@ -267,43 +267,39 @@ std::vector<Evaluation> ModelEvaluator::evaluateMany(const std::vector<Evaluatio
     evaluation.reason = e.what();
     return evaluation;
   };
+  // Every case's scene and requests first; a case of the same extension as the last one
+  // prepared shares its scene.
+  std::vector<std::optional<PreparedCase>> prepared(cases.size());
+  const PreparedCase* last = nullptr;
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    try {
+      prepared[k] = prepare(cases[k], last && last->extension == cases[k].extension ? last : nullptr);
+      last = &*prepared[k];
+    } catch (const InputError& e) {
+      evaluations[k] = invalid(e);
+    }
+  }
   if (!settings_.runner) {
-    // In this process one case after another, each freed before the next is simulated.
-    const PreparedCase* previous = nullptr;
-    PreparedCase kept;
+    // In this process one case after another, each's responses freed before the next.
     for (std::size_t k = 0; k < cases.size(); ++k) {
+      if (!prepared[k]) continue;
       try {
-        const bool same = previous && cases[k].extension == previous->extension;
-        PreparedCase p = prepare(cases[k], same ? previous : nullptr);
-        std::vector<SimulationResult> results = runSimulations(*p.scene, p.requests, p.settings.rays.threads, nullptr);
-        evaluations[k] = analyse(p, results);
-        kept = std::move(p);
-        previous = &kept;
+        std::vector<SimulationResult> results =
+            runSimulations(*prepared[k]->scene, prepared[k]->requests, prepared[k]->settings.rays.threads, nullptr);
+        evaluations[k] = analyse(*prepared[k], results);
       } catch (const InputError& e) {
         evaluations[k] = invalid(e);
-        previous = nullptr;
       }
     }
     return evaluations;
   }
   // A runner gets every pair of every case at once, so that as many simulators as there
   // are simulations can work together; each result is the same as in this process.
-  std::vector<std::optional<PreparedCase>> prepared(cases.size());
   std::vector<const AcousticScene*> scenes;
   std::vector<SimulationRequest> requests;
   std::vector<std::size_t> scene_of;
   for (std::size_t k = 0; k < cases.size(); ++k) {
-    try {
-      const PreparedCase* same = nullptr;
-      for (std::size_t j = k; j-- > 0;) {
-        if (prepared[j] && cases[j].extension == cases[k].extension) same = &*prepared[j];
-        if (same || prepared[j]) break;
-      }
-      prepared[k] = prepare(cases[k], same);
-    } catch (const InputError& e) {
-      evaluations[k] = invalid(e);
-      continue;
-    }
+    if (!prepared[k]) continue;
     if (scenes.empty() || scenes.back() != prepared[k]->scene.get()) scenes.push_back(prepared[k]->scene.get());
     for (const SimulationRequest& r : prepared[k]->requests) {
       requests.push_back(r);

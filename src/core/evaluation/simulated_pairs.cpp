@@ -25,7 +25,7 @@ std::vector<SimulationRequest> pairRequests(const std::vector<MeasurementPair>& 
 std::vector<SimulationResult> runSimulations(const AcousticScene& scene, const std::vector<SimulationRequest>& requests,
                                              int threads, SimulationRunner* runner, std::vector<double>* wall_times_s) {
   if (runner) return runner->simulate(scene, requests, wall_times_s);
-  InProcessSimulationRunner here(threads > 0 ? threads : roundThreads(1, threads, 0));
+  InProcessSimulationRunner here(roundThreads(1, threads, 0));  // 0: every hardware thread
   return here.simulate(scene, requests, wall_times_s);
 }
 
