@@ -1,5 +1,6 @@
-// The whole visual route (pair -> depth -> cloud -> cuboids -> materials) with its default
-// options and the shipped classifier, on cluttered rooms (synthetic_capture/
+// The whole visual route as `room_reverb room-model` runs it (levelling by the images,
+// pair -> depth -> cloud -> cuboids -> materials) with its default options and the shipped
+// classifier, on cluttered rooms (synthetic_capture/
 // cluttered_rooms.h) photographed by the capture generator with photographs of real
 // surfaces from a collection the shipped classifier was not trained on, sensor noise and
 // shading. Scored against the room's truth: the box of its main walls per dimension, and
@@ -9,14 +10,18 @@
 //   ROOM_REVERB_REALISTIC_ROOMS=20 [ROOM_REVERB_FIRST_ROOM=201] [ROOM_REVERB_PHOTO_SOURCE=sweethome3d]
 //   [ROOM_REVERB_CAPTURE_WIDTH=2048] [ROOM_REVERB_ROOM_SET=development]
 //   [ROOM_REVERB_MIN_CONFIDENCE=0.35] (the material fallback's threshold)
+//   [ROOM_REVERB_CAMERA=consumer] (consumerCamera: lenses, seams, exposure, JPEG, lights)
+//   [ROOM_REVERB_SAVE_PAIRS=DIR] (each room's two images as DIR/roomN_top.png, _bottom.png)
 //   .ws/devel/lib/room_reverb/test_visual_route_realistic --gtest_filter='*Report*'
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <vector>
 
@@ -24,6 +29,7 @@
 #include "room_reverb/synthetic_capture/capture_generator.h"
 #include "room_reverb/synthetic_capture/cluttered_rooms.h"
 #include "room_reverb/synthetic_capture/photo_textures.h"
+#include "room_reverb/vision/capture_ingest.h"
 #include "room_reverb/vision/material_families.h"
 #include "room_reverb/vision/visual_route.h"
 
@@ -39,8 +45,46 @@ struct RouteScore {
   Eigen::Vector3d error_pct = Eigen::Vector3d::Zero();  // (fitted - true) / true size
   double material_area_share = 0.0;                      // box area in the right family
   std::string confusions;                                // "truth->fitted" of wrong faces
-  std::vector<std::string> warnings;                     // the layout's
+  std::vector<std::string> warnings;                     // the levelling's and the layout's
+  std::string stereo;                                    // ROOM_REVERB_STEREO_STATS=1: the stereo's figures by surface
 };
+
+// The stereo alone on the pair as rendered (no levelling): per floor, ceiling and walls,
+// the share of their pixels outside the polar caps with a range, the median range error
+// against the truth (its bias) and the median and 90th percentile of its size.
+std::string stereoStats(const StereoCapture& pair) {
+  const SphericalStereoOptions options;
+  const SphericalDepth depth = computeSphericalDepth(pair.top.color, pair.bottom.color, kBaseline, options);
+  const int h = depth.range_m.rows;
+  const int cap = static_cast<int>(std::ceil(options.polar_cap_deg / 180.0 * h));
+  std::vector<double> errors[3];
+  int pixels[3] = {0, 0, 0};
+  for (int r = cap; r < h - cap; ++r) {
+    for (int c = 0; c < depth.range_m.cols; ++c) {
+      const std::uint16_t id = pair.top.object_id.at<std::uint16_t>(r, c);
+      if (id >= kCaptureFirstObjectId) continue;
+      const int k = id == 0 ? 0 : id == 1 ? 1 : 2;
+      ++pixels[k];
+      const float got = depth.range_m.at<float>(r, c), want = pair.top.range_m.at<float>(r, c);
+      if (std::isfinite(got) && std::isfinite(want)) errors[k].push_back(100.0 * (got - want) / want);
+    }
+  }
+  std::string out;
+  const char* names[3] = {"floor", "ceiling", "walls"};
+  for (int k = 0; k < 3; ++k) {
+    std::vector<double>& e = errors[k];
+    std::sort(e.begin(), e.end());
+    const double bias = e.empty() ? 0.0 : e[e.size() / 2];
+    for (double& v : e) v = std::abs(v);
+    std::sort(e.begin(), e.end());
+    char line[160];
+    std::snprintf(line, sizeof line, "%s%s valid %.0f %% error median %+.2f %%, |error| median %.2f %% p90 %.2f %%",
+                  out.empty() ? "" : "; ", names[k], pixels[k] > 0 ? 100.0 * e.size() / pixels[k] : 0.0, bias,
+                  e.empty() ? 0.0 : e[e.size() / 2], e.empty() ? 0.0 : e[e.size() * 9 / 10]);
+    out += line;
+  }
+  return out;
+}
 
 // The default options; ROOM_REVERB_MIN_CONFIDENCE replaces the material fallback's
 // threshold (config/material_families.yaml), to measure it.
@@ -70,11 +114,10 @@ Eigen::Vector3d outwardNormal(std::size_t k) {
   return normals[k];
 }
 
-// The fitted face that is truth face k: the one whose outward normal, carried through the
-// rig into the truth's room frame, points the same way (a fit may put the room frame's
-// origin at any corner).
-std::size_t fittedFace(const RoomLayout& layout, const RoomModel& truth, std::size_t k) {
-  const Eigen::Matrix3d truth_from_fit = truth.rig_rotation.toRotationMatrix() * layout.room_from_rig.linear().transpose();
+// The fitted face that is truth face k: the one whose outward normal, carried into the
+// truth's room frame, points the same way (a fit may put the room frame's origin at any
+// corner).
+std::size_t fittedFace(const Eigen::Matrix3d& truth_from_fit, std::size_t k) {
   std::size_t best = k;
   double best_dot = -2.0;
   for (std::size_t j = 0; j < 6; ++j) {
@@ -84,7 +127,44 @@ std::size_t fittedFace(const RoomLayout& layout, const RoomModel& truth, std::si
   return best;
 }
 
-RouteScore scoreRoom(const ClutteredRoom& room, int index, const std::string& photo_source, int width) {
+double unitFraction(std::uint64_t& state) {
+  state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+  return static_cast<double>(state >> 11) * 0x1.0p-53;
+}
+double between(std::uint64_t& state, double lo, double hi) { return lo + (hi - lo) * unitFraction(state); }
+
+// A consumer dual-fisheye camera pair as a user's capture has it, drawn for room `index`:
+// colour through two lenses 2 cm apart with 15-40 % vignetting and up to 7 % between them,
+// each camera on its own auto-exposure (the bottom within a third of a stop of the top)
+// and white balance (8 % per channel), JPEG at quality 70-95, ceiling panels and windows
+// glowing past white. No parameter of the route is chosen on these draws.
+CameraImperfections consumerCamera(int index) {
+  std::uint64_t state = 0x9e3779b97f4a7c15ULL ^ static_cast<std::uint64_t>(index);
+  CameraImperfections c;
+  c.through_lenses = true;
+  c.lens_offset_m = 0.01;
+  c.vignetting = between(state, 0.15, 0.4);
+  c.back_lens_gain = between(state, 0.93, 1.07);
+  c.top_exposure = between(state, 0.85, 1.15);
+  c.bottom_exposure = c.top_exposure * std::pow(2.0, between(state, -1.0 / 3.0, 1.0 / 3.0));
+  for (int i = 0; i < 3; ++i) c.bottom_white_balance[i] = between(state, 0.92, 1.08);
+  c.jpeg_quality = static_cast<int>(between(state, 70.0, 95.0));
+  c.emitter_labels = {"light", "window"};
+  // ROOM_REVERB_CAMERA_WITHOUT=lenses,vignetting,exposure,jpeg,lights turns effects off, to
+  // measure what each costs.
+  const char* without_env = std::getenv("ROOM_REVERB_CAMERA_WITHOUT");
+  const std::string without = without_env != nullptr ? without_env : "";
+  const auto off = [&](const char* name) { return without.find(name) != std::string::npos; };
+  const CameraImperfections ideal;
+  if (off("lenses")) c.through_lenses = false, c.lens_offset_m = 0.0;
+  if (off("vignetting")) c.vignetting = 0.0, c.back_lens_gain = 1.0;
+  if (off("exposure")) c.top_exposure = c.bottom_exposure = 1.0, c.bottom_white_balance = ideal.bottom_white_balance;
+  if (off("jpeg")) c.jpeg_quality = 0;
+  if (off("lights")) c.emitter_labels.clear();
+  return c;
+}
+
+RouteScore scoreRoom(const ClutteredRoom& room, int index, const std::string& photo_source, int width, bool consumer_camera = false) {
   static const PhotoTextureSet all = loadPhotoTextures(defaultPhotoTexturePath());
   CaptureOptions capture;
   capture.width = width;
@@ -93,28 +173,48 @@ RouteScore scoreRoom(const ClutteredRoom& room, int index, const std::string& ph
   capture.noise_sigma = 2.0;
   capture.baseline_m = kBaseline;
   capture.photo_textures = std::make_shared<const PhotoTextureSet>(all.onlySources({photo_source}));
-  const StereoCapture pair = renderCapture(room.scanned, MaterialLibrary::loadDefault(), capture);
+  RoomModel scanned = room.scanned;
+  if (consumer_camera) {
+    capture.camera = consumerCamera(index);
+    scanned.objects.insert(scanned.objects.end(), room.window_panes.begin(), room.window_panes.end());
+  }
+  const StereoCapture pair = renderCapture(scanned, MaterialLibrary::loadDefault(), capture);
+  if (const char* dir = std::getenv("ROOM_REVERB_SAVE_PAIRS"); dir != nullptr && *dir != '\0') {
+    cv::imwrite(std::string(dir) + "/room" + std::to_string(index) + "_top.png", pair.top.color);
+    cv::imwrite(std::string(dir) + "/room" + std::to_string(index) + "_bottom.png", pair.bottom.color);
+  }
   RouteScore score;
+  if (const char* stats = std::getenv("ROOM_REVERB_STEREO_STATS"); stats != nullptr && *stats == '1') {
+    score.stereo = stereoStats(pair);
+  }
   VisualRoute route;
+  Eigen::Matrix3d image_rotation = Eigen::Matrix3d::Identity();
   try {
-    route = runVisualRoute(pair.top.color, pair.bottom.color, kBaseline, routeOptions());
+    // As `room_reverb room-model` runs it: the pair levelled by its images first.
+    const IngestedCapture ingested = ingestCapture(pair.top.color, pair.bottom.color, CaptureIngestOptions{});
+    image_rotation = ingested.leveling.image_rotation;
+    VisualRouteOptions options = routeOptions();
+    options.level_from_cloud = ingested.level_from_cloud;
+    route = runVisualRoute(ingested.top, ingested.bottom, kBaseline, options, ingested.leveling.tilt);
+    score.warnings = ingested.warnings;
   } catch (const InputError& e) {
     score.refused = true;
     score.refusal = e.what();
     return score;
   }
   const RoomModel& fitted = route.layout.model;
-  score.warnings = route.layout.warnings;
-  Eigen::Vector3d fitted_size = fitted.size_m;
-  // Sizes along the truth's axes: a fit may swap x and y.
-  const Eigen::Matrix3d truth_from_fit = room.truth.rig_rotation.toRotationMatrix() * route.layout.room_from_rig.linear().transpose();
-  fitted_size = (truth_from_fit * fitted.size_m).cwiseAbs();
+  score.warnings.insert(score.warnings.end(), route.layout.warnings.begin(), route.layout.warnings.end());
+  // Sizes along the truth's axes: a fit may swap x and y. The fit's rig frame is the
+  // camera's turned by the levelling's image rotation.
+  const Eigen::Matrix3d truth_from_fit = room.truth.rig_rotation.toRotationMatrix() * image_rotation.transpose() *
+                                         route.layout.room_from_rig.linear().transpose();
+  const Eigen::Vector3d fitted_size = (truth_from_fit * fitted.size_m).cwiseAbs();
   score.error_pct = 100.0 * (fitted_size - room.truth.size_m).cwiseQuotient(room.truth.size_m);
   double right = 0.0, total = 0.0;
   for (std::size_t k = 0; k < 6; ++k) {
     const auto truth_face = room.truth.surfaces.find(kRoomSurfaceNames[k]);
     if (truth_face == room.truth.surfaces.end()) continue;
-    const auto fitted_face = fitted.surfaces.find(kRoomSurfaceNames[fittedFace(route.layout, room.truth, k)]);
+    const auto fitted_face = fitted.surfaces.find(kRoomSurfaceNames[fittedFace(truth_from_fit, k)]);
     const double area = faceArea(room.truth.size_m, k);
     total += area;
     const TextureFamily want = textureFamilyFor(truth_face->second.material).family;
@@ -132,6 +232,7 @@ RouteScore scoreRoom(const ClutteredRoom& room, int index, const std::string& ph
 }
 
 void print(const ClutteredRoom& room, const RouteScore& s) {
+  if (!s.stereo.empty()) std::printf("             stereo: %s\n", s.stereo.c_str());
   if (s.refused) {
     std::printf("[ measured ] %-14s refused: %s\n", room.name.c_str(), s.refusal.c_str());
     return;
@@ -172,11 +273,13 @@ TEST(VisualRouteRealistic, Report) {
   const bool development = set_env != nullptr && std::string(set_env) == "development";
   const char* source_env = std::getenv("ROOM_REVERB_PHOTO_SOURCE");
   const std::string source = source_env != nullptr && *source_env != '\0' ? source_env : "sweethome3d";
+  const char* camera_env = std::getenv("ROOM_REVERB_CAMERA");
+  const bool consumer = camera_env != nullptr && std::string(camera_env) == "consumer";
   int refused = 0, within1 = 0, within5 = 0, materials90 = 0;
   std::vector<double> errors, shares;
   for (int i = first; i < first + rooms; ++i) {
     const ClutteredRoom room = clutteredRoom(development ? ClutterSet::kDevelopment : ClutterSet::kHeldOut, i);
-    const RouteScore s = scoreRoom(room, i, source, width);
+    const RouteScore s = scoreRoom(room, i, source, width, consumer);
     print(room, s);
     if (s.refused) {
       ++refused;
@@ -193,10 +296,10 @@ TEST(VisualRouteRealistic, Report) {
   std::sort(shares.begin(), shares.end());
   double mean_share = 0.0;
   for (const double v : shares) mean_share += v / std::max<std::size_t>(shares.size(), 1);
-  std::printf("[ measured ] %d %s rooms from %d, %d px, photographs of %s: %d refused; box within 1 %%: %d, within 5 %%: %d, "
+  std::printf("[ measured ] %d %s rooms from %d, %d px, %s camera, photographs of %s: %d refused; box within 1 %%: %d, within 5 %%: %d, "
               "worst dimension median %.2f %%, max %.2f %%; materials right over the box: mean %.1f %%, median %.1f %%, "
               "min %.1f %%, rooms >= 90 %%: %d\n",
-              rooms, development ? "development" : "held-out", first, width, source.c_str(), refused, within1, within5, errors.empty() ? 0.0 : errors[errors.size() / 2],
+              rooms, development ? "development" : "held-out", first, width, consumer ? "consumer" : "ideal", source.c_str(), refused, within1, within5, errors.empty() ? 0.0 : errors[errors.size() / 2],
               errors.empty() ? 0.0 : errors.back(), 100.0 * mean_share, shares.empty() ? 0.0 : 100.0 * shares[shares.size() / 2],
               shares.empty() ? 0.0 : 100.0 * shares.front(), materials90);
 }

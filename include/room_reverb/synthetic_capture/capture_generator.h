@@ -30,6 +30,40 @@ namespace room_reverb::core {
 constexpr std::uint16_t kCaptureFirstObjectId = 6;
 constexpr std::uint16_t kCaptureSkyId = 65535;
 
+// What a real camera does to the light between the scene and the file, so that captures
+// can be made as hard as real ones. The defaults are an ideal camera (every effect off).
+struct CameraImperfections {
+  // Colour through the lenses: each camera's colour is rendered as its dual-fisheye image
+  // (CaptureOptions::fisheye_calibration) and stitched onto the equirectangular grid by the
+  // route's own stitcher (fisheyeToEquirect), as a Theta makes its file: resampled, blended
+  // at the two seams, with the lens effects below. The truth images stay those of the
+  // camera centre.
+  bool through_lenses = false;
+  // Each lens's optical centre lies this far ahead of the camera centre along its axis
+  // [m]: the two lenses see the scene from points 2 x offset apart, so near things are
+  // doubled or cut at the seams. An assumption of about half a body's thickness (1 cm),
+  // not a measured Theta figure.
+  double lens_offset_m = 0.0;
+  // Light lost towards a lens's rim: gain 1 - vignetting (angle / 90°)^2 at `angle` from
+  // its axis, so `vignetting` is the share lost at the seam.
+  double vignetting = 0.0;
+  double back_lens_gain = 1.0;  // the back lens's brightness relative to the front's: a step at the seams
+  // Exposure: each camera exposes on its own (two Thetas on auto). The scene's light is
+  // multiplied by the gain (and the bottom camera's colour by its white balance) before
+  // the sensor clips it at 255.
+  double top_exposure = 1.0;
+  double bottom_exposure = 1.0;
+  Eigen::Vector3d bottom_white_balance = Eigen::Vector3d::Ones();  // R, G, B gains relative to the top camera
+  // JPEG compression of each camera's images at this quality (OpenCV's encoder, 1..100),
+  // after noise and quantisation; 0: none.
+  int jpeg_quality = 0;
+  // Light sources: objects whose label is listed here glow with `emitter_grey` grey levels
+  // (before exposure; above 255 they clip to a flat white, as light panels and windows
+  // with daylight do in a room exposed for its walls).
+  std::vector<std::string> emitter_labels;
+  double emitter_grey = 400.0;
+};
+
 struct CaptureOptions {
   int width = 2048;          // equirect width W [px], even, >= 64; height W / 2
   int supersampling = 2;     // n: n x n colour samples per pixel, averaged (antialiasing), 1..8
@@ -51,6 +85,7 @@ struct CaptureOptions {
   // others keep their drawn texture. None: every material is drawn.
   std::shared_ptr<const PhotoTextureSet> photo_textures;
   double photo_share = 1.0;
+  CameraImperfections camera;
   // Worker threads over image rows (0: the hardware's count). Rows are independent, so
   // the result does not depend on it.
   int threads = 0;
@@ -80,7 +115,7 @@ Eigen::Vector3d bottomCameraPosition(const RoomModel& room, double baseline_m);
 
 // InputError with a message naming the fault unless the options are usable (width even
 // and >= 64, supersampling 1..8, baseline positive and finite, noise sigma finite and >= 0,
-// low_texture_contrast in [0, 1]), every material of the room (and every low-texture
+// low_texture_contrast in [0, 1], the camera's imperfections in range), every material of the room (and every low-texture
 // material) is known to the library or defined inline, and both cameras are strictly
 // inside the room box and outside every object.
 void validateCapture(const RoomModel& room, const MaterialLibrary& library, const CaptureOptions& options);
@@ -88,8 +123,8 @@ void validateCapture(const RoomModel& room, const MaterialLibrary& library, cons
 // Renders both cameras (validateCapture first).
 StereoCapture renderCapture(const RoomModel& room, const MaterialLibrary& library, const CaptureOptions& options);
 
-// Renders one camera at any pose inside the room (the options' baseline is not used).
-// `material_names` receives the material id list.
+// Renders one camera at any pose inside the room (the options' baseline is not used; it
+// exposes as the rig's top camera). `material_names` receives the material id list.
 CameraCapture renderCaptureCamera(const RoomModel& room, const MaterialLibrary& library, const CaptureOptions& options,
                                   const Eigen::Vector3d& position_m, const Eigen::Quaterniond& rotation,
                                   std::vector<std::string>* material_names = nullptr);

@@ -18,6 +18,17 @@
 //                                     # relative to the scene file; absent: drawn textures
 //     photo_sources: [sweethome3d]    # only these collections of the CSV (absent: all)
 //     photo_share: 1.0                # chance that a material with photographs gets one
+//     camera:                         # what the camera does (CameraImperfections); all off by default
+//       through_lenses: false         # colour through the two fisheye lenses, stitched
+//       lens_offset_m: 0.0            # each lens's centre ahead of the camera centre [m], 0..0.05
+//       vignetting: 0.0               # share of light lost at 90 degrees off a lens's axis, [0, 1)
+//       back_lens_gain: 1.0           # back lens brightness relative to the front
+//       top_exposure: 1.0             # each camera's exposure gain
+//       bottom_exposure: 1.0
+//       bottom_white_balance: [1, 1, 1]   # bottom camera's R, G, B gains relative to the top
+//       jpeg_quality: 0               # 0: none; 1..100
+//       emitter_labels: [light, window]   # objects that glow (lamps, windows with daylight)
+//       emitter_grey: 400             # their brightness [grey levels], above 255 clips
 //
 // Every key is optional, with the CaptureOptions defaults. A rendered capture's scene file
 // adds a `labels:` section (the material and object names of the id images, and the camera

@@ -29,6 +29,10 @@ struct ClutteredRoom {
   // radiators and skirting).
   RoomModel truth;
   // Which walls (kRoomSurfaceNames index 2..5) have a recess, a run of units, shelving.
+  // The glass of each window recess (label "window", glass_window), in the scanned room's
+  // frame and not among its objects: added to it with CameraImperfections::emitter_labels
+  // {"window"}, a window shows daylight, as a camera exposed for the room records it.
+  std::vector<CuboidObject> window_panes;
   std::vector<int> recessed_walls;
   std::vector<int> furnished_walls;
 };

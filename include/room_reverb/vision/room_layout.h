@@ -71,6 +71,11 @@ struct RoomLayoutOptions {
   // and when cutting it away from the furniture (there thicker if the face's points
   // spread more).
   double range_noise_fraction = 0.01;
+  // Depth noisier than that (compressed images, a poorer camera or matcher) spreads the
+  // floor into a layer no window of that width holds. With no floor found, the fit is
+  // tried again with the fraction multiplied by each of these in turn, and the first that
+  // finds one serves the whole fit (with a warning naming it). Empty: no retry.
+  std::vector<double> noise_fraction_retries = {1.5, 2.0, 3.0};
   double noise_sigmas = 3.0;
   double min_face_margin_m = 0.06;
   // A plane needs this much area [m^2] (counted in voxels) and this density contrast to its

@@ -24,6 +24,28 @@ std::string text(double value) {
 
 std::string vectorText(const Eigen::Vector3d& v) { return "[" + text(v.x()) + ", " + text(v.y()) + ", " + text(v.z()) + "]"; }
 
+void checkCamera(const CameraImperfections& c) {
+  const auto gain = [](double value, const std::string& key) {
+    if (!(value > 0.0) || !std::isfinite(value)) throw InputError("capture camera." + key + " " + text(value) + ": must be a positive, finite gain");
+  };
+  if (!(c.lens_offset_m >= 0.0 && c.lens_offset_m <= 0.05)) {
+    throw InputError("capture camera.lens_offset_m " + text(c.lens_offset_m) + ": must be 0 to 0.05 m (a lens's centre ahead of the camera's)");
+  }
+  if (!(c.vignetting >= 0.0 && c.vignetting < 1.0)) {
+    throw InputError("capture camera.vignetting " + text(c.vignetting) + ": must be in [0, 1) (the share of light lost at 90 degrees)");
+  }
+  gain(c.back_lens_gain, "back_lens_gain");
+  gain(c.top_exposure, "top_exposure");
+  gain(c.bottom_exposure, "bottom_exposure");
+  for (int i = 0; i < 3; ++i) gain(c.bottom_white_balance[i], "bottom_white_balance");
+  if (c.jpeg_quality < 0 || c.jpeg_quality > 100) {
+    throw InputError("capture camera.jpeg_quality " + std::to_string(c.jpeg_quality) + ": must be 0 (no compression) or 1 to 100");
+  }
+  if (!(c.emitter_grey >= 0.0) || !std::isfinite(c.emitter_grey)) {
+    throw InputError("capture camera.emitter_grey " + text(c.emitter_grey) + ": must be a finite brightness >= 0 in grey levels");
+  }
+}
+
 void checkOptions(const CaptureOptions& options) {
   if (options.width < 64 || options.width % 2 != 0) {
     throw InputError("capture width " + std::to_string(options.width) +
@@ -46,7 +68,10 @@ void checkOptions(const CaptureOptions& options) {
     throw InputError("capture photo_share " + text(options.photo_share) + ": must be in [0, 1]");
   }
   if (options.threads < 0) throw InputError("capture threads: must be 0 (all cores) or more");
-  if (options.fisheye) validateDualFisheyeCalibration(options.fisheye_calibration, "capture fisheye calibration");
+  if (options.fisheye || options.camera.through_lenses) {
+    validateDualFisheyeCalibration(options.fisheye_calibration, "capture fisheye calibration");
+  }
+  checkCamera(options.camera);
 }
 
 // InputError unless a camera centre is strictly inside the box and outside every object.
@@ -76,22 +101,39 @@ void checkMaterials(const RoomModel& room, const MaterialLibrary& library, const
   }
 }
 
+// How one camera exposes its light: its gain and white balance.
+struct Exposure {
+  double gain = 1.0;
+  Eigen::Vector3d white_balance_rgb = Eigen::Vector3d::Ones();
+};
+
+// Exposure, noise, clipping and quantisation, JPEG: the sensor and the encoder.
+cv::Mat recorded(const cv::Mat& light, const CaptureOptions& options, const Exposure& exposure, std::uint64_t stream) {
+  cv::Mat image = quantizeWithNoise(exposed(light, exposure.gain, exposure.white_balance_rgb), options.noise_sigma, options.seed, stream);
+  return options.camera.jpeg_quality > 0 ? jpegRoundTrip(image, options.camera.jpeg_quality) : image;
+}
+
 CameraCapture renderCamera(const CapturePainter& painter, const CaptureOptions& options, const Eigen::Vector3d& position,
-                           const Eigen::Quaterniond& rotation, std::uint64_t noise_stream) {
+                           const Eigen::Quaterniond& rotation, const Exposure& exposure, std::uint64_t noise_stream) {
   CameraCapture camera;
   camera.position_m = position;
   camera.rotation = rotation;
   const Eigen::Matrix3d camera_to_room = rotation.toRotationMatrix();
-  EquirectRender render = renderEquirect(painter, position, camera_to_room, options.width, options.supersampling, options.threads);
-  camera.color = quantizeWithNoise(render.color, options.noise_sigma, options.seed, 2 * noise_stream);
+  const CameraImperfections& c = options.camera;
+  EquirectRender render =
+      renderEquirect(painter, position, camera_to_room, options.width, options.supersampling, options.threads, !c.through_lenses);
   camera.range_m = render.range_m;
   camera.material_id = render.material_id;
   camera.object_id = render.object_id;
-  if (options.fisheye) {
+  cv::Mat fisheye;
+  if (options.fisheye || c.through_lenses) {
     const DualFisheyeCalibration calibration = scaledDualFisheye(options.fisheye_calibration, options.width / 2);
-    const cv::Mat fisheye = renderDualFisheye(painter, position, camera_to_room, calibration, options.supersampling, options.threads);
-    camera.fisheye = quantizeWithNoise(fisheye, options.noise_sigma, options.seed, 2 * noise_stream + 1);
+    const LensEffects lens{c.lens_offset_m, c.vignetting, c.back_lens_gain};
+    fisheye = renderDualFisheye(painter, position, camera_to_room, calibration, options.supersampling, options.threads, lens);
+    if (c.through_lenses) render.color = fisheyeToEquirect(fisheye, calibration, options.width);
   }
+  camera.color = recorded(render.color, options, exposure, 2 * noise_stream);
+  if (options.fisheye) camera.fisheye = recorded(fisheye, options, exposure, 2 * noise_stream + 1);
   return camera;
 }
 
@@ -130,8 +172,10 @@ StereoCapture renderCapture(const RoomModel& room, const MaterialLibrary& librar
   for (const CuboidObject& object : room.objects) capture.object_names.push_back(object.label);
   const CapturePainter painter = makeCapturePainter(room, library, options, capture.material_names);
   const Eigen::Quaterniond rotation = room.rig_rotation.normalized();
-  capture.top = renderCamera(painter, options, topCameraPosition(room, options.baseline_m), rotation, 0);
-  capture.bottom = renderCamera(painter, options, bottomCameraPosition(room, options.baseline_m), rotation, 1);
+  const Exposure top{options.camera.top_exposure, Eigen::Vector3d::Ones()};
+  const Exposure bottom{options.camera.bottom_exposure, options.camera.bottom_white_balance};
+  capture.top = renderCamera(painter, options, topCameraPosition(room, options.baseline_m), rotation, top, 0);
+  capture.bottom = renderCamera(painter, options, bottomCameraPosition(room, options.baseline_m), rotation, bottom, 1);
   return capture;
 }
 
@@ -155,7 +199,8 @@ CameraCapture renderCaptureCamera(const RoomModel& room, const MaterialLibrary& 
     stream = hashCombine(stream, bits);
   }
   stream = 2 + (stream >> 2);
-  return renderCamera(painter, options, position_m, rotation.normalized(), stream);
+  return renderCamera(painter, options, position_m, rotation.normalized(), Exposure{options.camera.top_exposure, Eigen::Vector3d::Ones()},
+                      stream);
 }
 
 }  // namespace room_reverb::core

@@ -73,6 +73,11 @@ CapturePainter makeCapturePainter(const RoomModel& room, const MaterialLibrary& 
     if (options.photo_textures) choosePhoto(look, *options.photo_textures, options.photo_share, hashCombine(options.seed, nameHash(key)));
     painter.looks.push_back(std::move(look));
   }
+  const auto& emitters = options.camera.emitter_labels;
+  for (const CuboidObject& object : room.objects) {
+    painter.emits.push_back(std::find(emitters.begin(), emitters.end(), object.label) != emitters.end());
+  }
+  painter.emitted = options.camera.emitter_grey * Rgb(1.0, 0.97, 0.9);
   painter.seed = options.seed;
   painter.shading = options.shading;
   painter.sunlight = !room.has_ceiling;
@@ -90,6 +95,10 @@ CapturePainter makeCapturePainter(const RoomModel& room, const MaterialLibrary& 
 Rgb paintHit(const CapturePainter& painter, const Eigen::Vector3d& direction, const SurfaceHit& hit,
              double sample_angle_rad) {
   if (hit.sky) return skyColor(direction);
+  if (hit.object_id >= kCaptureFirstObjectId) {
+    const std::size_t k = hit.object_id - kCaptureFirstObjectId;
+    if (k < painter.emits.size() && painter.emits[k]) return painter.emitted;
+  }
   // Grazing views stretch a sample along the surface; capped so far floors still filter
   // to a finite (if coarse) footprint.
   const double cos_view = std::max(std::abs(direction.dot(hit.normal)), 0.15);

@@ -26,6 +26,10 @@ struct CapturePainter {
   Eigen::Vector3d light_m = Eigen::Vector3d::Zero();  // position, or direction towards the sun
   double falloff_distance_m = 1.0;  // where the point light's intensity has halved
   double ambient = 0.45;            // share of the light that reaches every surface
+  // Light sources (CameraImperfections::emitter_labels): by object index, whether it glows,
+  // and with what colour (a warm white, RGB grey levels).
+  std::vector<bool> emits;
+  Rgb emitted = Rgb::Zero();
 };
 
 // The room's material names in id order: box faces (kRoomSurfaceNames order, the ceiling

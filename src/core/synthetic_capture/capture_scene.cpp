@@ -1,6 +1,8 @@
 #include "room_reverb/synthetic_capture/capture_scene.h"
 
+#include <algorithm>
 #include <cctype>
+#include <iterator>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
@@ -30,7 +32,7 @@ class CaptureSectionReader : public YamlReader {
           // A misspelt key would silently render with the default.
           fail(entry.first, "capture." + key,
                "unknown key (use baseline_m, width, supersampling, seed, shading, noise_sigma, fisheye, "
-               "low_texture_materials, low_texture_contrast, photo_textures, photo_sources, photo_share)");
+               "low_texture_materials, low_texture_contrast, photo_textures, photo_sources, photo_share, camera)");
         }
       }
       options.baseline_m = numberOr(capture, "baseline_m", "capture.baseline_m", options.baseline_m);
@@ -68,6 +70,8 @@ class CaptureSectionReader : public YamlReader {
         if (scene.photo_textures.empty()) fail(sources, "capture.photo_sources", "needs photo_textures");
       }
       options.photo_share = numberOr(capture, "photo_share", "capture.photo_share", options.photo_share);
+      const YAML::Node camera = capture["camera"];
+      if (camera.IsDefined() && !camera.IsNull()) readCamera(camera, options.camera);
     });
   }
 
@@ -75,10 +79,47 @@ class CaptureSectionReader : public YamlReader {
   static bool isKnown(const std::string& key) {
     for (const char* known : {"baseline_m", "width", "supersampling", "seed", "shading", "noise_sigma", "fisheye",
                               "low_texture_materials", "low_texture_contrast", "photo_textures", "photo_sources",
-                              "photo_share"}) {
+                              "photo_share", "camera"}) {
       if (key == known) return true;
     }
     return false;
+  }
+
+  void readCamera(const YAML::Node& node, CameraImperfections& c) const {
+    requireMap(node, "capture.camera");
+    static const char* const kKeys[] = {"through_lenses", "lens_offset_m", "vignetting", "back_lens_gain", "top_exposure",
+                                        "bottom_exposure", "bottom_white_balance", "jpeg_quality", "emitter_labels", "emitter_grey"};
+    for (const auto& entry : node) {
+      const std::string key = entry.first.as<std::string>();
+      if (std::find(std::begin(kKeys), std::end(kKeys), key) == std::end(kKeys)) {
+        fail(entry.first, "capture.camera." + key,
+             "unknown key (use through_lenses, lens_offset_m, vignetting, back_lens_gain, top_exposure, bottom_exposure, "
+             "bottom_white_balance, jpeg_quality, emitter_labels, emitter_grey)");
+      }
+    }
+    c.through_lenses = flagOr(node, "through_lenses", "capture.camera.through_lenses", c.through_lenses);
+    c.lens_offset_m = numberOr(node, "lens_offset_m", "capture.camera.lens_offset_m", c.lens_offset_m);
+    c.vignetting = numberOr(node, "vignetting", "capture.camera.vignetting", c.vignetting);
+    c.back_lens_gain = numberOr(node, "back_lens_gain", "capture.camera.back_lens_gain", c.back_lens_gain);
+    c.top_exposure = numberOr(node, "top_exposure", "capture.camera.top_exposure", c.top_exposure);
+    c.bottom_exposure = numberOr(node, "bottom_exposure", "capture.camera.bottom_exposure", c.bottom_exposure);
+    if (node["bottom_white_balance"].IsDefined()) {
+      c.bottom_white_balance = vector3(node["bottom_white_balance"], "capture.camera.bottom_white_balance");
+    }
+    const double quality = numberOr(node, "jpeg_quality", "capture.camera.jpeg_quality", c.jpeg_quality);
+    if (quality != std::floor(quality) || quality < 0.0 || quality > 100.0) {
+      fail(node["jpeg_quality"], "capture.camera.jpeg_quality", "must be a whole number, 0 (none) or 1 to 100");
+    }
+    c.jpeg_quality = static_cast<int>(quality);
+    const YAML::Node labels = node["emitter_labels"];
+    if (labels.IsDefined() && !labels.IsNull()) {
+      if (!labels.IsSequence()) fail(labels, "capture.camera.emitter_labels", "must be a list of object labels");
+      c.emitter_labels.clear();
+      for (std::size_t i = 0; i < labels.size(); ++i) {
+        c.emitter_labels.push_back(text(labels[i], "capture.camera.emitter_labels[" + std::to_string(i) + "]"));
+      }
+    }
+    c.emitter_grey = numberOr(node, "emitter_grey", "capture.camera.emitter_grey", c.emitter_grey);
   }
 
   int wholeNumber(const YAML::Node& capture, const std::string& name, int fallback) const {
@@ -169,6 +210,25 @@ std::string captureSceneToYaml(const CaptureScene& scene, const StereoCapture* r
       << "  fisheye: " << (o.fisheye ? "true" : "false") << "\n"
       << "  low_texture_materials: " << nameList(o.low_texture_materials) << "\n"
       << "  low_texture_contrast: " << number(o.low_texture_contrast) << "\n";
+  const CameraImperfections& c = o.camera;
+  const CameraImperfections ideal;
+  const bool imperfect = c.through_lenses || c.lens_offset_m != ideal.lens_offset_m || c.vignetting != ideal.vignetting ||
+                         c.back_lens_gain != ideal.back_lens_gain || c.top_exposure != ideal.top_exposure ||
+                         c.bottom_exposure != ideal.bottom_exposure || c.bottom_white_balance != ideal.bottom_white_balance ||
+                         c.jpeg_quality != ideal.jpeg_quality || !c.emitter_labels.empty();
+  if (imperfect) {
+    out << "  camera:  # what the camera does to the light (CameraImperfections)\n"
+        << "    through_lenses: " << (c.through_lenses ? "true" : "false") << "\n"
+        << "    lens_offset_m: " << number(c.lens_offset_m) << "\n"
+        << "    vignetting: " << number(c.vignetting) << "\n"
+        << "    back_lens_gain: " << number(c.back_lens_gain) << "\n"
+        << "    top_exposure: " << number(c.top_exposure) << "\n"
+        << "    bottom_exposure: " << number(c.bottom_exposure) << "\n"
+        << "    bottom_white_balance: " << vectorText(c.bottom_white_balance) << "\n"
+        << "    jpeg_quality: " << c.jpeg_quality << "\n"
+        << "    emitter_labels: " << nameList(c.emitter_labels) << "\n"
+        << "    emitter_grey: " << number(c.emitter_grey) << "\n";
+  }
   if (!scene.photo_textures.empty()) {
     out << "  photo_textures: " << nameText(scene.photo_textures) << "\n"
         << "  photo_sources: " << nameList(scene.photo_sources) << "\n"

@@ -82,6 +82,10 @@ class RoomBuilder {
     const Eigen::Vector3d lo(recess_depth_[0], recess_depth_[2], 0.0);
     const Eigen::Vector3d grown = size_ + lo + Eigen::Vector3d(recess_depth_[1], recess_depth_[3], 0.0);
     room.scanned = model(lo, grown, rig_yaw, solids_);
+    for (CuboidObject pane : model(lo, grown, rig_yaw, panes_).objects) {
+      pane.material = "glass_window";
+      room.window_panes.push_back(pane);
+    }
     return room;
   }
 
@@ -150,6 +154,22 @@ class RoomBuilder {
     piece(u1, span_hi, 0.0, size_.z());
     piece(u0, u1, z1, size_.z());
     piece(u0, u1, 0.0, z0);
+    if (window) {
+      // The glass at the back of the hole, 2 cm thick, drawing no random number so that the
+      // rooms are the same with or without it.
+      CuboidObject pane;
+      pane.label = "window";
+      Eigen::Vector3d centre, size;
+      centre[axis] = high ? size_[axis] + d - 0.01 : -d + 0.01;
+      centre[other] = 0.5 * (u0 + u1);
+      centre.z() = 0.5 * (z0 + z1);
+      size[axis] = 0.02;
+      size[other] = u1 - u0;
+      size.z() = z1 - z0;
+      pane.center_m = centre;
+      pane.size_m = size;
+      panes_.push_back(pane);
+    }
   }
 
   void addKitchen(int f) {
@@ -320,7 +340,7 @@ class RoomBuilder {
   double recess_depth_[4] = {0.0, 0.0, 0.0, 0.0};  // x_min, x_max, y_min, y_max
   double width_ = 1.0;
   bool kitchen_ = false;
-  std::vector<CuboidObject> truth_objects_, solids_;
+  std::vector<CuboidObject> truth_objects_, solids_, panes_;
 };
 
 }  // namespace

@@ -2,10 +2,19 @@
 
 #include <algorithm>
 #include <cmath>
+#include <opencv2/imgcodecs.hpp>
+#include <vector>
 
 #include "value_noise.h"
 
 namespace room_reverb::core::capture_detail {
+
+cv::Mat exposed(const cv::Mat& color, double gain, const Eigen::Vector3d& white_balance_rgb) {
+  CV_Assert(color.type() == CV_32FC3);
+  cv::Mat out;
+  cv::multiply(color, cv::Scalar(gain * white_balance_rgb[2], gain * white_balance_rgb[1], gain * white_balance_rgb[0]), out);
+  return out;
+}
 
 cv::Mat quantizeWithNoise(const cv::Mat& color, double sigma, std::uint64_t seed, std::uint64_t stream) {
   CV_Assert(color.type() == CV_32FC3);
@@ -26,6 +35,13 @@ cv::Mat quantizeWithNoise(const cv::Mat& color, double sigma, std::uint64_t seed
     }
   }
   return out;
+}
+
+cv::Mat jpegRoundTrip(const cv::Mat& image, int quality) {
+  CV_Assert(image.type() == CV_8UC3 && quality >= 1 && quality <= 100);
+  std::vector<unsigned char> bytes;
+  cv::imencode(".jpg", image, bytes, {cv::IMWRITE_JPEG_QUALITY, quality});
+  return cv::imdecode(bytes, cv::IMREAD_COLOR);
 }
 
 }  // namespace room_reverb::core::capture_detail

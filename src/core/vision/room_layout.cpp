@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <sstream>
 #include <string>
 
 #include "face_spread.h"
@@ -36,6 +37,11 @@ void checkOptions(const RoomLayoutOptions& o) {
   positive(o.max_range_m, "max_range_m");
   non_negative(o.range_noise_fraction, "range_noise_fraction");
   positive(o.noise_sigmas, "noise_sigmas");
+  for (const double factor : o.noise_fraction_retries) {
+    if (!(factor > 1.0) || !std::isfinite(factor)) {
+      throw InputError("room layout options: each of noise_fraction_retries must be a finite factor above 1");
+    }
+  }
   positive(o.min_face_margin_m, "min_face_margin_m");
   positive(o.min_plane_area_m2, "min_plane_area_m2");
   positive(o.min_plane_contrast, "min_plane_contrast");
@@ -206,15 +212,40 @@ layout::FurnitureParams furnitureParams(const RoomLayoutOptions& o, const layout
   return p;
 }
 
+// The floor (and ceiling) at the calibrated depth noise, or else at the first of the
+// noisier retries that finds one; `options.range_noise_fraction` is left at the fraction
+// that served.
+layout::HorizontalPlanes floorAndCeiling(const std::vector<double>& heights, RoomLayoutOptions& options,
+                                         std::vector<std::string>& warnings) {
+  const double calibrated = options.range_noise_fraction;
+  try {
+    return layout::findHorizontalPlanes(heights, boxFitParams(options));
+  } catch (const InputError&) {
+    for (const double factor : options.noise_fraction_retries) {
+      options.range_noise_fraction = calibrated * factor;
+      try {
+        layout::HorizontalPlanes planes = layout::findHorizontalPlanes(heights, boxFitParams(options));
+        std::ostringstream note;
+        note << "depth noise: no floor at " << 100.0 * calibrated << " % of the range; planes fitted as "
+             << 100.0 * options.range_noise_fraction << " % thick (compressed or noisy images?)";
+        warnings.push_back(note.str());
+        return planes;
+      } catch (const InputError&) {
+      }
+    }
+    options.range_noise_fraction = calibrated;
+    throw;
+  }
+}
+
 }  // namespace
 
-RoomLayout fitRoomLayout(const PointCloud& cloud, const RoomLayoutOptions& options) {
-  checkOptions(options);
-  checkPointCloud(cloud, options.min_points);
+RoomLayout fitRoomLayout(const PointCloud& cloud, const RoomLayoutOptions& given) {
+  checkOptions(given);
+  checkPointCloud(cloud, given.min_points);
+  RoomLayoutOptions options = given;
   const layout::VoxelGrid grid(cloud, options.voxel_size_m, options.max_range_m);
   const auto& voxels = grid.voxels();
-  const layout::BoxFitParams params = boxFitParams(options);
-  const layout::PlaneSpread& spread = params.spread;
 
   // Planes are fitted to every voxel not hinted to be furniture.
   std::vector<Eigen::Vector3d> structure;
@@ -229,7 +260,10 @@ RoomLayout fitRoomLayout(const PointCloud& cloud, const RoomLayoutOptions& optio
   std::vector<double> heights;
   heights.reserve(structure.size());
   for (const auto& p : structure) heights.push_back(p.z());
-  const layout::HorizontalPlanes planes = layout::findHorizontalPlanes(heights, params);
+  std::vector<std::string> noise_warnings;
+  const layout::HorizontalPlanes planes = floorAndCeiling(heights, options, noise_warnings);
+  const layout::BoxFitParams params = boxFitParams(options);
+  const layout::PlaneSpread& spread = params.spread;
 
   // Yaw from the points between floor and ceiling (the floor's and ceiling's outlines are
   // sharp too, but the walls are what the room frame is aligned to).
@@ -267,6 +301,7 @@ RoomLayout fitRoomLayout(const PointCloud& cloud, const RoomLayoutOptions& optio
                                 box.has_ceiling, margin);
 
   RoomLayout result;
+  result.warnings = noise_warnings;
   RoomModel& model = result.model;
   model.frame = "room";
   model.size_m = frame.size;

@@ -9,6 +9,7 @@
 
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/parallel_rows.h"
+#include "photometric_match.h"
 #include "subpixel_disparity.h"
 
 namespace room_reverb::core {
@@ -146,7 +147,9 @@ SphericalDepth computeSphericalDepth(const cv::Mat& top, const cv::Mat& bottom, 
   const int search = std::max(16, 16 * static_cast<int>(std::ceil(gamma_max / pixel_rad / 16.0)));
 
   const cv::Mat left = transposedWithPadding(top, search, o.seam_padding_px);
-  const cv::Mat right = transposedWithPadding(bottom, search, o.seam_padding_px);
+  const cv::Mat right = transposedWithPadding(
+      o.match_exposure ? applyPhotometricMap(bottom, photometricMapFromQuantiles(top, bottom, o.polar_cap_deg)) : bottom, search,
+      o.seam_padding_px);
   const int channels = top.channels();
   const int area = o.block_size * o.block_size;
   cv::Ptr<cv::StereoSGBM> matcher = cv::StereoSGBM::create(
@@ -164,23 +167,38 @@ SphericalDepth computeSphericalDepth(const cv::Mat& top, const cv::Mat& bottom, 
   depth.filled = cv::Mat::zeros(h, w, CV_8UC1);
   cv::Mat cap_mask = cv::Mat::zeros(h, 1, CV_8UC1);
   const double cap_rad = o.polar_cap_deg * kPi / 180.0;
-  stereo_detail::EpipolarImage left_epipolar, right_epipolar;
-  if (o.subpixel_refinement) {
-    left_epipolar = stereo_detail::epipolarImage(left);
-    right_epipolar = stereo_detail::epipolarImage(right);
-  }
   for (int v = 0; v < h; ++v) {
     const double theta = (v + 0.5) * pixel_rad;
     cap_mask.at<std::uint8_t>(v, 0) = theta < cap_rad || theta > kPi - cap_rad ? 255 : 0;
+  }
+  // The matcher's disparities on the top image's grid [px], NaN where it found none
+  // (negative: no match; 0: at infinity) and in the polar caps.
+  cv::Mat matched(h, w, CV_32FC1, cv::Scalar(kNaN));
+  for (int v = 0; v < h; ++v) {
+    if (cap_mask.at<std::uint8_t>(v, 0)) continue;
+    float* row = matched.ptr<float>(v);
+    for (int u = 0; u < w; ++u) {
+      const short d16 = disparity16.at<short>(u + o.seam_padding_px, v + search);
+      if (d16 > 0) row[u] = static_cast<float>(d16 / 16.0);
+    }
+  }
+  stereo_detail::EpipolarImage left_epipolar, right_epipolar;
+  if (o.subpixel_refinement) {
+    left_epipolar = stereo_detail::epipolarImage(left);
+    // The refinement compares grey levels: the bottom camera's exposure and white balance
+    // carried onto the top's first, from the pixels the matcher paired.
+    right_epipolar = stereo_detail::epipolarImage(
+        o.match_exposure ? transposedWithPadding(applyPhotometricMap(bottom, photometricMapFromMatches(top, bottom, matched)), search,
+                                                 o.seam_padding_px)
+                         : right);
   }
   // Rows are independent: each writes only its own row of the outputs.
   forEachRow(h, o.threads, [&](int v) {
     const double theta = (v + 0.5) * pixel_rad;
     if (cap_mask.at<std::uint8_t>(v, 0)) return;
     for (int u = 0; u < w; ++u) {
-      const short d16 = disparity16.at<short>(u + o.seam_padding_px, v + search);
-      if (d16 <= 0) continue;  // negative: no match; 0: at infinity
-      double d = d16 / 16.0;
+      double d = matched.at<float>(v, u);
+      if (!std::isfinite(d)) continue;
       if (o.subpixel_refinement) {
         d = stereo_detail::refineDisparity(left_epipolar, right_epipolar, u + o.seam_padding_px, v + search, d,
                                            o.refinement_half_window_px, o.refinement_half_window_px);
