@@ -17,6 +17,8 @@ core::SphericalStereoOptions stereoOptionsFromConfig(const room_reverb::Spherica
   options.full_dp = config.full_dp;
   options.fill_holes = config.fill_holes;
   options.max_hole_px = config.max_hole_px;
+  options.subpixel_refinement = config.subpixel_refinement;
+  options.match_exposure = config.match_exposure;
   return options;
 }
 

@@ -246,6 +246,118 @@ TEST(CaptureGenerator, SensorNoiseHasTheRequestedSigma) {
   EXPECT_NEAR(sigma[0], 6.0, 0.3);
 }
 
+// Mean of channel `ch` over rows [r0, r1) and columns [c0, c1) of a CV_8UC3 image.
+double patchMean(const cv::Mat& image, int r0, int r1, int c0, int c1, int ch) {
+  return cv::mean(image(cv::Range(r0, r1), cv::Range(c0, c1)))[ch];
+}
+
+TEST(CaptureGenerator, EachCameraExposesAndWhiteBalancesOnItsOwn) {
+  const RoomModel room = testRoom();
+  CaptureOptions options = smallOptions();
+  options.shading = false;
+  const StereoCapture ideal = renderCapture(room, library(), options);
+  options.camera.top_exposure = 0.5;
+  options.camera.bottom_white_balance = {0.9, 1.0, 0.8};
+  const StereoCapture exposed = renderCapture(room, library(), options);
+  for (int ch = 0; ch < 3; ++ch) {
+    // Half the light, to within the rounding of each pixel.
+    EXPECT_NEAR(patchMean(exposed.top.color, 20, 108, 0, 256, ch), 0.5 * patchMean(ideal.top.color, 20, 108, 0, 256, ch), 0.6);
+  }
+  // BGR: blue 0.8, green 1, red 0.9 of the bottom camera's light.
+  const double gains[3] = {0.8, 1.0, 0.9};
+  for (int ch = 0; ch < 3; ++ch) {
+    EXPECT_NEAR(patchMean(exposed.bottom.color, 20, 108, 0, 256, ch), gains[ch] * patchMean(ideal.bottom.color, 20, 108, 0, 256, ch),
+                0.6);
+  }
+}
+
+// Through the lenses, light falls off towards each lens's rim as 1 - v (angle / 90 deg)^2
+// and the back lens has its own gain: measured against the same lenses without either.
+TEST(CaptureGenerator, LensesVignetteTowardsTheSeamsAndTheBackLensHasItsOwnGain) {
+  const RoomModel room = testRoom();
+  CaptureOptions options = smallOptions();
+  options.shading = false;
+  options.camera.through_lenses = true;
+  const CameraCapture plain = renderCaptureCamera(room, library(), options, {2, 2, 1.5}, Eigen::Quaterniond::Identity());
+  options.camera.vignetting = 0.3;
+  options.camera.back_lens_gain = 0.8;
+  const CameraCapture lensed = renderCaptureCamera(room, library(), options, {2, 2, 1.5}, Eigen::Quaterniond::Identity());
+  // Columns of a 256-wide image: azimuth 0 (the front lens's axis) at 128, 180 deg (the
+  // back lens's axis) at 0 and 255, the seams at 64 and 192. Rows 60-68 straddle the horizon.
+  const auto ratio = [&](int c0, int c1) {
+    double sum = 0.0;
+    for (int ch = 0; ch < 3; ++ch) sum += patchMean(lensed.color, 60, 68, c0, c1, ch) / patchMean(plain.color, 60, 68, c0, c1, ch);
+    return sum / 3.0;
+  };
+  EXPECT_NEAR(ratio(124, 132), 1.0, 0.01);                                      // on the front axis
+  EXPECT_NEAR(ratio(0, 4), 0.8, 0.01);                                          // on the back axis
+  // Column c is 180 - 360 (c + 0.5) / 256 deg off the front axis: 50 deg at 92, 67 at 80.
+  EXPECT_NEAR(ratio(88, 96), 1.0 - 0.3 * std::pow(50.0 / 90.0, 2.0), 0.01);
+  EXPECT_NEAR(ratio(78, 82), 1.0 - 0.3 * std::pow(67.0 / 90.0, 2.0), 0.01);
+  // Without the effects, the lenses' image is the direct render resampled.
+  options.camera = CameraImperfections{};
+  const CameraCapture direct = renderCaptureCamera(room, library(), options, {2, 2, 1.5}, Eigen::Quaterniond::Identity());
+  EXPECT_NEAR(patchMean(plain.color, 20, 108, 0, 256, 1), patchMean(direct.color, 20, 108, 0, 256, 1), 1.0);
+}
+
+TEST(CaptureGenerator, LightsGlowPastWhiteAndJpegCostsWhatItsQualitySays) {
+  RoomModel room = testRoom();
+  room.objects.push_back({"light", "metal", {2.0, 1.5, 2.8}, {0.6, 0.6, 0.06}, 0.0, 1.0});
+  CaptureOptions options = smallOptions();
+  const CameraCapture dark = renderCaptureCamera(room, library(), options, {2, 2, 1.5}, Eigen::Quaterniond::Identity());
+  options.camera.emitter_labels = {"light"};
+  const CameraCapture lit = renderCaptureCamera(room, library(), options, {2, 2, 1.5}, Eigen::Quaterniond::Identity());
+  int light_pixels = 0, white = 0, white_before = 0;
+  for (int r = 0; r < lit.object_id.rows; ++r) {
+    for (int c = 0; c < lit.object_id.cols; ++c) {
+      if (lit.object_id.at<std::uint16_t>(r, c) != kCaptureFirstObjectId) continue;
+      ++light_pixels;
+      const cv::Vec3b p = lit.color.at<cv::Vec3b>(r, c), q = dark.color.at<cv::Vec3b>(r, c);
+      white += p[0] >= 250 && p[1] == 255 && p[2] == 255;  // a warm white: blue at 0.9 x 400 clips too
+      white_before += q[1] == 255;
+    }
+  }
+  ASSERT_GT(light_pixels, 20);
+  EXPECT_GE(white, light_pixels * 9 / 10);
+  EXPECT_EQ(white_before, 0);
+
+  const auto meanDifference = [&](int quality) {
+    CaptureOptions o = smallOptions();
+    o.camera.jpeg_quality = quality;
+    const CameraCapture c = renderCaptureCamera(room, library(), o, {2, 2, 1.5}, Eigen::Quaterniond::Identity());
+    cv::Mat diff;
+    cv::absdiff(c.color, dark.color, diff);
+    return cv::mean(diff.reshape(1))[0];
+  };
+  const double poor = meanDifference(30), good = meanDifference(95);
+  EXPECT_GT(poor, 0.5);
+  EXPECT_GT(good, 0.0);
+  EXPECT_LT(good, 0.6 * poor);
+}
+
+// Recorded at twice the width and shrunk: the capture's size, the same light, and the
+// sensor's noise averaged over four native pixels (half its sigma).
+TEST(CaptureGenerator, ACameraRecordingAtTwiceTheWidthIsShrunkToIt) {
+  const RoomModel room = testRoom();
+  CaptureOptions options = smallOptions();
+  options.shading = false;
+  options.camera.native_scale = 2;
+  const CameraCapture clean = renderCaptureCamera(room, library(), options, {2, 2, 1.5}, Eigen::Quaterniond::Identity());
+  ASSERT_EQ(clean.color.size(), cv::Size(256, 128));
+  ASSERT_EQ(clean.range_m.size(), cv::Size(256, 128));
+  CaptureOptions native = options;
+  native.camera.native_scale = 1;
+  const CameraCapture direct = renderCaptureCamera(room, library(), native, {2, 2, 1.5}, Eigen::Quaterniond::Identity());
+  EXPECT_NEAR(patchMean(clean.color, 20, 108, 0, 256, 1), patchMean(direct.color, 20, 108, 0, 256, 1), 1.0);
+  options.noise_sigma = 6.0;
+  const CameraCapture noisy = renderCaptureCamera(room, library(), options, {2, 2, 1.5}, Eigen::Quaterniond::Identity());
+  cv::Mat difference;
+  cv::subtract(noisy.color, clean.color, difference, cv::noArray(), CV_32FC3);
+  cv::Scalar mean, sigma;
+  cv::meanStdDev(difference.reshape(1), mean, sigma);
+  EXPECT_NEAR(sigma[0], 3.0, 0.3);
+}
+
 TEST(CaptureGenerator, APoorlyTexturedMaterialIsNearlyFlat) {
   const RoomModel room = testRoom();
   CaptureOptions options = smallOptions();
@@ -345,6 +457,19 @@ TEST(CaptureGenerator, BadInputsAreInputErrors) {
   RoomModel flat = testRoom();
   flat.size_m.z() = 0.0;
   expectInputError(render(flat, smallOptions()), {"size_m"});
+
+  const auto camera = [&](auto change) {
+    CaptureOptions o = smallOptions();
+    change(o.camera);
+    return render(room, o);
+  };
+  expectInputError(camera([](CameraImperfections& c) { c.vignetting = 1.0; }), {"camera.vignetting 1", "[0, 1)"});
+  expectInputError(camera([](CameraImperfections& c) { c.lens_offset_m = 0.2; }), {"camera.lens_offset_m 0.2"});
+  expectInputError(camera([](CameraImperfections& c) { c.bottom_exposure = 0.0; }), {"camera.bottom_exposure 0", "positive"});
+  expectInputError(camera([](CameraImperfections& c) { c.bottom_white_balance.y() = -1.0; }), {"camera.bottom_white_balance -1"});
+  expectInputError(camera([](CameraImperfections& c) { c.jpeg_quality = 101; }), {"camera.jpeg_quality 101", "1 to 100"});
+  expectInputError(camera([](CameraImperfections& c) { c.native_scale = 0; }), {"camera.native_scale 0", "1 to 4"});
+  expectInputError(camera([](CameraImperfections& c) { c.emitter_grey = std::nan(""); }), {"camera.emitter_grey"});
 }
 
 TEST(CaptureScene, ReadsTheCaptureSectionAndWritesItBack) {
@@ -371,6 +496,23 @@ capture: {baseline_m: 0.25, width: 512, seed: 7, shading: false, noise_sigma: 1.
   EXPECT_EQ(again.options.seed, 7u);
   EXPECT_EQ(again.options.low_texture_materials, scene.options.low_texture_materials);
   EXPECT_EQ(again.room.rig_position_m, scene.room.rig_position_m);
+
+  const std::string with_camera = text.substr(0, text.find("capture:")) +
+                                  "capture: {camera: {through_lenses: true, vignetting: 0.25, bottom_white_balance: [1.1, 1, 0.9], "
+                                  "jpeg_quality: 80, emitter_labels: [light, window]}}\n";
+  const CaptureScene camera = parseCaptureScene(with_camera);
+  EXPECT_TRUE(camera.options.camera.through_lenses);
+  EXPECT_EQ(camera.options.camera.vignetting, 0.25);
+  EXPECT_EQ(camera.options.camera.bottom_white_balance, Eigen::Vector3d(1.1, 1.0, 0.9));
+  const CaptureScene camera_again = parseCaptureScene(captureSceneToYaml(camera));
+  EXPECT_EQ(camera_again.options.camera.jpeg_quality, 80);
+  EXPECT_EQ(camera_again.options.camera.emitter_labels, (std::vector<std::string>{"light", "window"}));
+  EXPECT_EQ(camera_again.options.camera.bottom_white_balance, camera.options.camera.bottom_white_balance);
+  EXPECT_EQ(captureSceneToYaml(scene).find("camera:"), std::string::npos);  // an ideal camera writes no section
+  expectInputError([&] { parseCaptureScene(text.substr(0, text.find("capture:")) + "capture: {camera: {jpeg: 80}}\n"); },
+                   {"capture.camera.jpeg", "unknown key"});
+  expectInputError([&] { parseCaptureScene(text.substr(0, text.find("capture:")) + "capture: {camera: {jpeg_quality: 80.5}}\n"); },
+                   {"capture.camera.jpeg_quality", "whole number"});
 
   const std::string misspelt = text.substr(0, text.find("capture:")) + "capture: {baseline: 0.2}\n";
   expectInputError([&] { parseCaptureScene(misspelt); }, {"capture.baseline", "unknown key"});

@@ -200,6 +200,31 @@ TEST(RoomLayout, KitchenWithTwoPercentNoise) {
   EXPECT_TRUE(layout.model.objects.empty());
 }
 
+// A floor ranged four times as noisily as the rest (a dark carpet after JPEG): at the
+// calibrated 1 % no window holds it, so the fit searches again with wider ones, finds
+// it, says so, and fits the walls as before.
+TEST(RoomLayout, AFloorNoisierThanCalibratedIsFoundWithAWarning) {
+  const RoomModel truth = kitchen(17.0);
+  RoomScanOptions scan_options;
+  scan_options.range_noise_fraction = 0.01;
+  scan_options.seed = 8;
+  RoomScan scan = scanRoomModel(truth, scan_options);
+  std::mt19937 rng(8);
+  std::normal_distribution<float> noise(0.0f, 0.04f);
+  for (std::size_t i = 0; i < scan.cloud.points.size(); ++i) {
+    if (scan.face[i] == 0) scan.cloud.points[i].p *= 1.0f + noise(rng);
+  }
+  RoomLayoutOptions options = optionsFor(scan_options);
+  const RoomLayout layout = fitRoomLayout(scan.cloud, options);
+  expectRoomMatches(layout, truth, "KT yaw 17, floor 4 % noise");
+  ASSERT_FALSE(layout.warnings.empty());
+  EXPECT_NE(layout.warnings.front().find("depth noise: no floor at 1 % of the range"), std::string::npos) << layout.warnings.front();
+  options.noise_fraction_retries.clear();
+  expectInputError([&] { fitRoomLayout(scan.cloud, options); }, {"no floor plane below the rig"});
+  options.noise_fraction_retries = {0.5};
+  expectInputError([&] { fitRoomLayout(scan.cloud, options); }, {"noise_fraction_retries", "above 1"});
+}
+
 TEST(RoomLayout, KitchenRigYaw17) {
   const RoomModel truth = kitchen(17.0);
   RoomScanOptions scan_options;

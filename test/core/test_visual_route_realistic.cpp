@@ -12,6 +12,8 @@
 //   [ROOM_REVERB_MIN_CONFIDENCE=0.35] (the material fallback's threshold)
 //   [ROOM_REVERB_CAMERA=consumer] (consumerCamera: lenses, seams, exposure, JPEG, lights)
 //   [ROOM_REVERB_SAVE_PAIRS=DIR] (each room's two images as DIR/roomN_top.png, _bottom.png)
+//   [ROOM_REVERB_STEREO_STATS=1] (the stereo's range error by surface)
+//   [ROOM_REVERB_ROUTE_WITHOUT=exposure,noise,subpixel] (routeOptions)
 //   .ws/devel/lib/room_reverb/test_visual_route_realistic --gtest_filter='*Report*'
 #include <gtest/gtest.h>
 
@@ -52,8 +54,10 @@ struct RouteScore {
 // The stereo alone on the pair as rendered (no levelling): per floor, ceiling and walls,
 // the share of their pixels outside the polar caps with a range, the median range error
 // against the truth (its bias) and the median and 90th percentile of its size.
+const VisualRouteOptions& routeOptions();
+
 std::string stereoStats(const StereoCapture& pair) {
-  const SphericalStereoOptions options;
+  const SphericalStereoOptions& options = routeOptions().stereo;
   const SphericalDepth depth = computeSphericalDepth(pair.top.color, pair.bottom.color, kBaseline, options);
   const int h = depth.range_m.rows;
   const int cap = static_cast<int>(std::ceil(options.polar_cap_deg / 180.0 * h));
@@ -92,6 +96,14 @@ const VisualRouteOptions& routeOptions() {
   static const VisualRouteOptions options = [] {
     VisualRouteOptions o;
     loadDefaultMaterialModels(o);
+    // ROOM_REVERB_ROUTE_WITHOUT=exposure,noise,subpixel: the stereo without matching the
+    // cameras' exposures or without its sub-pixel refinement, the layout without its
+    // noisier retries, to measure what each gives.
+    const char* without_env = std::getenv("ROOM_REVERB_ROUTE_WITHOUT");
+    const std::string without = without_env != nullptr ? without_env : "";
+    if (without.find("exposure") != std::string::npos) o.stereo.match_exposure = false;
+    if (without.find("noise") != std::string::npos) o.layout.noise_fraction_retries.clear();
+    if (without.find("subpixel") != std::string::npos) o.stereo.subpixel_refinement = false;
     const char* threshold = std::getenv("ROOM_REVERB_MIN_CONFIDENCE");
     if (threshold != nullptr && *threshold != '\0') {
       auto families = std::make_shared<MaterialFamilyTable>(*o.families);
@@ -136,8 +148,9 @@ double between(std::uint64_t& state, double lo, double hi) { return lo + (hi - l
 // A consumer dual-fisheye camera pair as a user's capture has it, drawn for room `index`:
 // colour through two lenses 2 cm apart with 15-40 % vignetting and up to 7 % between them,
 // each camera on its own auto-exposure (the bottom within a third of a stop of the top)
-// and white balance (8 % per channel), JPEG at quality 70-95, ceiling panels and windows
-// glowing past white. No parameter of the route is chosen on these draws.
+// and white balance (8 % per channel), recorded at twice the capture's width with JPEG at
+// quality 70-95 and shrunk (a 4K live stream shrunk to 2048 px is 1.9 times; a Theta still
+// is 2.6-3.3 times), ceiling panels and windows glowing past white.
 CameraImperfections consumerCamera(int index) {
   std::uint64_t state = 0x9e3779b97f4a7c15ULL ^ static_cast<std::uint64_t>(index);
   CameraImperfections c;
@@ -149,17 +162,20 @@ CameraImperfections consumerCamera(int index) {
   c.bottom_exposure = c.top_exposure * std::pow(2.0, between(state, -1.0 / 3.0, 1.0 / 3.0));
   for (int i = 0; i < 3; ++i) c.bottom_white_balance[i] = between(state, 0.92, 1.08);
   c.jpeg_quality = static_cast<int>(between(state, 70.0, 95.0));
+  c.native_scale = 2;
   c.emitter_labels = {"light", "window"};
-  // ROOM_REVERB_CAMERA_WITHOUT=lenses,vignetting,exposure,jpeg,lights turns effects off, to
+  // ROOM_REVERB_CAMERA_WITHOUT=lenses,offset,vignetting,exposure,jpeg,native,lights turns effects off, to
   // measure what each costs.
   const char* without_env = std::getenv("ROOM_REVERB_CAMERA_WITHOUT");
   const std::string without = without_env != nullptr ? without_env : "";
   const auto off = [&](const char* name) { return without.find(name) != std::string::npos; };
   const CameraImperfections ideal;
   if (off("lenses")) c.through_lenses = false, c.lens_offset_m = 0.0;
+  if (off("offset")) c.lens_offset_m = 0.0;
   if (off("vignetting")) c.vignetting = 0.0, c.back_lens_gain = 1.0;
   if (off("exposure")) c.top_exposure = c.bottom_exposure = 1.0, c.bottom_white_balance = ideal.bottom_white_balance;
   if (off("jpeg")) c.jpeg_quality = 0;
+  if (off("native")) c.native_scale = 1;
   if (off("lights")) c.emitter_labels.clear();
   return c;
 }

@@ -57,6 +57,11 @@ struct CameraImperfections {
   // JPEG compression of each camera's images at this quality (OpenCV's encoder, 1..100),
   // after noise and quantisation; 0: none.
   int jpeg_quality = 0;
+  // The camera records its colour at native_scale times the capture's width (lenses,
+  // noise, JPEG all at that resolution) and the image is shrunk to the capture's width
+  // (pixel-area averaging), as a user shrinks a 5376-pixel Theta still to the route's
+  // 2048 (a scale of 2.6; a 4K live stream shrunk to 2048 is 1.9). 1..4.
+  int native_scale = 1;
   // Light sources: objects whose label is listed here glow with `emitter_grey` grey levels
   // (before exposure; above 255 they clip to a flat white, as light panels and windows
   // with daylight do in a room exposed for its walls).

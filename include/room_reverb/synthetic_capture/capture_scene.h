@@ -27,6 +27,7 @@
 //       bottom_exposure: 1.0
 //       bottom_white_balance: [1, 1, 1]   # bottom camera's R, G, B gains relative to the top
 //       jpeg_quality: 0               # 0: none; 1..100
+//       native_scale: 1               # recorded at this times the width, then shrunk (1..4)
 //       emitter_labels: [light, window]   # objects that glow (lamps, windows with daylight)
 //       emitter_grey: 400             # their brightness [grey levels], above 255 clips
 //

@@ -72,9 +72,10 @@ struct RoomLayoutOptions {
   // spread more).
   double range_noise_fraction = 0.01;
   // Depth noisier than that (compressed images, a poorer camera or matcher) spreads the
-  // floor into a layer no window of that width holds. With no floor found, the fit is
-  // tried again with the fraction multiplied by each of these in turn, and the first that
-  // finds one serves the whole fit (with a warning naming it). Empty: no retry.
+  // floor into a layer no window of that width holds. With no floor found, the floor and
+  // ceiling are searched again with the fraction multiplied by each of these in turn (the
+  // first that finds one serves, with a warning naming it; the walls keep the calibrated
+  // fraction). Empty: no retry.
   std::vector<double> noise_fraction_retries = {1.5, 2.0, 3.0};
   double noise_sigmas = 3.0;
   double min_face_margin_m = 0.06;

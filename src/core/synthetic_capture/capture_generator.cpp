@@ -4,6 +4,8 @@
 #include <cstring>
 #include <sstream>
 
+#include <opencv2/imgproc.hpp>
+
 #include "capture_camera_render.h"
 #include "capture_painter.h"
 #include "room_reverb/common/error.h"
@@ -38,6 +40,9 @@ void checkCamera(const CameraImperfections& c) {
   gain(c.top_exposure, "top_exposure");
   gain(c.bottom_exposure, "bottom_exposure");
   for (int i = 0; i < 3; ++i) gain(c.bottom_white_balance[i], "bottom_white_balance");
+  if (c.native_scale < 1 || c.native_scale > 4) {
+    throw InputError("capture camera.native_scale " + std::to_string(c.native_scale) + ": must be 1 to 4 (native width over the capture's)");
+  }
   if (c.jpeg_quality < 0 || c.jpeg_quality > 100) {
     throw InputError("capture camera.jpeg_quality " + std::to_string(c.jpeg_quality) + ": must be 0 (no compression) or 1 to 100");
   }
@@ -113,6 +118,14 @@ cv::Mat recorded(const cv::Mat& light, const CaptureOptions& options, const Expo
   return options.camera.jpeg_quality > 0 ? jpegRoundTrip(image, options.camera.jpeg_quality) : image;
 }
 
+// An image (2:1) shrunk to `width` by pixel-area averaging; unchanged at that width.
+cv::Mat shrunk(const cv::Mat& image, int width) {
+  if (image.cols == width) return image;
+  cv::Mat out;
+  cv::resize(image, out, cv::Size(width, width / 2), 0.0, 0.0, cv::INTER_AREA);
+  return out;
+}
+
 CameraCapture renderCamera(const CapturePainter& painter, const CaptureOptions& options, const Eigen::Vector3d& position,
                            const Eigen::Quaterniond& rotation, const Exposure& exposure, std::uint64_t noise_stream) {
   CameraCapture camera;
@@ -120,20 +133,27 @@ CameraCapture renderCamera(const CapturePainter& painter, const CaptureOptions& 
   camera.rotation = rotation;
   const Eigen::Matrix3d camera_to_room = rotation.toRotationMatrix();
   const CameraImperfections& c = options.camera;
+  // The colour at the camera's own resolution, the truth at the capture's.
+  const int native_width = c.native_scale * options.width;
+  const bool colour_with_truth = !c.through_lenses && c.native_scale == 1;
   EquirectRender render =
-      renderEquirect(painter, position, camera_to_room, options.width, options.supersampling, options.threads, !c.through_lenses);
+      renderEquirect(painter, position, camera_to_room, options.width, options.supersampling, options.threads, colour_with_truth);
   camera.range_m = render.range_m;
   camera.material_id = render.material_id;
   camera.object_id = render.object_id;
+  cv::Mat light = render.color;
   cv::Mat fisheye;
   if (options.fisheye || c.through_lenses) {
-    const DualFisheyeCalibration calibration = scaledDualFisheye(options.fisheye_calibration, options.width / 2);
+    const DualFisheyeCalibration calibration = scaledDualFisheye(options.fisheye_calibration, native_width / 2);
     const LensEffects lens{c.lens_offset_m, c.vignetting, c.back_lens_gain};
     fisheye = renderDualFisheye(painter, position, camera_to_room, calibration, options.supersampling, options.threads, lens);
-    if (c.through_lenses) render.color = fisheyeToEquirect(fisheye, calibration, options.width);
+    if (c.through_lenses) light = fisheyeToEquirect(fisheye, calibration, native_width);
   }
-  camera.color = recorded(render.color, options, exposure, 2 * noise_stream);
-  if (options.fisheye) camera.fisheye = recorded(fisheye, options, exposure, 2 * noise_stream + 1);
+  if (light.empty()) {
+    light = renderEquirect(painter, position, camera_to_room, native_width, options.supersampling, options.threads).color;
+  }
+  camera.color = shrunk(recorded(light, options, exposure, 2 * noise_stream), options.width);
+  if (options.fisheye) camera.fisheye = shrunk(recorded(fisheye, options, exposure, 2 * noise_stream + 1), options.width);
   return camera;
 }
 

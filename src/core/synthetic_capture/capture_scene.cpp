@@ -88,13 +88,14 @@ class CaptureSectionReader : public YamlReader {
   void readCamera(const YAML::Node& node, CameraImperfections& c) const {
     requireMap(node, "capture.camera");
     static const char* const kKeys[] = {"through_lenses", "lens_offset_m", "vignetting", "back_lens_gain", "top_exposure",
-                                        "bottom_exposure", "bottom_white_balance", "jpeg_quality", "emitter_labels", "emitter_grey"};
+                                        "bottom_exposure", "bottom_white_balance", "jpeg_quality", "native_scale", "emitter_labels",
+                                        "emitter_grey"};
     for (const auto& entry : node) {
       const std::string key = entry.first.as<std::string>();
       if (std::find(std::begin(kKeys), std::end(kKeys), key) == std::end(kKeys)) {
         fail(entry.first, "capture.camera." + key,
              "unknown key (use through_lenses, lens_offset_m, vignetting, back_lens_gain, top_exposure, bottom_exposure, "
-             "bottom_white_balance, jpeg_quality, emitter_labels, emitter_grey)");
+             "bottom_white_balance, jpeg_quality, native_scale, emitter_labels, emitter_grey)");
       }
     }
     c.through_lenses = flagOr(node, "through_lenses", "capture.camera.through_lenses", c.through_lenses);
@@ -111,6 +112,11 @@ class CaptureSectionReader : public YamlReader {
       fail(node["jpeg_quality"], "capture.camera.jpeg_quality", "must be a whole number, 0 (none) or 1 to 100");
     }
     c.jpeg_quality = static_cast<int>(quality);
+    const double scale = numberOr(node, "native_scale", "capture.camera.native_scale", c.native_scale);
+    if (scale != std::floor(scale) || scale < 1.0 || scale > 4.0) {
+      fail(node["native_scale"], "capture.camera.native_scale", "must be a whole number from 1 to 4");
+    }
+    c.native_scale = static_cast<int>(scale);
     const YAML::Node labels = node["emitter_labels"];
     if (labels.IsDefined() && !labels.IsNull()) {
       if (!labels.IsSequence()) fail(labels, "capture.camera.emitter_labels", "must be a list of object labels");
@@ -215,7 +221,8 @@ std::string captureSceneToYaml(const CaptureScene& scene, const StereoCapture* r
   const bool imperfect = c.through_lenses || c.lens_offset_m != ideal.lens_offset_m || c.vignetting != ideal.vignetting ||
                          c.back_lens_gain != ideal.back_lens_gain || c.top_exposure != ideal.top_exposure ||
                          c.bottom_exposure != ideal.bottom_exposure || c.bottom_white_balance != ideal.bottom_white_balance ||
-                         c.jpeg_quality != ideal.jpeg_quality || !c.emitter_labels.empty();
+                         c.jpeg_quality != ideal.jpeg_quality || c.native_scale != ideal.native_scale ||
+                         !c.emitter_labels.empty();
   if (imperfect) {
     out << "  camera:  # what the camera does to the light (CameraImperfections)\n"
         << "    through_lenses: " << (c.through_lenses ? "true" : "false") << "\n"
@@ -226,6 +233,7 @@ std::string captureSceneToYaml(const CaptureScene& scene, const StereoCapture* r
         << "    bottom_exposure: " << number(c.bottom_exposure) << "\n"
         << "    bottom_white_balance: " << vectorText(c.bottom_white_balance) << "\n"
         << "    jpeg_quality: " << c.jpeg_quality << "\n"
+        << "    native_scale: " << c.native_scale << "\n"
         << "    emitter_labels: " << nameList(c.emitter_labels) << "\n"
         << "    emitter_grey: " << number(c.emitter_grey) << "\n";
   }
