@@ -14,11 +14,13 @@
 //   [ROOM_REVERB_CAMERA=consumer] (consumerCamera: lenses, seams, exposure, JPEG, lights)
 //   [ROOM_REVERB_SAVE_PAIRS=DIR] (each room's two images as DIR/roomN_top.png, _bottom.png)
 //   [ROOM_REVERB_STEREO_STATS=1] (the stereo's range error by surface)
+//   [ROOM_REVERB_PRINT_FACES=1] (where each face of the box lies against the truth)
 //   [ROOM_REVERB_ROUTE_WITHOUT=exposure,noise,subpixel] (routeOptions)
 //   .ws/devel/lib/room_reverb/test_visual_route_realistic --gtest_filter='*Report*'
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -46,6 +48,7 @@ struct RouteScore {
   bool refused = false;
   std::string refusal;
   Eigen::Vector3d error_pct = Eigen::Vector3d::Zero();  // (fitted - true) / true size
+  std::array<double, 6> face_error_m{};                  // each truth face's fitted place, outwards positive
   double material_area_share = 0.0;                      // box area in the right family
   std::string confusions;                                // "truth->fitted" of wrong faces
   std::vector<std::string> warnings;                     // the levelling's and the layout's
@@ -227,6 +230,14 @@ RouteScore scoreRoom(const ClutteredRoom& room, int index, const std::string& ph
                                          route.layout.room_from_rig.linear().transpose();
   const Eigen::Vector3d fitted_size = (truth_from_fit * fitted.size_m).cwiseAbs();
   score.error_pct = 100.0 * (fitted_size - room.truth.size_m).cwiseQuotient(room.truth.size_m);
+  // The fitted box in the truth's room frame, through the rig both share.
+  const auto toTruth = [&](const Eigen::Vector3d& p) {
+    return Eigen::Vector3d(room.truth.rig_position_m + truth_from_fit * (p - fitted.rig_position_m));
+  };
+  const Eigen::Vector3d a = toTruth(Eigen::Vector3d::Zero()), b = toTruth(fitted.size_m);
+  const Eigen::Vector3d lo = a.cwiseMin(b), hi = a.cwiseMax(b);
+  score.face_error_m = {-lo.z(), hi.z() - room.truth.size_m.z(), -lo.x(), hi.x() - room.truth.size_m.x(),
+                        -lo.y(), hi.y() - room.truth.size_m.y()};
   double right = 0.0, total = 0.0;
   for (std::size_t k = 0; k < 6; ++k) {
     const auto truth_face = room.truth.surfaces.find(kRoomSurfaceNames[k]);
@@ -257,6 +268,11 @@ void print(const ClutteredRoom& room, const RouteScore& s) {
   std::printf("[ measured ] %-14s box error [%%] %+5.2f %+5.2f %+5.2f, materials right over %5.1f %% of the box%s%s\n",
               room.name.c_str(), s.error_pct.x(), s.error_pct.y(), s.error_pct.z(), 100.0 * s.material_area_share,
               s.confusions.empty() ? "" : ": ", s.confusions.c_str());
+  if (const char* faces = std::getenv("ROOM_REVERB_PRINT_FACES"); faces != nullptr && *faces == '1') {
+    std::printf("             faces outwards [cm]:");
+    for (std::size_t k = 0; k < 6; ++k) std::printf(" %s %+.1f", kRoomSurfaceNames[k], 100.0 * s.face_error_m[k]);
+    std::printf("\n");
+  }
   for (const std::string& w : s.warnings) std::printf("             warning: %s\n", w.c_str());
 }
 
