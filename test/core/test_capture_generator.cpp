@@ -46,6 +46,20 @@ CaptureOptions smallOptions(int width = 256) {
   return options;
 }
 
+// One camera at (2, 2, 1.5), facing +x.
+CameraCapture cameraAt(const RoomModel& room, const CaptureOptions& options) {
+  return renderCaptureCamera(room, library(), options, {2, 2, 1.5}, Eigen::Quaterniond::Identity());
+}
+
+// The standard deviation of a noisy render against the same render without noise.
+double noiseSigma(const CameraCapture& noisy, const CameraCapture& clean) {
+  cv::Mat difference;
+  cv::subtract(noisy.color, clean.color, difference, cv::noArray(), CV_32FC3);
+  cv::Scalar mean, sigma;
+  cv::meanStdDev(difference.reshape(1), mean, sigma);
+  return sigma[0];
+}
+
 // Distance along a unit ray from inside the box to the plane of box face `face`
 // (kRoomSurfaceNames order), or inf when the ray does not head towards it.
 double distanceToFace(const Eigen::Vector3d& size, int face, const Eigen::Vector3d& origin, const Eigen::Vector3d& d) {
@@ -235,9 +249,9 @@ TEST(CaptureGenerator, SensorNoiseHasTheRequestedSigma) {
   const RoomModel room = testRoom();
   CaptureOptions options = smallOptions();
   options.shading = false;
-  const CameraCapture clean = renderCaptureCamera(room, library(), options, {2, 2, 1.5}, Eigen::Quaterniond::Identity());
+  const CameraCapture clean = cameraAt(room, options);
   options.noise_sigma = 6.0;
-  const CameraCapture noisy = renderCaptureCamera(room, library(), options, {2, 2, 1.5}, Eigen::Quaterniond::Identity());
+  const CameraCapture noisy = cameraAt(room, options);
   cv::Mat difference;
   cv::subtract(noisy.color, clean.color, difference, cv::noArray(), CV_32FC3);
   cv::Scalar mean, sigma;
@@ -278,10 +292,10 @@ TEST(CaptureGenerator, LensesVignetteTowardsTheSeamsAndTheBackLensHasItsOwnGain)
   CaptureOptions options = smallOptions();
   options.shading = false;
   options.camera.through_lenses = true;
-  const CameraCapture plain = renderCaptureCamera(room, library(), options, {2, 2, 1.5}, Eigen::Quaterniond::Identity());
+  const CameraCapture plain = cameraAt(room, options);
   options.camera.vignetting = 0.3;
   options.camera.back_lens_gain = 0.8;
-  const CameraCapture lensed = renderCaptureCamera(room, library(), options, {2, 2, 1.5}, Eigen::Quaterniond::Identity());
+  const CameraCapture lensed = cameraAt(room, options);
   // Columns of a 256-wide image: azimuth 0 (the front lens's axis) at 128, 180 deg (the
   // back lens's axis) at 0 and 255, the seams at 64 and 192. Rows 60-68 straddle the horizon.
   const auto ratio = [&](int c0, int c1) {
@@ -296,7 +310,7 @@ TEST(CaptureGenerator, LensesVignetteTowardsTheSeamsAndTheBackLensHasItsOwnGain)
   EXPECT_NEAR(ratio(78, 82), 1.0 - 0.3 * std::pow(67.0 / 90.0, 2.0), 0.01);
   // Without the effects, the lenses' image is the direct render resampled.
   options.camera = CameraImperfections{};
-  const CameraCapture direct = renderCaptureCamera(room, library(), options, {2, 2, 1.5}, Eigen::Quaterniond::Identity());
+  const CameraCapture direct = cameraAt(room, options);
   EXPECT_NEAR(patchMean(plain.color, 20, 108, 0, 256, 1), patchMean(direct.color, 20, 108, 0, 256, 1), 1.0);
 }
 
@@ -304,9 +318,9 @@ TEST(CaptureGenerator, LightsGlowPastWhiteAndJpegCostsWhatItsQualitySays) {
   RoomModel room = testRoom();
   room.objects.push_back({"light", "metal", {2.0, 1.5, 2.8}, {0.6, 0.6, 0.06}, 0.0, 1.0});
   CaptureOptions options = smallOptions();
-  const CameraCapture dark = renderCaptureCamera(room, library(), options, {2, 2, 1.5}, Eigen::Quaterniond::Identity());
+  const CameraCapture dark = cameraAt(room, options);
   options.camera.emitter_labels = {"light"};
-  const CameraCapture lit = renderCaptureCamera(room, library(), options, {2, 2, 1.5}, Eigen::Quaterniond::Identity());
+  const CameraCapture lit = cameraAt(room, options);
   int light_pixels = 0, white = 0, white_before = 0;
   for (int r = 0; r < lit.object_id.rows; ++r) {
     for (int c = 0; c < lit.object_id.cols; ++c) {
@@ -324,7 +338,7 @@ TEST(CaptureGenerator, LightsGlowPastWhiteAndJpegCostsWhatItsQualitySays) {
   const auto meanDifference = [&](int quality) {
     CaptureOptions o = smallOptions();
     o.camera.jpeg_quality = quality;
-    const CameraCapture c = renderCaptureCamera(room, library(), o, {2, 2, 1.5}, Eigen::Quaterniond::Identity());
+    const CameraCapture c = cameraAt(room, o);
     cv::Mat diff;
     cv::absdiff(c.color, dark.color, diff);
     return cv::mean(diff.reshape(1))[0];
@@ -342,20 +356,15 @@ TEST(CaptureGenerator, ACameraRecordingAtTwiceTheWidthIsShrunkToIt) {
   CaptureOptions options = smallOptions();
   options.shading = false;
   options.camera.native_scale = 2;
-  const CameraCapture clean = renderCaptureCamera(room, library(), options, {2, 2, 1.5}, Eigen::Quaterniond::Identity());
+  const CameraCapture clean = cameraAt(room, options);
   ASSERT_EQ(clean.color.size(), cv::Size(256, 128));
   ASSERT_EQ(clean.range_m.size(), cv::Size(256, 128));
   CaptureOptions native = options;
   native.camera.native_scale = 1;
-  const CameraCapture direct = renderCaptureCamera(room, library(), native, {2, 2, 1.5}, Eigen::Quaterniond::Identity());
+  const CameraCapture direct = cameraAt(room, native);
   EXPECT_NEAR(patchMean(clean.color, 20, 108, 0, 256, 1), patchMean(direct.color, 20, 108, 0, 256, 1), 1.0);
   options.noise_sigma = 6.0;
-  const CameraCapture noisy = renderCaptureCamera(room, library(), options, {2, 2, 1.5}, Eigen::Quaterniond::Identity());
-  cv::Mat difference;
-  cv::subtract(noisy.color, clean.color, difference, cv::noArray(), CV_32FC3);
-  cv::Scalar mean, sigma;
-  cv::meanStdDev(difference.reshape(1), mean, sigma);
-  EXPECT_NEAR(sigma[0], 3.0, 0.3);
+  EXPECT_NEAR(noiseSigma(cameraAt(room, options), clean), 3.0, 0.3);
 }
 
 TEST(CaptureGenerator, APoorlyTexturedMaterialIsNearlyFlat) {
@@ -384,7 +393,7 @@ TEST(CaptureGenerator, SupersamplingSmoothsEdges) {
   options.shading = false;
   auto roughness = [&](int n) {
     options.supersampling = n;
-    const CameraCapture c = renderCaptureCamera(room, library(), options, {2, 2, 1.5}, Eigen::Quaterniond::Identity());
+    const CameraCapture c = cameraAt(room, options);
     cv::Mat laplacian;
     cv::Laplacian(c.color, laplacian, CV_32F);
     return cv::norm(laplacian, cv::NORM_L1);
@@ -415,7 +424,7 @@ TEST(CaptureGenerator, FamiliesHaveDistinctColours) {
   for (const char* material : examples) {
     RoomModel room = testRoom();
     room.surfaces["floor"].material = material;
-    const CameraCapture c = renderCaptureCamera(room, library(), options, {2, 2, 1.5}, Eigen::Quaterniond::Identity());
+    const CameraCapture c = cameraAt(room, options);
     means.push_back(cv::mean(c.color, c.object_id == 0));
   }
   for (std::size_t i = 0; i < means.size(); ++i) {
