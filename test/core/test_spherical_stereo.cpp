@@ -128,8 +128,8 @@ TEST(SphericalStereo, BadInput) {
 }
 
 // Two cameras on auto-exposure: the bottom one a third of a stop darker and white-balanced
-// warmer. The matcher's pairs carry its grey levels onto the top's before the sub-pixel
-// refinement, which then ranges the pair as it ranges one exposed alike.
+// warmer. The matcher's pairs say how the exposures differ; matched again with the bottom
+// image carried onto the top's, the pair is ranged as one exposed alike.
 TEST(SphericalStereo, CamerasExposedOnTheirOwnRangeAsOneExposedAlike) {
   CaptureScene scene = loadCaptureScene(std::string(ROOM_REVERB_SOURCE_DIR) + "/data/captures/mr.yaml");
   scene.options.width = 1024;
@@ -145,6 +145,14 @@ TEST(SphericalStereo, CamerasExposedOnTheirOwnRangeAsOneExposedAlike) {
   options.match_exposure = false;
   const DepthScore unmatched = score(computeSphericalDepth(apart.top.color, apart.bottom.color, 0.2, options),
                                      apart.top.range_m, options.polar_cap_deg);
+  // A pair exposed alike is matched once, as without the option: the same ranges.
+  const SphericalDepth once = computeSphericalDepth(alike.top.color, alike.bottom.color, 0.2, options);
+  options.match_exposure = true;
+  const SphericalDepth checked = computeSphericalDepth(alike.top.color, alike.bottom.color, 0.2, options);
+  EXPECT_EQ(cv::norm(once.valid, checked.valid, cv::NORM_INF), 0.0);
+  cv::Mat a, b;
+  once.range_m.copyTo(a, once.valid), checked.range_m.copyTo(b, checked.valid);
+  EXPECT_EQ(cv::norm(a, b, cv::NORM_INF), 0.0);
   std::cout << "MR 1024x512 valid, median range error: exposed alike " << 100.0 * reference.valid_fraction << " %, "
             << 100.0 * reference.median << " %; bottom 1/3 stop darker " << 100.0 * matched.valid_fraction << " %, "
             << 100.0 * matched.median << " % (without matching the exposure " << 100.0 * unmatched.valid_fraction << " %, "

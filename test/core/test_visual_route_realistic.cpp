@@ -78,6 +78,32 @@ std::string stereoStats(const StereoCapture& pair) {
     }
   }
   std::string out;
+  // The walls' bias by true range.
+  {
+    const double edges[] = {0.0, 1.5, 2.5, 4.0, 6.0, 1e9};
+    std::vector<double> by_range[5];
+    for (int r = cap; r < h - cap; ++r) {
+      for (int c = 0; c < depth.range_m.cols; ++c) {
+        const std::uint16_t id = pair.top.object_id.at<std::uint16_t>(r, c);
+        if (id < 2 || id >= kCaptureFirstObjectId) continue;
+        const float got = depth.range_m.at<float>(r, c), want = pair.top.range_m.at<float>(r, c);
+        if (!std::isfinite(got) || !std::isfinite(want)) continue;
+        for (int k = 0; k < 5; ++k) {
+          if (want >= edges[k] && want < edges[k + 1]) by_range[k].push_back(100.0 * (got - want) / want);
+        }
+      }
+    }
+    out += "walls' bias by range:";
+    for (int k = 0; k < 5; ++k) {
+      std::vector<double>& e = by_range[k];
+      if (e.size() < 100) continue;
+      std::nth_element(e.begin(), e.begin() + static_cast<std::ptrdiff_t>(e.size() / 2), e.end());
+      char part[64];
+      std::snprintf(part, sizeof part, " %.1f-%.1f m %+.2f %%", edges[k], std::min(edges[k + 1], 99.0), e[e.size() / 2]);
+      out += part;
+    }
+    out += "; ";
+  }
   const char* names[3] = {"floor", "ceiling", "walls"};
   for (int k = 0; k < 3; ++k) {
     std::vector<double>& e = errors[k];
@@ -87,7 +113,7 @@ std::string stereoStats(const StereoCapture& pair) {
     std::sort(e.begin(), e.end());
     char line[160];
     std::snprintf(line, sizeof line, "%s%s valid %.0f %% error median %+.2f %%, |error| median %.2f %% p90 %.2f %%",
-                  out.empty() ? "" : "; ", names[k], pixels[k] > 0 ? 100.0 * e.size() / pixels[k] : 0.0, bias,
+                  k == 0 ? "" : "; ", names[k], pixels[k] > 0 ? 100.0 * e.size() / pixels[k] : 0.0, bias,
                   e.empty() ? 0.0 : e[e.size() / 2], e.empty() ? 0.0 : e[e.size() * 9 / 10]);
     out += line;
   }

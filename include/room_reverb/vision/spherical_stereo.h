@@ -17,7 +17,8 @@
 // theta_t), so the disparity is positive.
 //
 // Around the matcher:
-//   - exposure: the bottom image's grey levels matched to the top's (match_exposure);
+//   - exposure: the bottom image's grey levels carried onto the top's where the cameras
+//     were exposed differently (match_exposure);
 //   - the seam: each transposed image is padded with the columns of the other side of
 //     +-180 degrees, so the matcher's paths run across it;
 //   - the poles: a row of the transposed image is a half great circle from the zenith to
@@ -59,10 +60,11 @@ struct SphericalStereoOptions {
   bool subpixel_refinement = true;
   int refinement_half_window_px = 3;  // n
   int threads = 0;                    // rows of the refinement and conversion (0: all cores)
-  // Carry the bottom image's grey levels onto the top's (per channel, affine: before
-  // matching from the images' quantiles, before the refinement from the pixels the matcher
-  // paired; vision/photometric_match.h), so that two cameras exposed and white-balanced
-  // on their own neither lose matches nor bias the disparities.
+  // Where the pixels the matcher paired show the two cameras exposed differently, carry
+  // the bottom image's grey levels onto the top's (per channel, a gain and an offset:
+  // vision/photometric_match.h) and match again, so that two cameras exposed and
+  // white-balanced on their own neither lose matches nor bias the disparities. A pair
+  // exposed alike is matched once.
   bool match_exposure = true;
   // Hole filling.
   bool fill_holes = true;

@@ -1,7 +1,6 @@
 #include "photometric_match.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -30,53 +29,10 @@ Line leastSquares(const std::vector<float>& x, const std::vector<float>& y, cons
   return line;
 }
 
-// Cumulative histogram of one channel over the rows [first, last), without 0 and 255.
-std::array<double, 256> cumulative(const cv::Mat& image, int channel, int first, int last) {
-  std::array<double, 256> histogram{};
-  const int channels = image.channels();
-  for (int r = first; r < last; ++r) {
-    const std::uint8_t* row = image.ptr<std::uint8_t>(r);
-    for (int c = 0; c < image.cols; ++c) histogram[row[c * channels + channel]] += 1.0;
-  }
-  histogram[0] = histogram[255] = 0.0;
-  for (int v = 1; v < 256; ++v) histogram[v] += histogram[v - 1];
-  return histogram;
-}
-
-// The grey level below which a share q of the counted pixels lie (linear within a level).
-float quantile(const std::array<double, 256>& cdf, double q) {
-  const double target = q * cdf[255];
-  for (int v = 1; v < 256; ++v) {
-    if (cdf[v] >= target) {
-      const double below = cdf[v - 1], step = cdf[v] - below;
-      return static_cast<float>(step > 0.0 ? v - 0.5 + (target - below) / step : v);
-    }
-  }
-  return 255.0f;
-}
-
 // A map that inverts or crushes the image is no exposure difference.
 bool plausible(const Line& line) { return line.ok && line.gain > 0.25 && line.gain < 4.0; }
 
 }  // namespace
-
-PhotometricMap photometricMapFromQuantiles(const cv::Mat& top, const cv::Mat& bottom, double polar_cap_deg) {
-  CV_Assert(top.size() == bottom.size() && top.type() == bottom.type() && top.depth() == CV_8U);
-  PhotometricMap map;
-  const int cap = static_cast<int>(std::ceil(polar_cap_deg / 180.0 * top.rows));
-  const int first = std::min(cap, top.rows / 2), last = std::max(top.rows - cap, first + 1);
-  for (int ch = 0; ch < top.channels() && ch < 3; ++ch) {
-    const auto a = cumulative(top, ch, first, last), b = cumulative(bottom, ch, first, last);
-    if (a[255] < 200.0 || b[255] < 200.0) continue;
-    std::vector<float> x, y;
-    for (int k = 2; k <= 98; ++k) x.push_back(quantile(b, k / 100.0)), y.push_back(quantile(a, k / 100.0));
-    const Line line = leastSquares(x, y, std::vector<char>(x.size(), 1), 10.0);
-    if (!plausible(line)) continue;
-    map.gain[ch] = line.gain;
-    map.offset[ch] = line.offset;
-  }
-  return map;
-}
 
 PhotometricMap photometricMapFromMatches(const cv::Mat& top, const cv::Mat& bottom, const cv::Mat& disparity_px, int step) {
   CV_Assert(top.size() == bottom.size() && top.type() == bottom.type() && top.depth() == CV_8U &&
@@ -119,6 +75,14 @@ PhotometricMap photometricMapFromMatches(const cv::Mat& top, const cv::Mat& bott
     map.offset[ch] = line.offset;
   }
   return map;
+}
+
+double largestLevelChange(const PhotometricMap& map) {
+  double largest = 0.0;
+  for (int ch = 0; ch < 3; ++ch) {
+    for (const double level : {32.0, 224.0}) largest = std::max(largest, std::abs(map.gain[ch] * level + map.offset[ch] - level));
+  }
+  return largest;
 }
 
 cv::Mat applyPhotometricMap(const cv::Mat& bottom, const PhotometricMap& map) {

@@ -147,17 +147,13 @@ SphericalDepth computeSphericalDepth(const cv::Mat& top, const cv::Mat& bottom, 
   const int search = std::max(16, 16 * static_cast<int>(std::ceil(gamma_max / pixel_rad / 16.0)));
 
   const cv::Mat left = transposedWithPadding(top, search, o.seam_padding_px);
-  const cv::Mat right = transposedWithPadding(
-      o.match_exposure ? applyPhotometricMap(bottom, photometricMapFromQuantiles(top, bottom, o.polar_cap_deg)) : bottom, search,
-      o.seam_padding_px);
+  cv::Mat right = transposedWithPadding(bottom, search, o.seam_padding_px);
   const int channels = top.channels();
   const int area = o.block_size * o.block_size;
   cv::Ptr<cv::StereoSGBM> matcher = cv::StereoSGBM::create(
       0, search, o.block_size, o.p1_per_channel * channels * area, o.p2_per_channel * channels * area,
       o.disp12_max_diff, o.pre_filter_cap, o.uniqueness_ratio, o.speckle_window_size, o.speckle_range,
       o.full_dp ? cv::StereoSGBM::MODE_HH : cv::StereoSGBM::MODE_SGBM_3WAY);
-  cv::Mat disparity16;
-  matcher->compute(left, right, disparity16);
 
   SphericalDepth depth;
   depth.disparity_search_px = search;
@@ -173,24 +169,35 @@ SphericalDepth computeSphericalDepth(const cv::Mat& top, const cv::Mat& bottom, 
   }
   // The matcher's disparities on the top image's grid [px], NaN where it found none
   // (negative: no match; 0: at infinity) and in the polar caps.
-  cv::Mat matched(h, w, CV_32FC1, cv::Scalar(kNaN));
-  for (int v = 0; v < h; ++v) {
-    if (cap_mask.at<std::uint8_t>(v, 0)) continue;
-    float* row = matched.ptr<float>(v);
-    for (int u = 0; u < w; ++u) {
-      const short d16 = disparity16.at<short>(u + o.seam_padding_px, v + search);
-      if (d16 > 0) row[u] = static_cast<float>(d16 / 16.0);
+  const auto match = [&] {
+    cv::Mat disparity16;
+    matcher->compute(left, right, disparity16);
+    cv::Mat matched(h, w, CV_32FC1, cv::Scalar(kNaN));
+    for (int v = 0; v < h; ++v) {
+      if (cap_mask.at<std::uint8_t>(v, 0)) continue;
+      float* row = matched.ptr<float>(v);
+      for (int u = 0; u < w; ++u) {
+        const short d16 = disparity16.at<short>(u + o.seam_padding_px, v + search);
+        if (d16 > 0) row[u] = static_cast<float>(d16 / 16.0);
+      }
+    }
+    return matched;
+  };
+  cv::Mat matched = match();
+  if (o.match_exposure) {
+    // The cameras' exposures from the pixels the matcher paired. Where they differ, the
+    // pair is matched again with the bottom image carried onto the top's, and the
+    // refinement compares the carried grey levels.
+    const PhotometricMap map = photometricMapFromMatches(top, bottom, matched);
+    if (largestLevelChange(map) > kExposureDifference) {
+      right = transposedWithPadding(applyPhotometricMap(bottom, map), search, o.seam_padding_px);
+      matched = match();
     }
   }
   stereo_detail::EpipolarImage left_epipolar, right_epipolar;
   if (o.subpixel_refinement) {
     left_epipolar = stereo_detail::epipolarImage(left);
-    // The refinement compares grey levels: the bottom camera's exposure and white balance
-    // carried onto the top's first, from the pixels the matcher paired.
-    right_epipolar = stereo_detail::epipolarImage(
-        o.match_exposure ? transposedWithPadding(applyPhotometricMap(bottom, photometricMapFromMatches(top, bottom, matched)), search,
-                                                 o.seam_padding_px)
-                         : right);
+    right_epipolar = stereo_detail::epipolarImage(right);
   }
   // Rows are independent: each writes only its own row of the outputs.
   forEachRow(h, o.threads, [&](int v) {
