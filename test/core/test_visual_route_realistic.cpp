@@ -43,12 +43,14 @@ using namespace room_reverb::core;
 namespace {
 
 constexpr double kBaseline = 0.2;
+constexpr double kPi = 3.14159265358979323846;
 
 struct RouteScore {
   bool refused = false;
   std::string refusal;
   Eigen::Vector3d error_pct = Eigen::Vector3d::Zero();  // (fitted - true) / true size
   std::array<double, 6> face_error_m{};                  // each truth face's fitted place, outwards positive
+  double yaw_error_deg = 0.0;                            // the fitted walls' turn against the true ones
   double material_area_share = 0.0;                      // box area in the right family
   std::string confusions;                                // "truth->fitted" of wrong faces
   std::vector<std::string> warnings;                     // the levelling's and the layout's
@@ -250,12 +252,20 @@ RouteScore scoreRoom(const ClutteredRoom& room, int index, const std::string& ph
   }
   const RoomModel& fitted = route.layout.model;
   score.warnings.insert(score.warnings.end(), route.layout.warnings.begin(), route.layout.warnings.end());
-  // Sizes along the truth's axes: a fit may swap x and y. The fit's rig frame is the
-  // camera's turned by the levelling's image rotation.
+  // The fit's rig frame is the camera's turned by the levelling's image rotation.
   const Eigen::Matrix3d truth_from_fit = room.truth.rig_rotation.toRotationMatrix() * image_rotation.transpose() *
                                          route.layout.room_from_rig.linear().transpose();
-  const Eigen::Vector3d fitted_size = (truth_from_fit * fitted.size_m).cwiseAbs();
+  // The box's own sizes, each against the truth's axis nearest to it (a fit may swap x and
+  // y); its turn against the truth is the yaw error, not a change of size.
+  Eigen::Vector3d fitted_size = Eigen::Vector3d::Zero();
+  for (int j = 0; j < 3; ++j) {
+    int i = 0;
+    truth_from_fit.col(j).cwiseAbs().maxCoeff(&i);
+    fitted_size[i] = fitted.size_m[j];
+  }
   score.error_pct = 100.0 * (fitted_size - room.truth.size_m).cwiseQuotient(room.truth.size_m);
+  const Eigen::Vector3d fitted_x = truth_from_fit.col(0);
+  score.yaw_error_deg = std::remainder(std::atan2(fitted_x.y(), fitted_x.x()), 0.5 * kPi) * 180.0 / kPi;
   // The fitted box in the truth's room frame, through the rig both share.
   const auto toTruth = [&](const Eigen::Vector3d& p) {
     return Eigen::Vector3d(room.truth.rig_position_m + truth_from_fit * (p - fitted.rig_position_m));
@@ -291,8 +301,8 @@ void print(const ClutteredRoom& room, const RouteScore& s) {
     std::printf("[ measured ] %-14s refused: %s\n", room.name.c_str(), s.refusal.c_str());
     return;
   }
-  std::printf("[ measured ] %-14s box error [%%] %+5.2f %+5.2f %+5.2f, materials right over %5.1f %% of the box%s%s\n",
-              room.name.c_str(), s.error_pct.x(), s.error_pct.y(), s.error_pct.z(), 100.0 * s.material_area_share,
+  std::printf("[ measured ] %-14s box error [%%] %+5.2f %+5.2f %+5.2f, yaw %+5.2f deg, materials right over %5.1f %% of the box%s%s\n",
+              room.name.c_str(), s.error_pct.x(), s.error_pct.y(), s.error_pct.z(), s.yaw_error_deg, 100.0 * s.material_area_share,
               s.confusions.empty() ? "" : ": ", s.confusions.c_str());
   if (const char* faces = std::getenv("ROOM_REVERB_PRINT_FACES"); faces != nullptr && *faces == '1') {
     std::printf("             faces outwards [cm]:");
@@ -349,7 +359,7 @@ TEST(VisualRouteRealistic, Report) {
   const char* camera_env = std::getenv("ROOM_REVERB_CAMERA");
   const bool consumer = camera_env != nullptr && std::string(camera_env) == "consumer";
   int refused = 0, within1 = 0, within5 = 0, materials90 = 0;
-  std::vector<double> errors, shares;
+  std::vector<double> errors, shares, yaws;
   for (int i = first; i < first + rooms; ++i) {
     const ClutteredRoom room = clutteredRoom(development ? ClutterSet::kDevelopment : ClutterSet::kHeldOut, i);
     const RouteScore s = scoreRoom(room, i, source, width, consumer);
@@ -361,18 +371,21 @@ TEST(VisualRouteRealistic, Report) {
     const double worst = s.error_pct.cwiseAbs().maxCoeff();
     errors.push_back(worst);
     shares.push_back(s.material_area_share);
+    yaws.push_back(std::abs(s.yaw_error_deg));
     within1 += worst <= 1.0;
     within5 += worst <= 5.0;
     materials90 += s.material_area_share >= 0.9;
   }
   std::sort(errors.begin(), errors.end());
   std::sort(shares.begin(), shares.end());
+  std::sort(yaws.begin(), yaws.end());
   double mean_share = 0.0;
   for (const double v : shares) mean_share += v / std::max<std::size_t>(shares.size(), 1);
   std::printf("[ measured ] %d %s rooms from %d, %d px, %s camera, photographs of %s: %d refused; box within 1 %%: %d, within 5 %%: %d, "
-              "worst dimension median %.2f %%, max %.2f %%; materials right over the box: mean %.1f %%, median %.1f %%, "
-              "min %.1f %%, rooms >= 90 %%: %d\n",
+              "worst dimension median %.2f %%, max %.2f %%; yaw error median %.2f deg, max %.2f deg; materials right over "
+              "the box: mean %.1f %%, median %.1f %%, min %.1f %%, rooms >= 90 %%: %d\n",
               rooms, development ? "development" : "held-out", first, width, consumer ? "consumer" : "ideal", source.c_str(), refused, within1, within5, errors.empty() ? 0.0 : errors[errors.size() / 2],
-              errors.empty() ? 0.0 : errors.back(), 100.0 * mean_share, shares.empty() ? 0.0 : 100.0 * shares[shares.size() / 2],
+              errors.empty() ? 0.0 : errors.back(), yaws.empty() ? 0.0 : yaws[yaws.size() / 2], yaws.empty() ? 0.0 : yaws.back(),
+              100.0 * mean_share, shares.empty() ? 0.0 : 100.0 * shares[shares.size() / 2],
               shares.empty() ? 0.0 : 100.0 * shares.front(), materials90);
 }
