@@ -36,8 +36,8 @@ class CaptureSectionReader : public YamlReader {
         }
       }
       options.baseline_m = numberOr(capture, "baseline_m", "capture.baseline_m", options.baseline_m);
-      options.width = wholeNumber(capture, "width", options.width);
-      options.supersampling = wholeNumber(capture, "supersampling", options.supersampling);
+      options.width = wholeNumber(capture, "capture.", "width", options.width);
+      options.supersampling = wholeNumber(capture, "capture.", "supersampling", options.supersampling);
       if (capture["seed"].IsDefined()) {
         const double seed = number(capture["seed"], "capture.seed");
         if (seed < 0.0 || seed != std::floor(seed) || seed > 9007199254740992.0) {
@@ -50,24 +50,14 @@ class CaptureSectionReader : public YamlReader {
       options.fisheye = flagOr(capture, "fisheye", "capture.fisheye", options.fisheye);
       options.low_texture_contrast =
           numberOr(capture, "low_texture_contrast", "capture.low_texture_contrast", options.low_texture_contrast);
-      const YAML::Node flat = capture["low_texture_materials"];
-      if (flat.IsDefined() && !flat.IsNull()) {
-        if (!flat.IsSequence()) fail(flat, "capture.low_texture_materials", "must be a list of material names");
-        options.low_texture_materials.clear();
-        for (std::size_t i = 0; i < flat.size(); ++i) {
-          options.low_texture_materials.push_back(text(flat[i], "capture.low_texture_materials[" + std::to_string(i) + "]"));
-        }
-      }
+      readNames(capture["low_texture_materials"], "capture.low_texture_materials", "material names", options.low_texture_materials);
       if (capture["photo_textures"].IsDefined() && !capture["photo_textures"].IsNull()) {
         scene.photo_textures = text(capture["photo_textures"], "capture.photo_textures");
       }
       const YAML::Node sources = capture["photo_sources"];
-      if (sources.IsDefined() && !sources.IsNull()) {
-        if (!sources.IsSequence()) fail(sources, "capture.photo_sources", "must be a list of collection names");
-        for (std::size_t i = 0; i < sources.size(); ++i) {
-          scene.photo_sources.push_back(text(sources[i], "capture.photo_sources[" + std::to_string(i) + "]"));
-        }
-        if (scene.photo_textures.empty()) fail(sources, "capture.photo_sources", "needs photo_textures");
+      readNames(sources, "capture.photo_sources", "collection names", scene.photo_sources);
+      if (sources.IsDefined() && !sources.IsNull() && scene.photo_textures.empty()) {
+        fail(sources, "capture.photo_sources", "needs photo_textures");
       }
       options.photo_share = numberOr(capture, "photo_share", "capture.photo_share", options.photo_share);
       const YAML::Node camera = capture["camera"];
@@ -107,31 +97,26 @@ class CaptureSectionReader : public YamlReader {
     if (node["bottom_white_balance"].IsDefined()) {
       c.bottom_white_balance = vector3(node["bottom_white_balance"], "capture.camera.bottom_white_balance");
     }
-    const double quality = numberOr(node, "jpeg_quality", "capture.camera.jpeg_quality", c.jpeg_quality);
-    if (quality != std::floor(quality) || quality < 0.0 || quality > 100.0) {
-      fail(node["jpeg_quality"], "capture.camera.jpeg_quality", "must be a whole number, 0 (none) or 1 to 100");
-    }
-    c.jpeg_quality = static_cast<int>(quality);
-    const double scale = numberOr(node, "native_scale", "capture.camera.native_scale", c.native_scale);
-    if (scale != std::floor(scale) || scale < 1.0 || scale > 4.0) {
-      fail(node["native_scale"], "capture.camera.native_scale", "must be a whole number from 1 to 4");
-    }
-    c.native_scale = static_cast<int>(scale);
-    const YAML::Node labels = node["emitter_labels"];
-    if (labels.IsDefined() && !labels.IsNull()) {
-      if (!labels.IsSequence()) fail(labels, "capture.camera.emitter_labels", "must be a list of object labels");
-      c.emitter_labels.clear();
-      for (std::size_t i = 0; i < labels.size(); ++i) {
-        c.emitter_labels.push_back(text(labels[i], "capture.camera.emitter_labels[" + std::to_string(i) + "]"));
-      }
-    }
+    // Their ranges are validateCapture's to check, as for every other key.
+    c.jpeg_quality = wholeNumber(node, "capture.camera.", "jpeg_quality", c.jpeg_quality);
+    c.native_scale = wholeNumber(node, "capture.camera.", "native_scale", c.native_scale);
+    readNames(node["emitter_labels"], "capture.camera.emitter_labels", "object labels", c.emitter_labels);
     c.emitter_grey = numberOr(node, "emitter_grey", "capture.camera.emitter_grey", c.emitter_grey);
   }
 
-  int wholeNumber(const YAML::Node& capture, const std::string& name, int fallback) const {
-    const double value = numberOr(capture, name, "capture." + name, fallback);
-    if (value != std::floor(value) || value < 0.0 || value > 1e6) fail(capture[name], "capture." + name, "must be a whole number");
+  // `parent[name]` (its key `prefix` + name in messages), a whole number 0..10^6.
+  int wholeNumber(const YAML::Node& parent, const std::string& prefix, const std::string& name, int fallback) const {
+    const double value = numberOr(parent, name, prefix + name, fallback);
+    if (value != std::floor(value) || value < 0.0 || value > 1e6) fail(parent[name], prefix + name, "must be a whole number");
     return static_cast<int>(value);
+  }
+
+  // A list of names at `key`, replacing `out` when given; `what` says what they name.
+  void readNames(const YAML::Node& list, const std::string& key, const std::string& what, std::vector<std::string>& out) const {
+    if (!list.IsDefined() || list.IsNull()) return;
+    if (!list.IsSequence()) fail(list, key, "must be a list of " + what);
+    out.clear();
+    for (std::size_t i = 0; i < list.size(); ++i) out.push_back(text(list[i], key + "[" + std::to_string(i) + "]"));
   }
 };
 
