@@ -112,6 +112,9 @@ struct Exposure {
   Eigen::Vector3d white_balance_rgb = Eigen::Vector3d::Ones();
 };
 
+// The top camera's exposure (white balance is relative to it), which a lone camera has too.
+Exposure topExposure(const CaptureOptions& options) { return {options.camera.top_exposure, Eigen::Vector3d::Ones()}; }
+
 // Exposure, noise, clipping and quantisation, JPEG: the sensor and the encoder.
 cv::Mat recorded(const cv::Mat& light, const CaptureOptions& options, const Exposure& exposure, std::uint64_t stream) {
   cv::Mat image = quantizeWithNoise(exposed(light, exposure.gain, exposure.white_balance_rgb), options.noise_sigma, options.seed, stream);
@@ -192,9 +195,8 @@ StereoCapture renderCapture(const RoomModel& room, const MaterialLibrary& librar
   for (const CuboidObject& object : room.objects) capture.object_names.push_back(object.label);
   const CapturePainter painter = makeCapturePainter(room, library, options, capture.material_names);
   const Eigen::Quaterniond rotation = room.rig_rotation.normalized();
-  const Exposure top{options.camera.top_exposure, Eigen::Vector3d::Ones()};
   const Exposure bottom{options.camera.bottom_exposure, options.camera.bottom_white_balance};
-  capture.top = renderCamera(painter, options, topCameraPosition(room, options.baseline_m), rotation, top, 0);
+  capture.top = renderCamera(painter, options, topCameraPosition(room, options.baseline_m), rotation, topExposure(options), 0);
   capture.bottom = renderCamera(painter, options, bottomCameraPosition(room, options.baseline_m), rotation, bottom, 1);
   return capture;
 }
@@ -219,8 +221,7 @@ CameraCapture renderCaptureCamera(const RoomModel& room, const MaterialLibrary& 
     stream = hashCombine(stream, bits);
   }
   stream = 2 + (stream >> 2);
-  return renderCamera(painter, options, position_m, rotation.normalized(), Exposure{options.camera.top_exposure, Eigen::Vector3d::Ones()},
-                      stream);
+  return renderCamera(painter, options, position_m, rotation.normalized(), topExposure(options), stream);
 }
 
 }  // namespace room_reverb::core

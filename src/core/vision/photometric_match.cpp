@@ -13,8 +13,11 @@ struct Line {
   bool ok = false;
 };
 
-// y = gain x + offset over the pairs in `use`, from at least `min_pairs` of them.
-Line leastSquares(const std::vector<float>& x, const std::vector<float>& y, const std::vector<char>& use, double min_pairs) {
+// Fewer pairs than this say nothing about a channel.
+constexpr double kMinPairs = 200.0;
+
+// y = gain x + offset over the pairs in `use`.
+Line leastSquares(const std::vector<float>& x, const std::vector<float>& y, const std::vector<char>& use) {
   double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0, n = 0.0;
   for (std::size_t i = 0; i < x.size(); ++i) {
     if (!use[i]) continue;
@@ -22,7 +25,7 @@ Line leastSquares(const std::vector<float>& x, const std::vector<float>& y, cons
   }
   Line line;
   const double var = sxx - sx * sx / std::max(n, 1.0);
-  if (n < min_pairs || var <= 1e-6 * n) return line;
+  if (n < kMinPairs || var <= 1e-6 * n) return line;
   line.gain = (sxy - sx * sy / n) / var;
   line.offset = (sy - line.gain * sx) / n;
   line.ok = true;
@@ -59,7 +62,7 @@ PhotometricMap photometricMapFromMatches(const cv::Mat& top, const cv::Mat& bott
       }
     }
     std::vector<char> use(x.size(), 1);
-    Line line = leastSquares(x, y, use, 200.0);
+    Line line = leastSquares(x, y, use);
     if (!line.ok) continue;
     // Refit without the fifth of pairs that fit worst.
     std::vector<float> residual(x.size());
@@ -69,7 +72,7 @@ PhotometricMap photometricMapFromMatches(const cv::Mat& top, const cv::Mat& bott
     std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(keep), sorted.end());
     const float limit = sorted[keep];
     for (std::size_t i = 0; i < x.size(); ++i) use[i] = residual[i] <= limit;
-    line = leastSquares(x, y, use, 200.0);
+    line = leastSquares(x, y, use);
     if (!plausible(line)) continue;
     map.gain[ch] = line.gain;
     map.offset[ch] = line.offset;
