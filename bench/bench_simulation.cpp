@@ -30,6 +30,7 @@
 #include "room_reverb/acoustics/room_modes.h"
 #include "room_reverb/acoustics/room_simulation.h"
 #include "room_reverb/acoustics/triangle_mesh.h"
+#include "bras_cr2_scene.h"
 
 namespace {
 
@@ -37,37 +38,10 @@ using namespace room_reverb::core;
 
 constexpr double kPi = 3.14159265358979323846;
 
-std::string sourceDir() {
-#ifdef ROOM_REVERB_SOURCE_DIR
-  return ROOM_REVERB_SOURCE_DIR;
-#else
-  // The build does not say where the repository is: this file lies in its bench/.
-  const std::string file = __FILE__;
-  const auto slash = file.find_last_of('/');
-  return slash == std::string::npos ? std::string("..") : file.substr(0, slash) + "/..";
-#endif
-}
-
-// BRAS CR2, source LS01 and receiver 1 in the room frame (z up).
-const Eigen::Vector3d kSource(0.931, -2.547, 0.723);
-const Eigen::Vector3d kReceiver(-0.993, 1.426, 1.230);
-
-// The scene as `room_reverb simulate --mesh cr2_scene9.ac --y-up` builds it, built once;
-// null (and the benchmark skipped with the reason) when the mesh or materials fail to load.
-const AcousticScene* cr2Scene(benchmark::State& state) {
-  static std::string error;
-  static const std::unique_ptr<AcousticScene> scene = []() -> std::unique_ptr<AcousticScene> {
-    try {
-      TriangleMesh mesh = loadMesh(sourceDir() + "/data/bras_cr2/geometry/cr2_scene9.ac", UpAxis::kY);
-      return std::make_unique<AcousticScene>(std::move(mesh), MaterialLibrary::loadDefault());
-    } catch (const std::exception& e) {
-      error = e.what();
-      return nullptr;
-    }
-  }();
-  if (!scene) state.SkipWithError(("CR2 scene: " + error).c_str());
-  return scene.get();
-}
+using room_reverb::bench::cr2Scene;
+using room_reverb::bench::sourceDir;
+const Eigen::Vector3d& kSource = room_reverb::bench::kCr2Source;
+const Eigen::Vector3d& kReceiver = room_reverb::bench::kCr2Receiver;
 
 // ---------------------------------------------------------------------------------------
 // Raw Embree on the scene's own triangles, built with the wrapper's settings (robust

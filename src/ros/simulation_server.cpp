@@ -35,6 +35,7 @@ SimulationServer::SimulationServer(::ros::NodeHandle& private_nh) {
   if (!(defaults_.duration_s > 0.0)) throw core::InputError("parameter ~duration_s must be positive");
   typedParam(private_nh, "receiver_radius_m", defaults_.rays.receiver_radius_m, 0.0);
   typedParam(private_nh, "continue_established_decays", defaults_.rays.continue_established_decays, true);
+  typedParam(private_nh, "diffraction_scattering", defaults_.diffraction_scattering, false);
   typedParam(private_nh, "materials_file", materials_file, std::string(""));
   library_ = materials_file.empty() ? core::MaterialLibrary::loadDefault() : core::MaterialLibrary::load(materials_file);
   server_ = private_nh.advertiseService("simulate", &SimulationServer::simulate, this);

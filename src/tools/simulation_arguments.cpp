@@ -30,6 +30,10 @@ const char* const kSimulationOptionsHelp = R"(  --mode MODE          accurate (i
   --scattering S       one scattering coefficient for every surface (default: materials')
   --receiver-radius M  detection sphere for specular rays (default 0: from the volume
                        and ray count, see docs/simulation.md)
+  --diffraction-scattering
+                       add to each reflection's scattering what the surface's finite
+                       size diffracts (Rindel's strip model; default: the materials'
+                       scattering alone; docs/simulation.md)
   --trace-to-end       trace every band to the end of the response (default: a band whose
                        decay is established, 30 dB down and straight, is continued
                        analytically; docs/simulation.md)
@@ -40,7 +44,7 @@ std::set<std::string> simulationValueOptions() {
           "humidity", "scattering", "receiver-radius", "fast-tolerance"};
 }
 
-std::set<std::string> simulationFlags() { return {"no-air", "trace-to-end"}; }
+std::set<std::string> simulationFlags() { return {"no-air", "trace-to-end", "diffraction-scattering"}; }
 
 SimulationSettings simulationSettingsFrom(const Arguments& args) {
   SimulationSettings settings;
@@ -58,6 +62,7 @@ SimulationSettings simulationSettingsFrom(const Arguments& args) {
   settings.rays.threads = args.intValue("threads", 0);
   settings.rays.receiver_radius_m = args.doubleValue("receiver-radius", 0.0);
   settings.rays.continue_established_decays = !args.has("trace-to-end");
+  settings.diffraction_scattering = args.has("diffraction-scattering");
   settings.ambisonic_order = args.intValue("ambisonic-order", 1);
   settings.duration_s = args.doubleValue("duration", 2.0);
   return settings;

@@ -57,6 +57,7 @@ SimulationRequest unusualRequest() {
   s.rays.crossings_per_ms = 200.0;
   s.rays.roulette_db = -50.0;
   s.rays.continuation.bend_db = 0.7;
+  s.diffraction_scattering = true;  // not the default, so a lost flag shows
   s.rays.seed = 42;
   s.rays.threads = 2;
   s.fast_ray_count = 700;
@@ -79,6 +80,7 @@ TEST(SimulationWire, ADecodedJobSimulatesToTheSameBits) {
 
   const std::vector<std::uint8_t> request_bytes = encodeRequest(request);
   EXPECT_EQ(encodeRequest(decodeRequest(request_bytes.data(), request_bytes.size())), request_bytes);
+  EXPECT_TRUE(decodeRequest(request_bytes.data(), request_bytes.size()).settings.diffraction_scattering);
 
   const SimulationResult here = simulateRoom(scene, request.source_m, request.listener_m, request.settings);
   SimulationJobExecutor executor;

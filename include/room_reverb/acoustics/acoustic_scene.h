@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "room_reverb/acoustics/diffraction_scattering.h"
 #include "room_reverb/acoustics/embree_scene.h"
 #include "room_reverb/acoustics/material.h"
 #include "room_reverb/acoustics/room_shape.h"
@@ -50,6 +51,8 @@ class AcousticScene {
   // Coplanar triangles grouped (normals within 1e-4, offsets within 1 mm).
   const std::vector<ScenePlane>& planes() const { return planes_; }
   std::size_t planeOf(std::size_t triangle) const { return triangle_plane_[triangle]; }
+  // The connected coplanar surface the triangle belongs to (diffraction_scattering.h).
+  const SurfaceExtent& surfaceExtent(std::size_t triangle) const { return patches_[triangle_patch_[triangle]]; }
   bool closed() const { return closed_; }
   // The solids the scene was built from; null for a scene from a mesh file.
   const RoomShape* roomShape() const { return shape_ ? &*shape_ : nullptr; }
@@ -78,6 +81,8 @@ class AcousticScene {
   std::vector<AcousticMaterial> materials_;
   std::vector<ScenePlane> planes_;
   std::vector<std::size_t> triangle_plane_;
+  std::vector<SurfaceExtent> patches_;
+  std::vector<std::size_t> triangle_patch_;
   bool closed_;
   std::optional<RoomShape> shape_;
   double volume_m3_ = 0.0;

@@ -17,6 +17,10 @@ struct ImageSourceOptions {
   // Scale each reflection by the specular share sqrt(1 - s) of the surface's scattering;
   // the scattered share is the ray tracer's (no energy is counted twice).
   bool specular_share_only = true;
+  // With specular_share_only: the specular share also loses what the surface's finite size
+  // diffracts away (diffraction_scattering.h), each reflection with the unfolded distances
+  // from the source and to the listener as its d1 and d2.
+  bool diffraction_scattering = false;
   // The search visits about planes x branching^(order - 1) candidate images: in the
   // sample room's 28 planes order 6 (estimated 7e7 candidates) takes 13 s and order 7
   // (1.3e9) over 3 minutes. An order whose estimated count exceeds this (about half a

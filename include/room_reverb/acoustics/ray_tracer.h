@@ -39,6 +39,10 @@ struct RayTracingOptions {
   double roulette_db = -60.0;
   int image_source_order = 3;       // specular-only paths up to this order are not counted (-1: count all)
   bool diffuse_rain = true;
+  // Add to each reflection's scattering what its surface's finite size diffracts
+  // (diffraction_scattering.h): d1 is the leg the ray arrives on, d2 the room's mean free
+  // path 4V/S (the leg it leaves on is not known before the choice; in an open room, d1).
+  bool diffraction_scattering = false;
   // Also sum the energy every ray carries through the room over time
   // (RayTracingResult::energy_in_flight): the room's own decay, which the fast mode plays.
   bool record_energy_in_flight = false;

@@ -44,6 +44,10 @@ struct SimulationSettings {
   // docs/simulation.md).
   std::size_t fast_ray_count = 8000;
   FastRayOptions fast_rays;
+  // The scattering of the surfaces' finite size, added to the materials' in the image
+  // sources and the rays alike (diffraction_scattering.h; the `rays` option of the same
+  // name is set from this one).
+  bool diffraction_scattering = false;
 };
 
 struct SimulationResult {
@@ -64,6 +68,9 @@ SimulationResult simulateRoom(const AcousticScene& scene, const Eigen::Vector3d&
 // synthesis options of the scene and settings (the early and late parts synthesised apart
 // with them add up to simulateRoom's response exactly).
 SynthesisOptions simulationSynthesisOptions(const AcousticScene& scene, const SimulationSettings& settings);
+
+// The image-source search of the settings: their order and diffraction scattering.
+ImageSourceOptions imageSourceOptionsFor(const SimulationSettings& settings);
 
 // Eyring's reverberation time with air per octave band, for the scene.
 OctaveBandValues eyringReverberationTimes(const AcousticScene& scene, const AirConditions& air);

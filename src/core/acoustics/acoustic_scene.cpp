@@ -86,6 +86,7 @@ AcousticScene::AcousticScene(TriangleMesh mesh, const MaterialLibrary& library,
     planes_[found].triangles.push_back(t);
     triangle_plane_[t] = found;
   }
+  patches_ = surfaceExtents(mesh, triangle_plane_, triangle_patch_);
   geometry_ = std::make_unique<EmbreeScene>(std::move(mesh));
 }
 

@@ -82,6 +82,35 @@ OctaveBandValues pathGains(const Search& s, const Eigen::Vector3d& leaving, doub
   return gains;
 }
 
+// Per band, the product over the path's reflections (at `points`, on `triangles`, source
+// side first) of the specular energy share their surfaces' sizes leave (Rindel's strip
+// model, diffraction_scattering.h), d1 and d2 the unfolded path lengths on either side.
+OctaveBandValues diffractionShares(const Search& s, const std::vector<Eigen::Vector3d>& points,
+                                   const std::vector<std::size_t>& triangles) {
+  static const std::vector<FrequencyBand> bands = standardBands(BandResolution::kOctave);
+  std::vector<double> along(points.size() + 2, 0.0);  // unfolded distance from the source to each point
+  Eigen::Vector3d previous = s.source;
+  for (std::size_t k = 0; k <= points.size(); ++k) {
+    const Eigen::Vector3d next = k < points.size() ? points[k] : s.listener;
+    along[k + 1] = along[k] + (next - previous).norm();
+    previous = next;
+  }
+  const double total = along[points.size() + 1];
+  OctaveBandValues shares;
+  shares.fill(1.0);
+  Eigen::Vector3d from = s.source;
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const Eigen::Vector3d incident = (points[k] - from).normalized();
+    const double distance = characteristicDistance(along[k + 1], total - along[k + 1]);
+    for (int b = 0; b < kOctaveBandCount; ++b) {
+      shares[b] *= specularShare(s.scene.surfaceExtent(triangles[k]), incident, distance,
+                                 bands[static_cast<std::size_t>(b)].center_hz, s.model.speed_of_sound_m_s);
+    }
+    from = points[k];
+  }
+  return shares;
+}
+
 // The direct sound in a scene with known objects (diffract_direct_sound): blocked by
 // objects, bent around the edge of the one that takes the most; in view, weakened by the
 // object whose shadow it is nearest. False when it is blocked and no single edge clears it.
@@ -141,6 +170,9 @@ void addPath(Search& s) {
     return;
   }
   if (!valid) return;
+  std::vector<Eigen::Vector3d> points;
+  const bool diffracting = s.options.diffraction_scattering && s.options.specular_share_only && !s.planes.empty();
+  if (diffracting) validatePath(s, triangles, leaving, &points);
   SpecularPath path;
   path.order = static_cast<int>(s.planes.size());
   path.image_position = s.planes.empty() ? s.source : s.images.back();
@@ -150,6 +182,10 @@ void addPath(Search& s) {
   path.arrival_direction = to_image / path.distance_m;
   path.triangles = triangles;
   path.pressure_gain = pathGains(s, leaving, path.distance_m, triangles);
+  if (diffracting) {
+    const OctaveBandValues shares = diffractionShares(s, points, triangles);
+    for (int b = 0; b < kOctaveBandCount; ++b) path.pressure_gain[b] *= std::sqrt(shares[b]);
+  }
   s.paths.push_back(std::move(path));
 }
 

@@ -141,6 +141,7 @@ struct Tracer {
   Eigen::Matrix3d launch_rotation;
   std::uint64_t seed_key;  // every ray's key derives from it and the ray's index
   double loss_bin_m;        // kFlightBinS of travel
+  double mean_free_path_m;  // 4V/S of a closed room, 0 for an open one
 
   Tracer(const AcousticScene& scene_, const Eigen::Vector3d& source_, const Eigen::Vector3d& listener_,
          const PropagationModel& model_, const RayTracingOptions& options_, double receiver_radius_m_,
@@ -167,6 +168,7 @@ struct Tracer {
       }
     }
     loss_bin_m = kFlightBinS * model.speed_of_sound_m_s;
+    mean_free_path_m = scene.closed() && scene.volumeM3() > 0.0 ? 4.0 * scene.volumeM3() / scene.surfaceM2() : 0.0;
     roulette_level = ray_energy * std::pow(10.0, options.roulette_db / 10.0);
     launch_rotation = randomRotation(options.seed);
     seed_key = mixBits(0x7ace5eedull ^ static_cast<std::uint64_t>(options.seed));
@@ -349,7 +351,13 @@ struct Tracer {
         for (int b = 0; b < kOctaveBandCount; ++b) (*loss)[b] += ray.energy[b] * (1.0 - m.reflectance[b]);
       }
       for (int b = 0; b < kOctaveBandCount; ++b) ray.energy[b] *= m.reflectance[b];
-      if (options.diffuse_rain) rain(histogram, ray, m, normal, slice.live);
+      const OctaveBandValues scattering =
+          options.diffraction_scattering
+              ? withDiffractionScattering(m.scattering, scene.surfaceExtent(hit.triangle), ray.direction,
+                                          characteristicDistance(leg, mean_free_path_m > 0.0 ? mean_free_path_m : leg),
+                                          model.speed_of_sound_m_s)
+              : m.scattering;
+      if (options.diffuse_rain) rain(histogram, ray, scattering, normal, slice.live);
       // Back onto the wall's plane (the float hit distance leaves the point up to ~1e-6 m
       // either side of it), then just off it on the room's side.
       ray.position += (wall_offset - normal.dot(ray.position)) * normal + kSurfaceOffset_m * normal;
@@ -360,7 +368,7 @@ struct Tracer {
       const double draw = keyedUniform(ray.key, ray.order, kScatter);
       BandMask diffuse = 0;
       for (int b = 0; b < kOctaveBandCount; ++b) {
-        if ((ray.bands >> b & 1u) && draw < m.scattering[b]) diffuse |= 1u << b;
+        if ((ray.bands >> b & 1u) && draw < scattering[b]) diffuse |= 1u << b;
       }
       const Eigen::Vector3d mirrored = ray.direction - 2.0 * ray.direction.dot(normal) * normal;
       if (diffuse != 0 && diffuse != ray.bands) {
@@ -392,8 +400,8 @@ struct Tracer {
 
   // Diffuse rain (Schröder 2011): the scattered share of this reflection sent straight to
   // the receiver when it sees the wall point.
-  void rain(EnergyHistogram& histogram, const RayBranch& ray, const MaterialTerms& m, const Eigen::Vector3d& normal,
-            const OctaveBandValues& live) const {
+  void rain(EnergyHistogram& histogram, const RayBranch& ray, const OctaveBandValues& scattering,
+            const Eigen::Vector3d& normal, const OctaveBandValues& live) const {
     const Eigen::Vector3d to_listener = listener - ray.position;
     const double d = to_listener.norm();
     const double cos_theta = normal.dot(to_listener) / d;
@@ -401,7 +409,7 @@ struct Tracer {
     OctaveBandValues scattered;
     bool any = false;
     for (int b = 0; b < kOctaveBandCount; ++b) {
-      scattered[b] = ray.energy[b] * m.scattering[b] * live[b];
+      scattered[b] = ray.energy[b] * scattering[b] * live[b];
       any = any || scattered[b] > 0.0;
     }
     if (!any || scene.geometry().occluded(ray.position, listener, 1e-5)) return;

@@ -110,13 +110,12 @@ SimulationResult simulateRoom(const AcousticScene& scene, const Eigen::Vector3d&
   SimulationResult result;
   result.speed_of_sound_m_s = model.speed_of_sound_m_s;
   result.eyring_t60_s = eyringReverberationTimes(scene, settings.air);
-  ImageSourceOptions image_options;
-  image_options.max_order = settings.image_source_order;
-  result.paths = computeImageSources(scene, source, listener, model, image_options);
+  result.paths = computeImageSources(scene, source, listener, model, imageSourceOptionsFor(settings));
 
   if (settings.mode == SimulationMode::kAccurate) {
     RayTracingOptions rays = settings.rays;
     rays.max_time_s = settings.duration_s;
+    rays.diffraction_scattering = settings.diffraction_scattering;
     rays.image_source_order = settings.image_source_order;
     RayTracingResult traced = traceRays(scene, source, listener, model, rays);
     result.late = std::move(traced.histogram);
@@ -124,6 +123,7 @@ SimulationResult simulateRoom(const AcousticScene& scene, const Eigen::Vector3d&
   } else if (settings.mode == SimulationMode::kFast) {
     RayTracingOptions rays = settings.rays;
     rays.max_time_s = settings.duration_s;
+    rays.diffraction_scattering = settings.diffraction_scattering;
     rays.record_energy_in_flight = true;
     rays.diffuse_rain = false;  // the receiver's share is not used: only the energy in flight
     // Faded rays play roulette from 40 dB down rather than 60: on BRAS CR2 that takes 40 %
@@ -145,6 +145,13 @@ SimulationResult simulateRoom(const AcousticScene& scene, const Eigen::Vector3d&
   result.impulse_response =
       synthesizeImpulseResponse(result.paths, &result.late, simulationSynthesisOptions(scene, settings));
   return result;
+}
+
+ImageSourceOptions imageSourceOptionsFor(const SimulationSettings& settings) {
+  ImageSourceOptions options;
+  options.max_order = settings.image_source_order;
+  options.diffraction_scattering = settings.diffraction_scattering;
+  return options;
 }
 
 SynthesisOptions simulationSynthesisOptions(const AcousticScene& scene, const SimulationSettings& settings) {

@@ -40,10 +40,8 @@ void SimulatedWalk::requireListener(const Eigen::Vector3d& listener_m) const {
 
 std::vector<SpecularPath> SimulatedWalk::pathsAt(const Eigen::Vector3d& listener_m) const {
   requireListener(listener_m);
-  ImageSourceOptions options;
-  options.max_order = settings_.image_source_order;
   return computeImageSources(scene_, source_m_, listener_m, PropagationModel::from(settings_.air, settings_.directivity),
-                             options);
+                             imageSourceOptionsFor(settings_));
 }
 
 AudioBuffer SimulatedWalk::earlyAt(const Eigen::Vector3d& listener_m) const {

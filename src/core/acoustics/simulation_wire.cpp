@@ -12,7 +12,7 @@ namespace {
 // Magic numbers with the encoding's version in the low byte; read back in another byte
 // order they do not match, so a foreign machine's bytes are refused, not misread.
 constexpr std::uint32_t kSceneMarker = 0x52525301;    // "RRS" 1
-constexpr std::uint32_t kRequestMarker = 0x52525101;  // "RRQ" 1
+constexpr std::uint32_t kRequestMarker = 0x52525102;  // "RRQ" 2
 constexpr std::uint32_t kResultMarker = 0x52525201;   // "RRR" 1
 constexpr std::uint32_t kJobMarker = 0x52524a01;      // "RRJ" 1
 
@@ -22,7 +22,7 @@ static_assert(sizeof(AirConditions) == 32, "AirConditions changed: encode the ne
 static_assert(sizeof(SourceDirectivity) == 32, "SourceDirectivity changed: encode the new field");
 static_assert(sizeof(DecayContinuationOptions) == 40, "DecayContinuationOptions changed: encode the new field");
 static_assert(sizeof(RayTracingOptions) == 104, "RayTracingOptions changed: encode the new field");
-static_assert(sizeof(SimulationSettings) == 224, "SimulationSettings changed: encode the new field");
+static_assert(sizeof(SimulationSettings) == 232, "SimulationSettings changed: encode the new field");
 static_assert(sizeof(FastRayOptions) == 24, "FastRayOptions changed: encode the new field");
 static_assert(sizeof(RayTracingStats) == 208, "RayTracingStats changed: encode the new field");
 static_assert(sizeof(SpecularPath) == 168, "SpecularPath changed: encode the new field");
@@ -66,6 +66,7 @@ void putSettings(ByteWriter& w, const SimulationSettings& s) {
   w.put<double>(o.roulette_db);
   w.put<std::int32_t>(o.image_source_order);
   w.putBool(o.diffuse_rain);
+  w.putBool(o.diffraction_scattering);
   w.putBool(o.record_energy_in_flight);
   w.putBool(o.continue_established_decays);
   w.put<double>(o.continuation.decayed_db);
@@ -79,6 +80,7 @@ void putSettings(ByteWriter& w, const SimulationSettings& s) {
   w.put<double>(s.fast_rays.rate_tolerance);
   w.put<std::uint64_t>(s.fast_rays.min_rays);
   w.put<std::uint64_t>(s.fast_rays.batch_rays);
+  w.putBool(s.diffraction_scattering);
 }
 
 SimulationSettings getSettings(ByteReader& r) {
@@ -104,6 +106,7 @@ SimulationSettings getSettings(ByteReader& r) {
   o.roulette_db = r.get<double>();
   o.image_source_order = r.get<std::int32_t>();
   o.diffuse_rain = r.getBool();
+  o.diffraction_scattering = r.getBool();
   o.record_energy_in_flight = r.getBool();
   o.continue_established_decays = r.getBool();
   o.continuation.decayed_db = r.get<double>();
@@ -117,6 +120,7 @@ SimulationSettings getSettings(ByteReader& r) {
   s.fast_rays.rate_tolerance = r.get<double>();
   s.fast_rays.min_rays = static_cast<std::size_t>(r.get<std::uint64_t>());
   s.fast_rays.batch_rays = static_cast<std::size_t>(r.get<std::uint64_t>());
+  s.diffraction_scattering = r.getBool();
   return s;
 }
 
