@@ -36,6 +36,13 @@ SimulationServer::SimulationServer(::ros::NodeHandle& private_nh) {
   typedParam(private_nh, "receiver_radius_m", defaults_.rays.receiver_radius_m, 0.0);
   typedParam(private_nh, "continue_established_decays", defaults_.rays.continue_established_decays, true);
   typedParam(private_nh, "diffraction_scattering", defaults_.diffraction_scattering, false);
+  std::string low_band;
+  typedParam(private_nh, "low_band", low_band, std::string("geometric"));
+  defaults_.low_band = core::parseLowBandMethod(low_band);
+  typedParam(private_nh, "crossover_hz", defaults_.wave.crossover_hz, 500.0);
+  if (!(defaults_.wave.crossover_hz >= 63.0 && defaults_.wave.crossover_hz <= 2000.0)) {
+    throw core::InputError("parameter ~crossover_hz must be 63 to 2000 Hz");
+  }
   typedParam(private_nh, "materials_file", materials_file, std::string(""));
   library_ = materials_file.empty() ? core::MaterialLibrary::loadDefault() : core::MaterialLibrary::load(materials_file);
   server_ = private_nh.advertiseService("simulate", &SimulationServer::simulate, this);

@@ -34,6 +34,10 @@ const char* const kSimulationOptionsHelp = R"(  --mode MODE          accurate (i
                        add to each reflection's scattering what the surface's finite
                        size diffracts (Rindel's strip model; default: the materials'
                        scattering alone; docs/simulation.md)
+  --low-band METHOD    geometric (default) or wave: below the crossover the first-order
+                       channels from a wave (FDTD) solver on the room's grid
+                       (docs/simulation.md)
+  --crossover HZ       where the wave low band hands over (default 500)
   --trace-to-end       trace every band to the end of the response (default: a band whose
                        decay is established, 30 dB down and straight, is continued
                        analytically; docs/simulation.md)
@@ -41,7 +45,7 @@ const char* const kSimulationOptionsHelp = R"(  --mode MODE          accurate (i
 
 std::set<std::string> simulationValueOptions() {
   return {"mode", "order", "rays", "seed", "threads", "ambisonic-order", "duration", "materials", "temperature",
-          "humidity", "scattering", "receiver-radius", "fast-tolerance"};
+          "humidity", "scattering", "receiver-radius", "fast-tolerance", "low-band", "crossover"};
 }
 
 std::set<std::string> simulationFlags() { return {"no-air", "trace-to-end", "diffraction-scattering"}; }
@@ -63,6 +67,11 @@ SimulationSettings simulationSettingsFrom(const Arguments& args) {
   settings.rays.receiver_radius_m = args.doubleValue("receiver-radius", 0.0);
   settings.rays.continue_established_decays = !args.has("trace-to-end");
   settings.diffraction_scattering = args.has("diffraction-scattering");
+  settings.low_band = parseLowBandMethod(args.value("low-band", "geometric"));
+  settings.wave.crossover_hz = args.doubleValue("crossover", settings.wave.crossover_hz);
+  if (args.has("crossover") && settings.low_band != LowBandMethod::kWave) {
+    throw InputError("--crossover needs --low-band wave");
+  }
   settings.ambisonic_order = args.intValue("ambisonic-order", 1);
   settings.duration_s = args.doubleValue("duration", 2.0);
   return settings;

@@ -87,6 +87,21 @@ materials:
   expectExit2("simulate --mesh " + good + kInside + " --mode quantum" + out, "quantum");
   expectExit2("simulate --mesh " + good + kInside + " --order 60" + out, "candidate paths");
   expectExit2("simulate --mesh " + good + " --source 1 1 --listener 3 2 1.5" + out, "--source");
+  expectExit2("simulate --mesh " + good + kInside + " --low-band fdtd" + out, "fdtd");
+  expectExit2("simulate --mesh " + good + kInside + " --crossover 300" + out, "--low-band wave");
+  expectExit2("simulate --mesh " + good + kInside + " --low-band wave --crossover 20" + out, "crossover");
+  // 3 cm from the floor: inside the wave solver's first cell (6.9 cm at 500 Hz).
+  expectExit2("simulate --mesh " + good + " --source 1 1 0.03 --listener 3 2 1.5 --rays 200 --duration 0.3 --low-band wave" + out,
+              "grid cell");
+}
+
+TEST(SimulateTool, TheWaveLowBandWritesAResponse) {
+  const std::string out = room_reverb::test::tempPath("sim_wave.wav").string();
+  const ToolRun run = runTool("simulate --mesh " + cube("wave.obj", "concrete") + kInside + " --low-band wave --crossover 200 --out " + out);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto ir = room_reverb::core::readAudioFile(out);
+  EXPECT_EQ(ir.channelCount(), 4u);
+  EXPECT_EQ(ir.frameCount(), 14400u);
 }
 
 // Units flush against the walls, the floor, the ceiling and each other, as the visual

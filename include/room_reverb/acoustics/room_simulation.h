@@ -19,6 +19,7 @@
 #include "room_reverb/acoustics/image_sources.h"
 #include "room_reverb/acoustics/impulse_response_synthesis.h"
 #include "room_reverb/acoustics/ray_tracer.h"
+#include "room_reverb/acoustics/wave_low_band.h"
 
 namespace room_reverb::core {
 
@@ -48,6 +49,10 @@ struct SimulationSettings {
   // sources and the rays alike (diffraction_scattering.h; the `rays` option of the same
   // name is set from this one).
   bool diffraction_scattering = false;
+  // Below `wave.crossover_hz` the first-order channels from the wave solver instead of
+  // the geometric response (wave_low_band.h), in every mode; its threads are `rays`'.
+  LowBandMethod low_band = LowBandMethod::kGeometric;
+  WaveLowBandOptions wave;
 };
 
 struct SimulationResult {
@@ -56,6 +61,7 @@ struct SimulationResult {
   EnergyHistogram late;                    // ray-traced or parametric late energy
   RayTracingStats stats;                   // accurate and fast modes
   OctaveBandValues eyring_t60_s{};         // Eyring with air, for reference
+  WaveLowBandStats low_band;               // the wave solver's part, when it was used
   double speed_of_sound_m_s = 0.0;
 };
 

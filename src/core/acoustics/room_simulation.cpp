@@ -144,6 +144,12 @@ SimulationResult simulateRoom(const AcousticScene& scene, const Eigen::Vector3d&
 
   result.impulse_response =
       synthesizeImpulseResponse(result.paths, &result.late, simulationSynthesisOptions(scene, settings));
+  if (settings.low_band == LowBandMethod::kWave) {
+    WaveLowBandOptions wave = settings.wave;
+    wave.threads = settings.rays.threads;
+    const WaveLowBand low = simulateWaveLowBand(scene, source, listener, model.speed_of_sound_m_s, settings.duration_s, wave);
+    result.impulse_response = joinWaveLowBand(low, result.impulse_response, result.low_band);
+  }
   return result;
 }
 

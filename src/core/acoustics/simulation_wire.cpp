@@ -12,8 +12,8 @@ namespace {
 // Magic numbers with the encoding's version in the low byte; read back in another byte
 // order they do not match, so a foreign machine's bytes are refused, not misread.
 constexpr std::uint32_t kSceneMarker = 0x52525301;    // "RRS" 1
-constexpr std::uint32_t kRequestMarker = 0x52525102;  // "RRQ" 2
-constexpr std::uint32_t kResultMarker = 0x52525201;   // "RRR" 1
+constexpr std::uint32_t kRequestMarker = 0x52525103;  // "RRQ" 3
+constexpr std::uint32_t kResultMarker = 0x52525202;   // "RRR" 2
 constexpr std::uint32_t kJobMarker = 0x52524a01;      // "RRJ" 1
 
 // Each struct below is written field by field. Its size is checked so that a field added
@@ -22,8 +22,10 @@ static_assert(sizeof(AirConditions) == 32, "AirConditions changed: encode the ne
 static_assert(sizeof(SourceDirectivity) == 32, "SourceDirectivity changed: encode the new field");
 static_assert(sizeof(DecayContinuationOptions) == 40, "DecayContinuationOptions changed: encode the new field");
 static_assert(sizeof(RayTracingOptions) == 104, "RayTracingOptions changed: encode the new field");
-static_assert(sizeof(SimulationSettings) == 232, "SimulationSettings changed: encode the new field");
+static_assert(sizeof(SimulationSettings) == 256, "SimulationSettings changed: encode the new field");
 static_assert(sizeof(FastRayOptions) == 24, "FastRayOptions changed: encode the new field");
+static_assert(sizeof(WaveLowBandOptions) == 24, "WaveLowBandOptions changed: encode the new field");
+static_assert(sizeof(WaveLowBandStats) == 56, "WaveLowBandStats changed: encode the new field");
 static_assert(sizeof(RayTracingStats) == 208, "RayTracingStats changed: encode the new field");
 static_assert(sizeof(SpecularPath) == 168, "SpecularPath changed: encode the new field");
 static_assert(sizeof(CuboidObject) == 168, "CuboidObject changed: encode the new field");
@@ -81,6 +83,10 @@ void putSettings(ByteWriter& w, const SimulationSettings& s) {
   w.put<std::uint64_t>(s.fast_rays.min_rays);
   w.put<std::uint64_t>(s.fast_rays.batch_rays);
   w.putBool(s.diffraction_scattering);
+  w.put<std::int32_t>(static_cast<std::int32_t>(s.low_band));
+  w.put<double>(s.wave.crossover_hz);
+  w.put<double>(s.wave.cells_per_wavelength);
+  w.put<std::int32_t>(s.wave.threads);
 }
 
 SimulationSettings getSettings(ByteReader& r) {
@@ -121,6 +127,12 @@ SimulationSettings getSettings(ByteReader& r) {
   s.fast_rays.min_rays = static_cast<std::size_t>(r.get<std::uint64_t>());
   s.fast_rays.batch_rays = static_cast<std::size_t>(r.get<std::uint64_t>());
   s.diffraction_scattering = r.getBool();
+  const auto low_band = r.get<std::int32_t>();
+  if (low_band < 0 || low_band > static_cast<std::int32_t>(LowBandMethod::kWave)) r.fail("unknown low-band method " + std::to_string(low_band));
+  s.low_band = static_cast<LowBandMethod>(low_band);
+  s.wave.crossover_hz = r.get<double>();
+  s.wave.cells_per_wavelength = r.get<double>();
+  s.wave.threads = r.get<std::int32_t>();
   return s;
 }
 
@@ -293,6 +305,14 @@ std::vector<std::uint8_t> encodeResult(const SimulationResult& result) {
   putBands(w, s.traced_until_s);
   putBands(w, result.eyring_t60_s);
   w.put<double>(result.speed_of_sound_m_s);
+  // The wave part's figures, but not its wall time: the same request gives the same bytes.
+  const WaveLowBandStats& low = result.low_band;
+  w.putBool(low.used);
+  w.put<double>(low.crossover_hz);
+  w.put<double>(low.grid_spacing_m);
+  w.put<std::uint64_t>(low.grid_cells);
+  w.put<std::uint64_t>(low.solver_runs);
+  w.put<double>(low.overlap_level_db);
   return w.take();
 }
 
@@ -338,6 +358,13 @@ SimulationResult decodeResult(const std::uint8_t* data, std::size_t size) {
   s.traced_until_s = getBands(r);
   result.eyring_t60_s = getBands(r);
   result.speed_of_sound_m_s = r.get<double>();
+  WaveLowBandStats& low = result.low_band;
+  low.used = r.getBool();
+  low.crossover_hz = r.get<double>();
+  low.grid_spacing_m = r.get<double>();
+  low.grid_cells = static_cast<std::size_t>(r.get<std::uint64_t>());
+  low.solver_runs = static_cast<std::size_t>(r.get<std::uint64_t>());
+  low.overlap_level_db = r.get<double>();
   r.requireEnd();
   return result;
 }
