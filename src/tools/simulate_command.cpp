@@ -63,6 +63,13 @@ int runSimulate(const std::vector<std::string>& raw) {
               << result.stats.receiver_radius_m << " m\nbands traced until (s), then continued analytically:";
     for (double t : result.stats.traced_until_s) std::cout << " " << t;
   }
+  if (result.low_band.used) {
+    const WaveLowBandStats& low = result.low_band;
+    std::cout << "\nwave low band below " << std::setprecision(0) << low.crossover_hz << " Hz: " << low.solver_runs
+              << " solver runs on " << low.grid_cells << " cells of " << std::setprecision(3) << low.grid_spacing_m
+              << " m, " << std::setprecision(1) << low.seconds << " s; level against the geometric response at the crossover "
+              << std::showpos << low.overlap_level_db << std::noshowpos << " dB" << std::setprecision(3);
+  }
   std::cout << "\nEyring T60 with air (s):";
   for (double t : result.eyring_t60_s) std::cout << " " << t;
   std::cout << "\nwrote " << args.value("out", "") << " (" << result.impulse_response.channelCount() << " channels, "

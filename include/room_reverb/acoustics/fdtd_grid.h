@@ -4,7 +4,11 @@
 // the material behind each. The walls become staircases along the cell faces (a finite
 // volume view: every air cell is a cube of side h, and its boundary faces are where the
 // surface's admittance acts). On a wall at an angle to the grid the staircase has more
-// face area than the wall: sqrt(2) times at 45 degrees in one axis, sqrt(3) at most.
+// face area than the wall, |n_x| + |n_y| + |n_z| times for the wall's normal n: sqrt(2)
+// at 45 degrees in one axis, sqrt(3) at most. Each face carries the weight that takes
+// this back, 1 / (|n_x| + |n_y| + |n_z|), so that the staircase absorbs what the wall
+// does (a 6 x 4 x 3 m box turned 30 degrees about z: staircase 130 m^2 for 108 m^2 of
+// walls, T20 at 250 Hz 21 % short without the weights).
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
@@ -27,6 +31,7 @@ struct FdtdGrid {
     std::uint32_t cell = 0;
     int air_neighbours = 6;
     std::array<int, 6> face_material{-1, -1, -1, -1, -1, -1};
+    std::array<float, 6> face_weight{1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f};  // the area correction
   };
   std::vector<BoundaryCell> boundary;
 
@@ -39,6 +44,9 @@ struct FdtdGrid {
   std::size_t airCellCount() const;
   // The boundary faces' total area, m^2 (the staircase's, not the walls').
   double boundaryFaceAreaM2() const;
+  // The same with each face weighted by its area correction: the walls' area as the
+  // solver's boundary sees it.
+  double correctedBoundaryAreaM2() const;
 };
 
 // Samples the scene on a grid of `spacing_m`: a cell is air when its centre is inside the
@@ -46,7 +54,8 @@ struct FdtdGrid {
 // along the grid's x and y lines through the cell centres; where the two disagree (a ray
 // through an edge or a hole), by AcousticScene::isInside. Each boundary face takes the
 // material of the surface the axis ray from the cell centre meets within two cells, else
-// the nearest one any of the six axis rays meets. Throws InputError for a spacing that is
+// the nearest one any of the six axis rays meets, and the area correction of that
+// surface's normal. Throws InputError for a spacing that is
 // not positive or a grid above 2^31 cells.
 FdtdGrid voxelizeScene(const AcousticScene& scene, double spacing_m);
 

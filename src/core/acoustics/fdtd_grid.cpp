@@ -51,6 +51,16 @@ double FdtdGrid::boundaryFaceAreaM2() const {
   return static_cast<double>(faces) * spacing_m * spacing_m;
 }
 
+double FdtdGrid::correctedBoundaryAreaM2() const {
+  double weight = 0.0;
+  for (const BoundaryCell& cell : boundary) {
+    for (int f = 0; f < 6; ++f) {
+      if (cell.face_material[f] >= 0) weight += cell.face_weight[f];
+    }
+  }
+  return weight * spacing_m * spacing_m;
+}
+
 FdtdGrid voxelizeScene(const AcousticScene& scene, double spacing_m) {
   if (!(spacing_m > 0.0) || !std::isfinite(spacing_m)) throw InputError("the wave solver's grid spacing must be positive");
   const EmbreeScene& geometry = scene.geometry();
@@ -117,6 +127,7 @@ FdtdGrid voxelizeScene(const AcousticScene& scene, double spacing_m) {
           if (!solid[f]) continue;
           const RayHit& hit = hits[f].hit && hits[f].distance_m <= 2.0 * spacing_m ? hits[f] : hits[std::max(nearest, 0)];
           cell.face_material[f] = hit.hit ? scene.mesh().triangle_material[hit.triangle] : 0;
+          if (hit.hit) cell.face_weight[f] = static_cast<float>(1.0 / hit.normal.lpNorm<1>());
         }
         grid.boundary.push_back(cell);
       }

@@ -135,10 +135,11 @@ FdtdResponse solveWaveField(const FdtdGrid& grid, const Eigen::Vector3d& source,
     boundary_cell[b] = cell.cell;
     missing[b] = static_cast<float>((6 - cell.air_neighbours) * kLambdaSquared);
     double beta_sum = 0.0;
-    for (int m : cell.face_material) {
+    for (int f = 0; f < 6; ++f) {
+      const int m = cell.face_material[f];
       if (m < 0) continue;
       if (static_cast<std::size_t>(m) >= face_admittance.size()) throw InputError("a wall's material has no admittance");
-      beta_sum += face_admittance[static_cast<std::size_t>(m)];
+      beta_sum += face_admittance[static_cast<std::size_t>(m)] * cell.face_weight[f];
     }
     loss[b] = static_cast<float>(0.5 * lambda * beta_sum);
   }
