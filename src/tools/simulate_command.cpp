@@ -50,7 +50,8 @@ int runSimulate(const std::vector<std::string>& raw) {
   const SceneFiles files{args.value("room", ""), args.value("mesh", ""), args.has("y-up") ? UpAxis::kY : UpAxis::kZ,
                          args.has("open")};
   const AcousticScene scene = sceneFrom(files, args, settings.air);
-  const SimulationResult result = simulateRoom(scene, source, listener, settings);
+  const SimulationResult result =
+      simulateRoom(scene, source, listener, settings, [](const std::string& line) { std::cerr << line << "\n"; });
   writeAudioFile(args.value("out", ""), result.impulse_response, SampleEncoding::kFloat32);
 
   std::cout << std::fixed << std::setprecision(3);

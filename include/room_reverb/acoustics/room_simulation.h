@@ -67,8 +67,10 @@ struct SimulationResult {
 
 // Throws InputError when the source or listener is outside the room, in an object or too
 // close to a wall, or for invalid settings.
+// `progress` hears the wave low band's runs (wave_low_band.h), when there are any.
 SimulationResult simulateRoom(const AcousticScene& scene, const Eigen::Vector3d& source,
-                              const Eigen::Vector3d& listener, const SimulationSettings& settings);
+                              const Eigen::Vector3d& listener, const SimulationSettings& settings,
+                              const WaveProgress& progress = {});
 
 // How simulateRoom turns its paths and late energy into the impulse response: the
 // synthesis options of the scene and settings (the early and late parts synthesised apart

@@ -16,6 +16,7 @@
 // and its waves along the grid's axes are about 2 % slow there. Air absorption is left
 // out below the crossover (under 0.002 dB/m at 500 Hz).
 #include <Eigen/Core>
+#include <functional>
 #include <string>
 
 #include "room_reverb/acoustics/acoustic_scene.h"
@@ -32,6 +33,9 @@ struct WaveLowBandOptions {
   double cells_per_wavelength = 10.0;  // at the crossover frequency
   int threads = 0;                     // 0: all hardware threads
 };
+
+// Told a line after each solver run (its octave, how many runs there are, its time).
+using WaveProgress = std::function<void(const std::string& line)>;
 
 struct WaveLowBandStats {
   bool used = false;
@@ -54,7 +58,8 @@ struct WaveLowBand {
 // InputError for a crossover outside [63, 2000] Hz, fewer than 4 cells per wavelength, a
 // source or listener too near a surface for the grid, or a grid of more than 2^31 cells.
 WaveLowBand simulateWaveLowBand(const AcousticScene& scene, const Eigen::Vector3d& source, const Eigen::Vector3d& listener,
-                                double speed_of_sound_m_s, double duration_s, const WaveLowBandOptions& options);
+                                double speed_of_sound_m_s, double duration_s, const WaveLowBandOptions& options,
+                                const WaveProgress& progress = {});
 
 // `geometric` with its channels 0-3 below the crossover replaced by `wave`'s; the stats'
 // overlap level is filled in.

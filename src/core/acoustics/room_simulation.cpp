@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "room_reverb/common/error.h"
 
@@ -99,7 +100,8 @@ EnergyHistogram roomDecayLateEnergy(const AcousticScene& scene, const Propagatio
 }
 
 SimulationResult simulateRoom(const AcousticScene& scene, const Eigen::Vector3d& source,
-                              const Eigen::Vector3d& listener, const SimulationSettings& settings) {
+                              const Eigen::Vector3d& listener, const SimulationSettings& settings,
+                              const WaveProgress& progress) {
   if (settings.image_source_order < 0) throw InputError("the image-source order must be 0 or more");
   if (!(settings.duration_s > 0.0 && settings.duration_s <= 30.0)) throw InputError("the response duration must be in (0, 30] s");
   scene.requireInside(source, "source");
@@ -107,6 +109,13 @@ SimulationResult simulateRoom(const AcousticScene& scene, const Eigen::Vector3d&
   if ((source - listener).norm() < 0.05) throw InputError("source and listener are closer than 5 cm");
 
   const PropagationModel model = PropagationModel::from(settings.air, settings.directivity);
+  // The wave part first: a position its grid cannot take is refused before the rays run.
+  std::optional<WaveLowBand> low;
+  if (settings.low_band == LowBandMethod::kWave) {
+    WaveLowBandOptions wave = settings.wave;
+    wave.threads = settings.rays.threads;
+    low = simulateWaveLowBand(scene, source, listener, model.speed_of_sound_m_s, settings.duration_s, wave, progress);
+  }
   SimulationResult result;
   result.speed_of_sound_m_s = model.speed_of_sound_m_s;
   result.eyring_t60_s = eyringReverberationTimes(scene, settings.air);
@@ -144,12 +153,7 @@ SimulationResult simulateRoom(const AcousticScene& scene, const Eigen::Vector3d&
 
   result.impulse_response =
       synthesizeImpulseResponse(result.paths, &result.late, simulationSynthesisOptions(scene, settings));
-  if (settings.low_band == LowBandMethod::kWave) {
-    WaveLowBandOptions wave = settings.wave;
-    wave.threads = settings.rays.threads;
-    const WaveLowBand low = simulateWaveLowBand(scene, source, listener, model.speed_of_sound_m_s, settings.duration_s, wave);
-    result.impulse_response = joinWaveLowBand(low, result.impulse_response, result.low_band);
-  }
+  if (low) result.impulse_response = joinWaveLowBand(*low, result.impulse_response, result.low_band);
   return result;
 }
 

@@ -68,7 +68,8 @@ LowBandMethod parseLowBandMethod(const std::string& name) {
 std::string toString(LowBandMethod method) { return method == LowBandMethod::kWave ? "wave" : "geometric"; }
 
 WaveLowBand simulateWaveLowBand(const AcousticScene& scene, const Eigen::Vector3d& source, const Eigen::Vector3d& listener,
-                                double speed_of_sound_m_s, double duration_s, const WaveLowBandOptions& options) {
+                                double speed_of_sound_m_s, double duration_s, const WaveLowBandOptions& options,
+                                const WaveProgress& progress) {
   if (!(options.crossover_hz >= 63.0 && options.crossover_hz <= 2000.0)) {
     throw InputError("the wave low band's crossover must be 63 to 2000 Hz");
   }
@@ -94,6 +95,11 @@ WaveLowBand simulateWaveLowBand(const AcousticScene& scene, const Eigen::Vector3
   AudioBuffer sum;
   std::optional<BandFilterBank> bank;
   std::vector<BandFilterBank::PaddedSpectrum> latest(4);
+  std::size_t runs = 0;
+  for (std::size_t b = 0; b < bands.size(); ++b) runs += (b == 0 || bands[b].center_hz < top_hz) ? 1 : 0;
+  auto tell = [&](const std::string& line) {
+    if (progress) progress(line);
+  };
   for (std::size_t b = 0; b < bands.size(); ++b) {
     if (b == 0 || bands[b].center_hz < top_hz) {
       std::vector<double> admittance;
@@ -102,6 +108,12 @@ WaveLowBand simulateWaveLowBand(const AcousticScene& scene, const Eigen::Vector3
       }
       const FdtdResponse response = solveWaveField(grid, source, listener, admittance, solver);
       ++out.stats.solver_runs;
+      tell("wave low band: octave " + std::to_string(static_cast<int>(bands[b].nominal_hz)) + " Hz done (" +
+           std::to_string(out.stats.solver_runs) + " of " + std::to_string(runs) + " runs on " +
+           std::to_string(grid.cellCount()) + " cells, " +
+           std::to_string(static_cast<int>(std::lround(
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count()))) +
+           " s so far)");
       if (!bank) {
         bank.emplace(bands, response.sample_rate_hz, 0.5, Complementarity::kAmplitude);
         sum = makeSilentBuffer(4, response.steps, response.sample_rate_hz);
