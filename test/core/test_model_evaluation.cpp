@@ -222,6 +222,11 @@ TEST(ModelEvaluation, EveryCatalogueCauseCountsItsParameters) {
     EXPECT_GE(freeParameters(cause), 1) << cause;
     EXPECT_GT(causeMeaning(cause).size(), 20u) << cause;
   }
+  EXPECT_EQ(kOnRequestCauses, (std::vector<std::string>{"diffraction_scattering", "wave_low_band"}));
+  for (const std::string& cause : kOnRequestCauses) {
+    EXPECT_EQ(freeParameters(cause), 0) << cause;
+    EXPECT_GT(causeMeaning(cause).size(), 20u) << cause;
+  }
   EXPECT_THROW(causeMeaning("ghosts"), InputError);
   EXPECT_EQ(freeParameters("surface_absorption"), 9);
   EXPECT_EQ(freeParameters("air_absorption"), 1);
@@ -277,6 +282,29 @@ TEST(ModelEvaluation, TheReportShowsAGainOverSeedsWithItsStandardError) {
   const nlohmann::json j = nlohmann::json::parse(diagnosisToJson(d, ""));
   EXPECT_NEAR(j["hypotheses"][0]["gain_over_seeds"]["mean_jnd"].get<double>(), 0.25, 1e-9);
   EXPECT_FALSE(j["hypotheses"][1].contains("gain_over_seeds"));
+}
+
+// The physics switches reach the simulations: with the wave low band (a 150 Hz crossover,
+// to keep the grid small) the evaluation changes where the waves take over and is still
+// valid; diffraction scattering changes it too.
+TEST(ModelEvaluation, ThePhysicsSwitchesReachTheSimulations) {
+  const PlantedCase c = plantedCase("", 21);
+  const RoomUnderTest room = RoomUnderTest::fromRoomModel(c.room, c.library);
+  DiagnosisOptions options = testDiagnosisOptions();
+  options.evaluation.simulation.wave.crossover_hz = 150.0;
+  const ModelEvaluator evaluator(room, c.evidence, options.evaluation);
+  const Evaluation plain = evaluator.evaluate({});
+  ModelExtension wave, diffraction;
+  wave.wave_low_band = true;
+  diffraction.diffraction_scattering = true;
+  const Evaluation with_wave = evaluator.evaluate(wave);
+  const Evaluation with_diffraction = evaluator.evaluate(diffraction);
+  ASSERT_TRUE(plain.valid && with_wave.valid && with_diffraction.valid) << with_wave.reason << with_diffraction.reason;
+  EXPECT_NE(with_wave.fit_error_jnd, plain.fit_error_jnd);
+  EXPECT_NE(with_diffraction.fit_error_jnd, plain.fit_error_jnd);
+  ModelExtension both = wave;
+  both.add(diffraction);
+  EXPECT_TRUE(both.wave_low_band && both.diffraction_scattering);
 }
 
 }  // namespace

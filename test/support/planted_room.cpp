@@ -121,14 +121,19 @@ PlantedCase plantedCase(const std::string& cause, std::uint32_t seed) {
   c.cause = cause;
   c.library = MaterialLibrary::loadDefault();
   c.room = randomRoom(rng, c.library);
+  // A surface's size scatters where it is a few wavelengths across: a small room's walls
+  // at 125-500 Hz.
+  const bool small = cause == "diffraction_scattering";
+  if (small) c.room.size_m = {uniform(rng, 3.2, 3.8), uniform(rng, 2.4, 2.9), uniform(rng, 2.4, 2.7)};
+  const double margin = small ? 0.5 : 0.8, separation = small ? 1.0 : 1.5;
   std::vector<MeasurementPair> pairs;
-  const Eigen::Vector3d s1 = pointIn(rng, c.room.size_m, 0.8, 1.0, 1.6), s2 = pointIn(rng, c.room.size_m, 0.8, 1.0, 1.6);
+  const Eigen::Vector3d s1 = pointIn(rng, c.room.size_m, margin, 1.0, 1.6), s2 = pointIn(rng, c.room.size_m, margin, 1.0, 1.6);
   for (const Eigen::Vector3d& s : {s1, s2}) {
     for (int r = 0; r < 2; ++r) {
       MeasurementPair p;
       p.source_m = s;
-      do p.receiver_m = pointIn(rng, c.room.size_m, 0.8, 1.1, 1.5);
-      while ((p.receiver_m - s).norm() < 1.5);
+      do p.receiver_m = pointIn(rng, c.room.size_m, margin, 1.1, 1.5);
+      while ((p.receiver_m - s).norm() < separation);
       p.format = "ambix";
       p.label = "pair" + std::to_string(pairs.size() + 1);
       pairs.push_back(p);
@@ -192,6 +197,19 @@ PlantedCase plantedCase(const std::string& cause, std::uint32_t seed) {
     const RoomUnderTest room = RoomUnderTest::fromRoomModel(c.room, c.library);
     e.modes = LowFrequencyModes{scale, modalCrossoverHz(room.scene({}), c.room.air)};
     d << "modal low band below " << e.modes->crossover_hz << " Hz, damping x " << scale;
+  } else if (cause == "diffraction_scattering") {
+    // Smooth surfaces, absorption on the floor and ceiling: the walls' finite size is what
+    // scatters the low bands into the absorbing surfaces.
+    for (const char* surface : kRoomSurfaceNames) {
+      AcousticMaterial m = c.library.get(c.room.surfaces[surface].material);
+      const bool horizontal = std::string(surface) == "floor" || std::string(surface) == "ceiling";
+      const double a = horizontal ? uniform(rng, 0.45, 0.6) : uniform(rng, 0.03, 0.06);
+      for (std::size_t b = 0; b < m.absorption.size(); ++b) m.absorption[b] = a;
+      m.scattering.fill(0.1);
+      c.library.add(m);
+    }
+    e.diffraction_scattering = true;
+    d << "diffraction scattering (model: materials' 0.1 alone), floor and ceiling absorbing";
   } else if (!cause.empty()) {
     throw std::runtime_error("unknown planted cause " + cause);
   } else {
@@ -207,6 +225,8 @@ PlantedCase plantedCase(const std::string& cause, std::uint32_t seed) {
   s.ambisonic_order = 1;
   s.air = truth.airWith(e);
   if (e.directivity) s.directivity = *e.directivity;
+  s.diffraction_scattering = e.diffraction_scattering;
+  if (e.wave_low_band) s.low_band = LowBandMethod::kWave;
   s.rays.ray_count = 30000;
   c.evidence.positions = pairs;
   const ModalRoom modal_room = modalRoomFor(scene, s.air);

@@ -30,6 +30,9 @@
 namespace room_reverb::core {
 
 extern const std::vector<std::string> kCatalogueCauses;  // the ids above, in that order
+// Tried only when named in DiagnosisOptions::causes: diffraction_scattering and
+// wave_low_band, physics the simulation has as switches, with nothing to fit.
+extern const std::vector<std::string> kOnRequestCauses;
 
 struct CauseParameters {
   std::map<std::string, double> values;               // scalars, SI units named in the key

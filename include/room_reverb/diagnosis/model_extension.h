@@ -41,6 +41,10 @@ struct ModelExtension {
   std::vector<CuboidObject> reflectors; // objects the model lacked
   std::optional<CoupledDecay> coupled;
   std::optional<LowFrequencyModes> modes;
+  // Physics the simulation has as switches, with nothing to fit: the scattering of the
+  // surfaces' finite size, and the low band from the wave solver (room_simulation.h).
+  bool diffraction_scattering = false;
+  bool wave_low_band = false;
 
   // `other`'s fields on top of these (maps merged, reflectors appended, scale multiplied).
   void add(const ModelExtension& other);

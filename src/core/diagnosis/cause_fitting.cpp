@@ -16,11 +16,14 @@ double fitError(const Evaluation& e) { return e.valid ? e.fit_error_jnd : std::n
 // choose (humidity; nine bands; one coefficient; the panel's point, normal and side, its
 // material fixed; one factor; decay time and level; pattern and axis; damping), and what
 // it means, for readers of the report.
+// The physics switches at the end have nothing to fit and cost a simulation per pair (the
+// wave one several times the rays' time), so they are tried on request only.
 struct CatalogueEntry {
   const char* id;
   std::optional<FittedCause> (*fit)(const FitContext&, std::string&);
   int free_parameters;
   const char* meaning;
+  bool by_default = true;
 };
 constexpr CatalogueEntry kCatalogue[] = {
     {"air_absorption", fitAirAbsorption, 1,
@@ -37,7 +40,14 @@ constexpr CatalogueEntry kCatalogue[] = {
      "the source radiates with a directivity the model lacks (cardioid family fitted)"},
     {"low_frequency_modes", fitLowFrequencyModes, 1,
      "below the Schroeder frequency the room rings in modes that rays cannot show (modal synthesis, damping "
-     "fitted)"}};
+     "fitted)"},
+    {"diffraction_scattering", fitDiffractionScattering, 0,
+     "finite surfaces scatter long waves at their edges, which the materials' coefficients leave out "
+     "(Rindel's strip model, nothing fitted)",
+     false},
+    {"wave_low_band", fitWaveLowBand, 0,
+     "the low band is a wave field, which rays cannot show (wave solver below the crossover, nothing fitted)",
+     false}};
 
 const CatalogueEntry& entry(const std::string& cause) {
   for (const CatalogueEntry& e : kCatalogue) {
@@ -48,15 +58,18 @@ const CatalogueEntry& entry(const std::string& cause) {
   throw InputError("unknown cause '" + cause + "'; the catalogue has " + known);
 }
 
-std::vector<std::string> catalogueIds() {
+std::vector<std::string> catalogueIds(bool by_default) {
   std::vector<std::string> ids;
-  for (const CatalogueEntry& e : kCatalogue) ids.emplace_back(e.id);
+  for (const CatalogueEntry& e : kCatalogue) {
+    if (e.by_default == by_default) ids.emplace_back(e.id);
+  }
   return ids;
 }
 
 }  // namespace
 
-const std::vector<std::string> kCatalogueCauses = catalogueIds();
+const std::vector<std::string> kCatalogueCauses = catalogueIds(true);
+const std::vector<std::string> kOnRequestCauses = catalogueIds(false);
 
 void requireKnownCause(const std::string& cause) { entry(cause); }
 

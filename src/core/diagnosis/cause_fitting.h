@@ -38,6 +38,8 @@ std::optional<FittedCause> fitGeometryScale(const FitContext& context, std::stri
 std::optional<FittedCause> fitCoupledVolume(const FitContext& context, std::string& why);
 std::optional<FittedCause> fitSourceDirectivity(const FitContext& context, std::string& why);
 std::optional<FittedCause> fitLowFrequencyModes(const FitContext& context, std::string& why);
+std::optional<FittedCause> fitDiffractionScattering(const FitContext& context, std::string& why);
+std::optional<FittedCause> fitWaveLowBand(const FitContext& context, std::string& why);
 
 // The evaluation of accepted + extension.
 Evaluation evaluateWith(const FitContext& context, const ModelExtension& extension);

@@ -15,8 +15,8 @@
 namespace room_reverb::core {
 
 std::optional<FittedCause> fitLowFrequencyModes(const FitContext& context, std::string& why) {
-  if (context.accepted.modes) {
-    why = "the low band is already modal";
+  if (context.accepted.modes || context.accepted.wave_low_band) {
+    why = context.accepted.modes ? "the low band is already modal" : "the low band is already the wave solver's";
     return std::nullopt;
   }
   const RoomUnderTest& room = context.evaluator.room();

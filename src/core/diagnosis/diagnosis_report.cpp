@@ -169,6 +169,8 @@ std::string diagnosisToMarkdown(const Diagnosis& d, const std::string& extended_
     if (d.extension.directivity) outside.push_back("the source's directivity");
     if (d.extension.coupled) outside.push_back("the coupled decay");
     if (d.extension.modes) outside.push_back("the modal low band");
+    if (d.extension.diffraction_scattering) outside.push_back("the diffraction scattering (`--diffraction-scattering`)");
+    if (d.extension.wave_low_band) outside.push_back("the wave low band (`--low-band wave`)");
     for (std::size_t i = 0; i < outside.size(); ++i) {
       os << (i == 0 ? " The room format cannot hold " : i + 1 == outside.size() ? " and " : ", ") << outside[i];
     }

@@ -214,6 +214,8 @@ ModelEvaluator::PreparedCase ModelEvaluator::prepare(const EvaluationCase& c, co
     p.settings.air = room_.airWith(*c.extension);
     if (c.extension->modes) p.modal_room = std::make_shared<const ModalRoom>(modalRoomFor(*p.scene, p.settings.air));
     if (c.extension->directivity) p.settings.directivity = *c.extension->directivity;
+    if (c.extension->diffraction_scattering) p.settings.diffraction_scattering = true;
+    if (c.extension->wave_low_band) p.settings.low_band = LowBandMethod::kWave;
   }
   // Pair i at seed offset k: pairSeed(base + 7919 k, i), with the thread count its place in
   // the rounds of one evaluation gives it, wherever it runs.

@@ -41,6 +41,8 @@ void ModelExtension::add(const ModelExtension& other) {
   reflectors.insert(reflectors.end(), other.reflectors.begin(), other.reflectors.end());
   if (other.coupled) coupled = other.coupled;
   if (other.modes) modes = other.modes;
+  diffraction_scattering = diffraction_scattering || other.diffraction_scattering;
+  wave_low_band = wave_low_band || other.wave_low_band;
 }
 
 RoomUnderTest RoomUnderTest::fromRoomModel(RoomModel room, MaterialLibrary library) {
