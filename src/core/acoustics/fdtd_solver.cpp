@@ -43,7 +43,7 @@ class SpinBarrier {
   }
 
  private:
-  static constexpr int kSpins = 20000;  // about 10-50 microseconds
+  static constexpr int kSpins = 200000;  // about 0.1-0.5 ms
   const int parties_;
   std::atomic<int> arrived_{0};
   std::atomic<int> generation_{0};
