@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <iostream>
 #include <numeric>
+#include <optional>
 #include <random>
 #include <sstream>
 
@@ -114,6 +115,24 @@ DiagnosisOptions testDiagnosisOptions() {
   return options;
 }
 
+namespace {
+
+// The room's materials made hard walls (absorption 0.03-0.06) between an absorbing floor
+// and ceiling (0.45-0.6), the same in every band; their scattering set to `scattering`
+// when given.
+void absorbOnFloorAndCeiling(std::mt19937& rng, PlantedCase& c, std::optional<double> scattering) {
+  for (const char* surface : kRoomSurfaceNames) {
+    AcousticMaterial m = c.library.get(c.room.surfaces[surface].material);
+    const bool horizontal = std::string(surface) == "floor" || std::string(surface) == "ceiling";
+    const double a = horizontal ? uniform(rng, 0.45, 0.6) : uniform(rng, 0.03, 0.06);
+    for (std::size_t b = 0; b < m.absorption.size(); ++b) m.absorption[b] = a;
+    if (scattering) m.scattering.fill(*scattering);
+    c.library.add(m);
+  }
+}
+
+}  // namespace
+
 PlantedCase plantedCase(const std::string& cause, std::uint32_t seed) {
   std::mt19937 rng(seed);
   PlantedCase c;
@@ -157,13 +176,7 @@ PlantedCase plantedCase(const std::string& cause, std::uint32_t seed) {
     // and hard walls, specular rays that run between the walls outlive the rest, and the
     // late decay lengthens; diffuse ones mix into the absorbing surfaces. (With absorption
     // spread evenly, 0.2 against 0.5 changed EDT, C80 and D50 less than the ray noise.)
-    for (const char* surface : kRoomSurfaceNames) {
-      AcousticMaterial m = c.library.get(c.room.surfaces[surface].material);
-      const bool horizontal = std::string(surface) == "floor" || std::string(surface) == "ceiling";
-      const double a = horizontal ? uniform(rng, 0.45, 0.6) : uniform(rng, 0.03, 0.06);
-      for (std::size_t b = 0; b < m.absorption.size(); ++b) m.absorption[b] = a;
-      c.library.add(m);
-    }
+    absorbOnFloorAndCeiling(rng, c, std::nullopt);
     // Not lower: below about 0.1 the ray tracer's late energy is carried by a few rays
     // (see docs/diagnosis.md) and the "measurement" itself turns noisy.
     e.global_scattering = uniform(rng, 0.12, 0.2);
@@ -200,14 +213,7 @@ PlantedCase plantedCase(const std::string& cause, std::uint32_t seed) {
   } else if (cause == "diffraction_scattering") {
     // Smooth surfaces, absorption on the floor and ceiling: the walls' finite size is what
     // scatters the low bands into the absorbing surfaces.
-    for (const char* surface : kRoomSurfaceNames) {
-      AcousticMaterial m = c.library.get(c.room.surfaces[surface].material);
-      const bool horizontal = std::string(surface) == "floor" || std::string(surface) == "ceiling";
-      const double a = horizontal ? uniform(rng, 0.45, 0.6) : uniform(rng, 0.03, 0.06);
-      for (std::size_t b = 0; b < m.absorption.size(); ++b) m.absorption[b] = a;
-      m.scattering.fill(0.1);
-      c.library.add(m);
-    }
+    absorbOnFloorAndCeiling(rng, c, 0.1);
     e.diffraction_scattering = true;
     d << "diffraction scattering (model: materials' 0.1 alone), floor and ceiling absorbing";
   } else if (!cause.empty()) {
