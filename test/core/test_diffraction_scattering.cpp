@@ -14,6 +14,7 @@
 #include "shoebox.h"
 
 using namespace room_reverb::core;
+using room_reverb::test::noAir;
 
 namespace {
 
@@ -36,12 +37,6 @@ TriangleMesh flatQuads(const std::vector<std::array<double, 4>>& quads, const st
 
 std::vector<SurfaceExtent> patchesOf(const TriangleMesh& mesh, std::vector<std::size_t>& triangle_patch) {
   return surfaceExtents(mesh, std::vector<std::size_t>(mesh.triangleCount(), 0), triangle_patch);
-}
-
-AirConditions noAir() {
-  AirConditions air;
-  air.enabled = false;
-  return air;
 }
 
 }  // namespace

@@ -15,14 +15,9 @@
 #include "test_rooms.h"
 
 using namespace room_reverb::core;
+using room_reverb::test::noAir;
 
 namespace {
-
-AirConditions noAir() {
-  AirConditions air;
-  air.enabled = false;
-  return air;
-}
 
 RayTracingOptions twoThreads(std::size_t rays, double max_time_s) {
   RayTracingOptions options;

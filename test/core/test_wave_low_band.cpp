@@ -20,14 +20,9 @@
 #include "shoebox.h"
 
 using namespace room_reverb::core;
+using room_reverb::test::noAir;
 
 namespace {
-
-AirConditions noAir() {
-  AirConditions air;
-  air.enabled = false;
-  return air;
-}
 
 SimulationSettings boxSettings() {
   SimulationSettings settings;

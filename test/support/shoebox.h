@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <string>
 
+#include "room_reverb/acoustics/air_absorption.h"
 #include "room_reverb/acoustics/material.h"
 #include "room_reverb/acoustics/triangle_mesh.h"
 
@@ -12,5 +13,12 @@ core::TriangleMesh shoeboxMesh(const Eigen::Vector3d& size, const std::string& m
 
 // A library holding one material with the same absorption and scattering in every band.
 core::MaterialLibrary uniformLibrary(double absorption, double scattering, const std::string& name = "test_wall");
+
+// Air that absorbs nothing.
+inline core::AirConditions noAir() {
+  core::AirConditions air;
+  air.enabled = false;
+  return air;
+}
 
 }  // namespace room_reverb::test

@@ -163,16 +163,15 @@ bool addDirectSound(Search& s, bool in_view) {
 void addPath(Search& s) {
   std::vector<std::size_t> triangles;
   Eigen::Vector3d leaving;
-  const bool valid = validatePath(s, triangles, leaving);
+  std::vector<Eigen::Vector3d> points;
+  const bool diffracting = s.options.diffraction_scattering && s.options.specular_share_only && !s.planes.empty();
+  const bool valid = validatePath(s, triangles, leaving, diffracting ? &points : nullptr);
   if (s.planes.empty() && s.options.diffract_direct_sound && s.scene.roomShape() != nullptr &&
       !s.scene.roomShape()->objects.empty()) {
     addDirectSound(s, valid);
     return;
   }
   if (!valid) return;
-  std::vector<Eigen::Vector3d> points;
-  const bool diffracting = s.options.diffraction_scattering && s.options.specular_share_only && !s.planes.empty();
-  if (diffracting) validatePath(s, triangles, leaving, &points);
   SpecularPath path;
   path.order = static_cast<int>(s.planes.size());
   path.image_position = s.planes.empty() ? s.source : s.images.back();
