@@ -16,10 +16,12 @@
 // around the receiver (E / (pi r^2)); purely specular paths up to the image-source order
 // are left out, since the image sources carry them.
 #include <cstdint>
+#include <memory>
 
 #include "room_reverb/acoustics/acoustic_scene.h"
 #include "room_reverb/acoustics/decay_continuation.h"
 #include "room_reverb/acoustics/energy_histogram.h"
+#include "room_reverb/acoustics/path_ledger.h"
 #include "room_reverb/acoustics/propagation.h"
 
 namespace room_reverb::core {
@@ -83,6 +85,8 @@ struct RayTracingResult {
   // volume, and its course holds where the absorption sits (a ray between hard walls
   // keeps its energy longer than Eyring's mean absorption allows).
   std::vector<OctaveBandValues> energy_in_flight;
+  // With a ledger budget: the paths, when they fit and could be kept (null otherwise).
+  std::shared_ptr<const PathLedger> ledger;
 };
 
 // Adds `part`'s counts (rays, reflections, leaked, escaped, stopped by time and by
@@ -103,8 +107,14 @@ void addRayCounts(RayTracingStats& total, const RayTracingStats& part);
 double autoReceiverRadius(const AcousticScene& scene, const Eigen::Vector3d& listener, std::size_t ray_count,
                           double speed_of_sound_m_s, double crossings_per_ms);
 
+// `ledger_budget_bytes` > 0 keeps the paths (path_ledger.h) when they fit in that many
+// bytes: a model that differs in absorption, air or directivity can then be replayed
+// instead of traced. It is what the caller wants back, not physics, so it is no option
+// (and not on the wire). No ledger is kept when a band was continued analytically (its
+// later paths carry energy the receiver never saw) or with diffraction scattering (whose
+// scattering depends on each path's legs).
 RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& source,
                            const Eigen::Vector3d& listener, const PropagationModel& model,
-                           const RayTracingOptions& options = {});
+                           const RayTracingOptions& options = {}, std::size_t ledger_budget_bytes = 0);
 
 }  // namespace room_reverb::core

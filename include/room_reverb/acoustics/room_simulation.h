@@ -12,12 +12,15 @@
 //    listening test).
 // Every physical effect is an explicit switch: air (air.enabled), scattering and absorption
 // (MaterialOverrides on the scene), source directivity, image-source order, rays.
+#include <memory>
+#include <optional>
 #include <string>
 
 #include "room_reverb/acoustics/acoustic_scene.h"
 #include "room_reverb/acoustics/fast_mode_rays.h"
 #include "room_reverb/acoustics/image_sources.h"
 #include "room_reverb/acoustics/impulse_response_synthesis.h"
+#include "room_reverb/acoustics/path_ledger.h"
 #include "room_reverb/acoustics/ray_tracer.h"
 #include "room_reverb/acoustics/wave_low_band.h"
 
@@ -63,14 +66,30 @@ struct SimulationResult {
   OctaveBandValues eyring_t60_s{};         // Eyring with air, for reference
   WaveLowBandStats low_band;               // the wave solver's part, when it was used
   double speed_of_sound_m_s = 0.0;
+  // The ray tracer's paths when the caller asked for them (simulateRoom's
+  // ledger_budget_bytes) and they could be kept; this process only, never on the wire.
+  std::shared_ptr<const PathLedger> ledger;
 };
 
 // Throws InputError when the source or listener is outside the room, in an object or too
 // close to a wall, or for invalid settings.
 // `progress` hears the wave low band's runs (wave_low_band.h), when there are any.
+// `ledger_budget_bytes` > 0 keeps the accurate mode's paths in the result (traceRays).
 SimulationResult simulateRoom(const AcousticScene& scene, const Eigen::Vector3d& source,
                               const Eigen::Vector3d& listener, const SimulationSettings& settings,
-                              const WaveProgress& progress = {});
+                              const WaveProgress& progress = {}, std::size_t ledger_budget_bytes = 0);
+
+// simulateRoom's answer for a model that differs from `traced`'s only in its absorption,
+// its air (at the same speed of sound) or its source directivity, from `traced`'s ledger:
+// the image sources found for the new model, the late energy replayed (path_ledger.h), the
+// response synthesised with the same seed. Tracing the new model instead gives the same
+// result in expectation, with its own noise. nullopt, with the reason in `why_not`, when
+// it cannot be replayed (no ledger, other geometry, scattering, positions or settings, or
+// too few effective rays); the result then carries the traced paths' ledger for further
+// replays.
+std::optional<SimulationResult> replaySimulation(const SimulationResult& traced, const AcousticScene& scene,
+                                                 const Eigen::Vector3d& source, const Eigen::Vector3d& listener,
+                                                 const SimulationSettings& settings, std::string& why_not);
 
 // How simulateRoom turns its paths and late energy into the impulse response: the
 // synthesis options of the scene and settings (the early and late parts synthesised apart

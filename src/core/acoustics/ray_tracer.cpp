@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <limits>
 #include <cmath>
 #include <cstdint>
@@ -123,7 +124,20 @@ struct Slice {
   std::vector<RayBranch>* parked = nullptr;
   std::vector<OctaveBandValues>* fine = nullptr;
   std::vector<OctaveBandValues>* losses = nullptr;
+  std::vector<LedgerEvent>* ledger = nullptr;  // the chunk's, when paths are kept
 };
+
+// Appends one step to the slice's ledger, when it keeps one.
+void note(const Slice& slice, LedgerEvent::Kind kind, std::uint32_t index = 0, double distance_m = 0.0,
+          double factor = 0.0, const Eigen::Vector3d& direction = Eigen::Vector3d::Zero()) {
+  if (!slice.ledger) return;
+  LedgerEvent e;
+  e.code = LedgerEvent::makeCode(kind, index);
+  e.distance_m = distance_m;
+  e.factor = static_cast<float>(factor);
+  for (int i = 0; i < 3; ++i) e.direction[i] = static_cast<float>(direction[i]);
+  slice.ledger->push_back(e);
+}
 
 struct Tracer {
   const AcousticScene& scene;
@@ -214,7 +228,9 @@ struct Tracer {
   // time limit. True when the branch ends.
   // `loss`, when given, gets the energy the roulette takes (negative for the gain of a
   // survivor).
-  bool rouletteEnds(RayBranch& ray, OctaveBandValues* loss) const {
+  // `gain` gets the survivor's energy factor (1 when the roulette was not played).
+  bool rouletteEnds(RayBranch& ray, OctaveBandValues* loss, double& gain) const {
+    gain = 1.0;
     const std::optional<double> loudest = loudestBelowRoulette(ray.energy, ray.travelled);
     if (!loudest) return false;
     const double survival = *loudest / roulette_level;
@@ -224,6 +240,7 @@ struct Tracer {
       }
       return true;
     }
+    gain = 1.0 / survival;
     for (int b = 0; b < kOctaveBandCount; ++b) {
       const double before = ray.energy[b];
       ray.energy[b] = before / survival;
@@ -252,6 +269,7 @@ struct Tracer {
     start.direction = stratifiedDirection(index, options.ray_count, launch_rotation, keyedUniform(start.key, 0, kLaunch));
     const double gain = model.directivity.pressureGain(start.direction);
     start.energy.fill(ray_energy * gain * gain);
+    note(slice, LedgerEvent::kLaunch, 0, 0.0, ray_energy * gain * gain, start.direction);
 
     ++stats.rays;
     if (slice.losses) {
@@ -307,6 +325,7 @@ struct Tracer {
       // is complete when the slice ends.
       if (ray.travelled >= slice.boundary_m) {
         slice.parked->push_back(ray);
+        note(slice, LedgerEvent::kPark);
         return;
       }
       const RayHit hit = scene.geometry().intersect(ray.position, ray.direction, 1e-7);
@@ -317,6 +336,7 @@ struct Tracer {
         if (along > 0.0 && along < leg && (to_listener - along * ray.direction).squaredNorm() < r * r &&
             ray.travelled + along < max_distance) {
           deposit(histogram, ray.energy, ray.travelled + along, sphere_factor, -ray.direction, slice.live);
+          note(slice, LedgerEvent::kSphere, 0, ray.travelled + along, sphere_factor, -ray.direction);
           ++stats.sphere_detections;
         }
       }
@@ -328,6 +348,7 @@ struct Tracer {
           OctaveBandValues& loss = lossAt(slice, ray.travelled);
           for (int b = 0; b < kOctaveBandCount; ++b) loss[b] += ray.energy[b];
         }
+        note(slice, LedgerEvent::kEnd);
         return;
       }
       if (ray.travelled + leg >= max_distance) {
@@ -335,6 +356,7 @@ struct Tracer {
         for (int b = 0; b < kOctaveBandCount; ++b) {
           stats.energy_left_at_time_limit[b] += ray.energy[b] * std::exp(-model.air_attenuation_per_m[b] * max_distance);
         }
+        note(slice, LedgerEvent::kEnd);
         return;
       }
       ray.travelled += leg;
@@ -357,14 +379,20 @@ struct Tracer {
                                           characteristicDistance(leg, mean_free_path_m > 0.0 ? mean_free_path_m : leg),
                                           model.speed_of_sound_m_s)
               : m.scattering;
-      if (options.diffuse_rain) rain(histogram, ray, scattering, normal, slice.live);
+      const RainArrival rained =
+          options.diffuse_rain ? rain(histogram, ray, scattering, normal, slice.live) : RainArrival{};
+      note(slice, LedgerEvent::kReflect, static_cast<std::uint32_t>(hit.triangle), rained.distance_m, rained.factor,
+           rained.direction);
       // Back onto the wall's plane (the float hit distance leaves the point up to ~1e-6 m
       // either side of it), then just off it on the room's side.
       ray.position += (wall_offset - normal.dot(ray.position)) * normal + kSurfaceOffset_m * normal;
-      if (rouletteEnds(ray, loss)) {
+      double survivor_gain = 1.0;
+      if (rouletteEnds(ray, loss, survivor_gain)) {
         ++stats.stopped_by_energy;
+        note(slice, LedgerEvent::kEnd);
         return;
       }
+      if (survivor_gain != 1.0) note(slice, LedgerEvent::kRoulette, 0, 0.0, survivor_gain);
       const double draw = keyedUniform(ray.key, ray.order, kScatter);
       BandMask diffuse = 0;
       for (int b = 0; b < kOctaveBandCount; ++b) {
@@ -383,8 +411,13 @@ struct Tracer {
           else ray.energy[b] = 0.0;
         }
         if (specular.bands & slice.active) pending.push_back(specular);
+        // Kept only while every band is traced: both parts are then always followed.
+        note(slice, LedgerEvent::kSplit, diffuse);
         ray.bands = diffuse;
-        if (!(ray.bands & slice.active)) return;
+        if (!(ray.bands & slice.active)) {
+          note(slice, LedgerEvent::kEnd);
+          return;
+        }
       }
       if (diffuse != 0) {
         ray.direction = lambertDirection(normal, keyedUniform(ray.key, ray.order, kLambertRadius),
@@ -398,22 +431,32 @@ struct Tracer {
     }
   }
 
+  // What a reflection's diffuse rain delivered: the scattered energy times `factor`
+  // after `distance_m` of travel, from `direction`; factor 0 when it delivered nothing.
+  struct RainArrival {
+    double distance_m = 0.0;
+    double factor = 0.0;
+    Eigen::Vector3d direction = Eigen::Vector3d::Zero();
+  };
+
   // Diffuse rain (Schröder 2011): the scattered share of this reflection sent straight to
   // the receiver when it sees the wall point.
-  void rain(EnergyHistogram& histogram, const RayBranch& ray, const OctaveBandValues& scattering,
-            const Eigen::Vector3d& normal, const OctaveBandValues& live) const {
+  RainArrival rain(EnergyHistogram& histogram, const RayBranch& ray, const OctaveBandValues& scattering,
+                   const Eigen::Vector3d& normal, const OctaveBandValues& live) const {
     const Eigen::Vector3d to_listener = listener - ray.position;
     const double d = to_listener.norm();
     const double cos_theta = normal.dot(to_listener) / d;
-    if (!(cos_theta > 0.0)) return;
+    if (!(cos_theta > 0.0)) return {};
     OctaveBandValues scattered;
     bool any = false;
     for (int b = 0; b < kOctaveBandCount; ++b) {
       scattered[b] = ray.energy[b] * scattering[b] * live[b];
       any = any || scattered[b] > 0.0;
     }
-    if (!any || scene.geometry().occluded(ray.position, listener, 1e-5)) return;
-    deposit(histogram, scattered, ray.travelled + d, cos_theta / (kPi * d * d), -to_listener / d, live);
+    if (!any || scene.geometry().occluded(ray.position, listener, 1e-5)) return {};
+    const RainArrival arrival{ray.travelled + d, cos_theta / (kPi * d * d), -to_listener / d};
+    deposit(histogram, scattered, arrival.distance_m, arrival.factor, arrival.direction, live);
+    return arrival;
   }
 };
 
@@ -446,7 +489,7 @@ double autoReceiverRadius(const AcousticScene& scene, const Eigen::Vector3d& lis
 
 RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& source,
                            const Eigen::Vector3d& listener, const PropagationModel& model,
-                           const RayTracingOptions& options) {
+                           const RayTracingOptions& options, std::size_t ledger_budget_bytes) {
   if (options.ray_count == 0) throw InputError("the ray count must be at least 1");
   if (!(options.roulette_db <= 0.0)) throw InputError("the Russian roulette level must be 0 dB or below");
   if (!(options.max_time_s > 0.0) || !(options.bin_s > 0.0)) throw InputError("ray tracing needs a positive duration and bin width");
@@ -470,6 +513,11 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
   std::vector<std::vector<OctaveBandValues>> losses(continuing ? static_cast<std::size_t>(threads) : 0,
                                                     std::vector<OctaveBandValues>(flight_bins, OctaveBandValues{}));
   std::vector<std::vector<RayBranch>> parked(chunks);
+  // The paths, per chunk, while they fit the budget (path_ledger.h).
+  const bool keeping = ledger_budget_bytes > 0 && !options.diffraction_scattering;
+  std::vector<std::vector<LedgerEvent>> ledger_chunks(keeping ? chunks : 0);
+  std::atomic<std::size_t> ledger_bytes{0};
+  std::atomic<bool> ledger_overflow{false};
   BandMask active = kAllBands;
   std::array<std::optional<EstablishedDecay>, kOctaveBandCount> lines;
   OctaveBandValues traced_until;
@@ -490,17 +538,25 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
       slice.losses = losses.empty() ? nullptr : &losses[t];
       for (std::size_t chunk = t; chunk < chunks; chunk += static_cast<std::size_t>(threads)) {
         slice.parked = &parked[chunk];
+        slice.ledger = keeping && !ledger_overflow.load(std::memory_order_relaxed) ? &ledger_chunks[chunk] : nullptr;
+        const std::size_t ledger_before = slice.ledger ? slice.ledger->size() : 0;
         if (slice_index == 0) {
           const std::size_t end = std::min(options.ray_count, (chunk + 1) * kRaysPerChunk);
           for (std::size_t ray = chunk * kRaysPerChunk; ray < end; ++ray) tracer.traceRay(ray, pending, histograms[t], stats[t], slice);
-          continue;
+        } else {
+          resumed.clear();
+          resumed.swap(parked[chunk]);
+          note(slice, LedgerEvent::kSlice);
+          for (RayBranch& branch : resumed) {
+            if (!(branch.bands & active)) continue;
+            note(slice, LedgerEvent::kResume);
+            tracer.traceBranch(branch, pending, histograms[t], stats[t], slice);
+            tracer.tracePending(pending, histograms[t], stats[t], slice);
+          }
         }
-        resumed.clear();
-        resumed.swap(parked[chunk]);
-        for (RayBranch& branch : resumed) {
-          if (!(branch.bands & active)) continue;
-          tracer.traceBranch(branch, pending, histograms[t], stats[t], slice);
-          tracer.tracePending(pending, histograms[t], stats[t], slice);
+        if (slice.ledger) {
+          const std::size_t added = (slice.ledger->size() - ledger_before) * sizeof(LedgerEvent);
+          if (ledger_bytes.fetch_add(added) + added > ledger_budget_bytes) ledger_overflow = true;
         }
       }
     };
@@ -555,11 +611,36 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
     next_end_s = kFlightBinS * std::ceil((end_s + wait_s) / kFlightBinS - 1e-9);
   }
 
-  RayTracingResult result{EnergyHistogram(options.bin_s, bins), {}, {}};
+  RayTracingResult result{EnergyHistogram(options.bin_s, bins), {}, {}, nullptr};
   for (int t = 0; t < threads; ++t) result.histogram.merge(histograms[static_cast<std::size_t>(t)]);
   for (int t = 0; t < threads; ++t) addStats(result.stats, stats[t]);
   result.stats.receiver_radius_m = radius;
   result.stats.traced_until_s = traced_until;
+  // A continued band's later arrivals were never deposited, so its paths say nothing of
+  // its tail: no ledger then.
+  if (keeping && !ledger_overflow && active == kAllBands) {
+    auto ledger = std::make_shared<PathLedger>();
+    ledger->chunks = std::move(ledger_chunks);
+    ledger->threads = threads;
+    ledger->source = source;
+    ledger->listener = listener;
+    ledger->seed = options.seed;
+    ledger->ray_count = options.ray_count;
+    ledger->ray_energy = tracer.ray_energy;
+    ledger->bin_s = options.bin_s;
+    ledger->bins = bins;
+    ledger->speed_of_sound_m_s = model.speed_of_sound_m_s;
+    ledger->directivity = model.directivity;
+    ledger->air_attenuation_per_m = model.air_attenuation_per_m;
+    ledger->mesh_fingerprint = meshFingerprint(scene.mesh());
+    for (std::size_t t = 0; t < scene.mesh().triangleCount(); ++t) {
+      const MaterialTerms& m = tracer.terms[static_cast<std::size_t>(scene.mesh().triangle_material[t])];
+      ledger->reflectance.push_back(m.reflectance);
+      ledger->scattering.push_back(m.scattering);
+    }
+    ledger->image_source_order = options.image_source_order;
+    result.ledger = std::move(ledger);
+  }
   if (!in_flight.empty()) {
     result.energy_in_flight.assign(bins, OctaveBandValues{});
     for (const auto& part : in_flight) {

@@ -101,7 +101,7 @@ EnergyHistogram roomDecayLateEnergy(const AcousticScene& scene, const Propagatio
 
 SimulationResult simulateRoom(const AcousticScene& scene, const Eigen::Vector3d& source,
                               const Eigen::Vector3d& listener, const SimulationSettings& settings,
-                              const WaveProgress& progress) {
+                              const WaveProgress& progress, std::size_t ledger_budget_bytes) {
   if (settings.image_source_order < 0) throw InputError("the image-source order must be 0 or more");
   if (!(settings.duration_s > 0.0 && settings.duration_s <= 30.0)) throw InputError("the response duration must be in (0, 30] s");
   scene.requireInside(source, "source");
@@ -126,9 +126,10 @@ SimulationResult simulateRoom(const AcousticScene& scene, const Eigen::Vector3d&
     rays.max_time_s = settings.duration_s;
     rays.diffraction_scattering = settings.diffraction_scattering;
     rays.image_source_order = settings.image_source_order;
-    RayTracingResult traced = traceRays(scene, source, listener, model, rays);
+    RayTracingResult traced = traceRays(scene, source, listener, model, rays, ledger_budget_bytes);
     result.late = std::move(traced.histogram);
     result.stats = traced.stats;
+    result.ledger = std::move(traced.ledger);
   } else if (settings.mode == SimulationMode::kFast) {
     RayTracingOptions rays = settings.rays;
     rays.max_time_s = settings.duration_s;
@@ -154,6 +155,42 @@ SimulationResult simulateRoom(const AcousticScene& scene, const Eigen::Vector3d&
   result.impulse_response =
       synthesizeImpulseResponse(result.paths, &result.late, simulationSynthesisOptions(scene, settings));
   if (low) result.impulse_response = joinWaveLowBand(*low, result.impulse_response, result.low_band);
+  return result;
+}
+
+std::optional<SimulationResult> replaySimulation(const SimulationResult& traced, const AcousticScene& scene,
+                                                 const Eigen::Vector3d& source, const Eigen::Vector3d& listener,
+                                                 const SimulationSettings& settings, std::string& why_not) {
+  const PathLedger* ledger = traced.ledger.get();
+  const auto refuse = [&](const std::string& why) {
+    why_not = why;
+    return std::nullopt;
+  };
+  if (!ledger) return refuse("the traced result kept no paths");
+  if (settings.mode != SimulationMode::kAccurate) return refuse("only the accurate mode traces paths");
+  if (settings.diffraction_scattering) return refuse("diffraction scattering depends on each path's legs");
+  if (settings.low_band != LowBandMethod::kGeometric) return refuse("the wave low band is solved, not traced");
+  if (ledger->source != source || ledger->listener != listener) return refuse("the positions differ from the traced ones");
+  if (ledger->seed != settings.rays.seed || ledger->ray_count != settings.rays.ray_count ||
+      ledger->image_source_order != settings.image_source_order ||
+      ledger->bins != static_cast<std::size_t>(std::ceil(settings.duration_s / settings.rays.bin_s)) ||
+      ledger->bin_s != settings.rays.bin_s) {
+    return refuse("the ray tracing's settings differ from the traced ones");
+  }
+  const PropagationModel model = PropagationModel::from(settings.air, settings.directivity);
+  LedgerReplayOptions options;
+  options.threads = settings.rays.threads;
+  LedgerReplay replay = replayLedger(*ledger, scene, model, options);
+  if (!replay.replayed) return refuse(replay.why_not);
+  SimulationResult result;
+  result.speed_of_sound_m_s = model.speed_of_sound_m_s;
+  result.eyring_t60_s = eyringReverberationTimes(scene, settings.air);
+  result.paths = computeImageSources(scene, source, listener, model, imageSourceOptionsFor(settings));
+  result.late = std::move(replay.histogram);
+  result.stats = traced.stats;
+  result.ledger = traced.ledger;
+  result.impulse_response =
+      synthesizeImpulseResponse(result.paths, &result.late, simulationSynthesisOptions(scene, settings));
   return result;
 }
 
