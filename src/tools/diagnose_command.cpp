@@ -55,13 +55,17 @@ DIR/extended_room.yaml (the corrected room).
   --no-direction-term
                      leave the directions of the early energy out of the score (B-format
                      pairs; the simulations are then omni): for the same doubt, or speed
+  --trace-every-model
+                     trace every candidate model's rays instead of replaying the base
+                     model's paths for those that differ only in absorption, air or
+                     directivity (same expectation; slower)
 )";
 
 int runDiagnose(const std::vector<std::string>& raw) {
   std::set<std::string> valued{"measured", "room", "mesh", "out", "causes", "max-causes", "rays", "order", "duration",
                                "seed", "threads", "materials", "noise-seeds"};
   for (const std::string& option : simulationWorkerOptions()) valued.insert(option);
-  const Arguments args(raw, valued, {"y-up", "no-air", "no-reflection-term", "no-direction-term"});
+  const Arguments args(raw, valued, {"y-up", "no-air", "no-reflection-term", "no-direction-term", "trace-every-model"});
   if (!args.positional().empty()) throw UsageError("unexpected argument '" + args.positional().front() + "'");
   if (!args.has("measured")) throw UsageError("--measured FILE is required");
   if (!args.has("out")) throw UsageError("--out DIR is required");
@@ -91,6 +95,7 @@ int runDiagnose(const std::vector<std::string>& raw) {
   }
   options.evaluation.score_reflections = !args.has("no-reflection-term");
   options.evaluation.score_directions = !args.has("no-direction-term");
+  options.evaluation.replay_paths = !args.has("trace-every-model");
   SimulationSettings& sim = options.evaluation.simulation;
   const int rays = args.intValue("rays", 10000);
   if (rays <= 0) throw InputError("--rays must be at least 1");

@@ -72,13 +72,23 @@ struct PathLedger {
   OctaveBandValues air_attenuation_per_m{};  // of the traced model
   std::vector<OctaveBandValues> reflectance;  // per triangle, of the traced scene
   std::vector<OctaveBandValues> scattering;   // per triangle, of the traced scene
+  // Per band, the travel (m) over which the traced decay curve (Schroeder's backward
+  // integral of its histogram) falls from 5 to 35 dB down (decayRange): where the traced
+  // walls' effective rays are counted.
+  OctaveBandValues decay_from_m{};
+  OctaveBandValues decay_to_m{};
   std::size_t bytes() const;
 };
 
+// Per band, the travel (m) over which the decay curve of `histogram` falls from 5 to 35 dB
+// down (to its end where it does not).
+void decayRange(const EnergyHistogram& histogram, double speed_of_sound_m_s, OctaveBandValues& from_m,
+                OctaveBandValues& to_m);
+
 struct LedgerReplayOptions {
-  // The replay is refused when, in any band's decay range (from 5 to 35 dB down on the
-  // replayed decay curve, or to its end), the effective number of rays, (sum w)^2 / sum w^2
-  // over the rays' energies there, falls below this share of the traced model's own.
+  // The replay is refused when, in any band's decay range (PathLedger::decay_from_m), the
+  // effective number of rays, (sum w)^2 / sum w^2
+  // over the rays' energies there, falls below this share of what the traced walls give.
   double min_effective_share = 0.5;
   int threads = 0;  // 0: the ledger's
 };

@@ -36,6 +36,14 @@ struct EvaluationSettings {
   // Where the simulations run (simulation_runner.h): null, this process. Worker processes
   // or room_simulator nodes give the same evaluations, to the bit.
   std::shared_ptr<SimulationRunner> runner;
+  // Keep the ray tracer's paths of the first model traced at each pair's base seed (in this
+  // process)
+  // and answer a model that differs from it only in absorption, air or source directivity
+  // by replaying them (path_ledger.h) instead of tracing: the absorption, humidity and
+  // directivity fits then cost their image sources and synthesis. A replay has the same
+  // expectation as a trace and shares its seed's paths, so a fit's candidates differ only
+  // by what they change (docs/simulation.md).
+  bool replay_paths = true;
 };
 
 // One number of the comparison: parameter `group` (T20, T30, EDT, C80, D50, DRR, early or
@@ -129,6 +137,8 @@ class ModelEvaluator {
   const MeasuredEvidence& evidence() const { return evidence_; }
   const EvaluationSettings& settings() const { return settings_; }
   int evaluations() const { return evaluations_; }
+  // Pair simulations answered by replaying kept paths instead of tracing.
+  int replayedSimulations() const { return replayed_; }
 
  private:
   const RoomUnderTest& room_;
@@ -141,6 +151,14 @@ class ModelEvaluator {
   std::shared_ptr<const AcousticScene> given_scene_;
   bool score_directions_ = false;  // settings' score_directions and a measured profile to score
   mutable int evaluations_ = 0;
+  mutable int replayed_ = 0;
+  // The paths kept per (ray-tracing seed, pair): the first model traced there at the base
+  // seed. One trace keeps at most kLedgerBudgetBytes, all together at most
+  // kKeptPathsBudgetBytes (the sample room at 10 000 rays and 1.5 s keeps 42 MB per pair).
+  static constexpr std::size_t kLedgerBudgetBytes = std::size_t{256} << 20;
+  static constexpr std::size_t kKeptPathsBudgetBytes = std::size_t{512} << 20;
+  mutable std::map<std::pair<std::uint32_t, std::size_t>, SimulationResult> kept_paths_;
+  mutable std::size_t kept_bytes_ = 0;
   struct PreparedCase;
   // The case's scene and requests (the scene and settings of `same_model` when given: the
   // same extension at another seed).

@@ -20,12 +20,6 @@ struct ReplayBranch {
   std::size_t ray = 0;
 };
 
-// Per band, the stretch of travel (m) over which the effective rays are counted.
-struct DecayRange {
-  OctaveBandValues from_m{};
-  OctaveBandValues to_m{};
-};
-
 // Per ray and band, the energy it delivered inside the decay range: [ray][band][new, traced
 // walls with the new source and air].
 using RayShares = std::vector<std::array<std::array<double, 2>, kOctaveBandCount>>;
@@ -34,29 +28,36 @@ struct ChunkReplay {
   const PathLedger& ledger;
   const std::vector<OctaveBandValues>& reflectance;  // the new model's, per triangle
   const PropagationModel& model;
-  // With `shares`: count the rays' energies in the replay's decay range and the
-  // reference's (the traced walls with the new source and air) in its own.
-  const DecayRange* range = nullptr;
-  const DecayRange* reference_range = nullptr;
+  const std::vector<double>& air;  // [bin][band]: exp(-m k L) of the new air, L = c bin_s
+  // With `shares`: count the rays' energies, replayed in the replay's decay range
+  // (from_m, to_m) and with the traced walls in the traced decay's.
   RayShares* shares = nullptr;
+  OctaveBandValues from_m{}, to_m{};
 
   void deposit(EnergyHistogram& histogram, const ReplayBranch& b, const OctaveBandValues* scattering,
                const LedgerEvent& e) const {
     const double d = e.distance_m;
     const Eigen::Vector3d direction(e.direction[0], e.direction[1], e.direction[2]);
+    // exp(-m d) as the table's exp(-m k L) times a 5-term series of exp(-x), x = m (d - k L)
+    // <= m L, as the tracer computes it.
+    const double bin_m = ledger.bin_s * ledger.speed_of_sound_m_s;
+    const std::size_t n = std::min(static_cast<std::size_t>(std::max(0.0, d) / bin_m), air.size() / kOctaveBandCount - 1);
+    const double rest = d - static_cast<double>(n) * bin_m;
     OctaveBandValues energy, weight;
     for (int k = 0; k < kOctaveBandCount; ++k) {
       const double s = scattering ? (*scattering)[k] : 1.0;
+      const double x = model.air_attenuation_per_m[k] * rest;
+      const double series = 1.0 - x * (1.0 - x * (0.5 - x * (1.0 / 6.0 - x * (1.0 / 24.0))));
       energy[k] = b.energy[k] * s;
-      weight[k] = e.factor * std::exp(-model.air_attenuation_per_m[k] * d);
+      weight[k] = e.factor * air[n * kOctaveBandCount + static_cast<std::size_t>(k)] * series;
     }
     histogram.addBands(d / ledger.speed_of_sound_m_s, energy, weight, direction);
     if (!shares) return;
     auto& mine = (*shares)[b.ray];
     for (int k = 0; k < kOctaveBandCount; ++k) {
       const double s = scattering ? (*scattering)[k] : 1.0;
-      if (d >= range->from_m[k] && d < range->to_m[k]) mine[k][0] += energy[k] * weight[k];
-      if (d >= reference_range->from_m[k] && d < reference_range->to_m[k]) mine[k][1] += b.traced[k] * s * weight[k];
+      if (d >= from_m[k] && d < to_m[k]) mine[k][0] += energy[k] * weight[k];
+      if (d >= ledger.decay_from_m[k] && d < ledger.decay_to_m[k]) mine[k][1] += b.traced[k] * s * weight[k];
     }
   }
 
@@ -146,31 +147,32 @@ EnergyHistogram replayAll(const PathLedger& ledger, const ChunkReplay& replay, i
   return total;
 }
 
-// Per band, where the replayed decay curve (Schroeder's backward integral of the
-// histogram) is from 5 to 35 dB down, as travel; to the end where it never gets there.
-DecayRange decayRange(const EnergyHistogram& histogram, double speed_of_sound_m_s) {
-  DecayRange range;
+}  // namespace
+
+void decayRange(const EnergyHistogram& histogram, double speed_of_sound_m_s, OctaveBandValues& from_m,
+                OctaveBandValues& to_m) {
   for (int k = 0; k < kOctaveBandCount; ++k) {
     std::vector<double> tail(histogram.bins() + 1, 0.0);
     for (std::size_t n = histogram.bins(); n-- > 0;) tail[n] = tail[n + 1] + histogram.energy(n, k);
-    range.from_m[k] = range.to_m[k] = histogram.durationS() * speed_of_sound_m_s;
+    from_m[k] = to_m[k] = histogram.durationS() * speed_of_sound_m_s;
     if (!(tail[0] > 0.0)) continue;
     bool started = false;
     for (std::size_t n = 0; n < histogram.bins(); ++n) {
       const double down_db = 10.0 * std::log10(tail[0] / std::max(tail[n], 1e-300));
       const double at_m = static_cast<double>(n) * histogram.binS() * speed_of_sound_m_s;
       if (!started && down_db >= 5.0) {
-        range.from_m[k] = at_m;
+        from_m[k] = at_m;
         started = true;
       }
       if (down_db >= 35.0) {
-        range.to_m[k] = at_m;
+        to_m[k] = at_m;
         break;
       }
     }
   }
-  return range;
 }
+
+namespace {
 
 double effectiveCount(double sum, double sum_of_squares) {
   return sum_of_squares > 0.0 ? sum * sum / sum_of_squares : 0.0;
@@ -243,23 +245,25 @@ LedgerReplay replayLedger(const PathLedger& ledger, const AcousticScene& scene, 
     }
   }
   const int threads = options.threads > 0 ? options.threads : std::max(1, ledger.threads);
-  ChunkReplay replay{ledger, reflectance, model};
+  std::vector<double> air((ledger.bins + 2) * kOctaveBandCount);
+  const double bin_m = ledger.bin_s * ledger.speed_of_sound_m_s;
+  for (std::size_t n = 0; n < ledger.bins + 2; ++n) {
+    for (int k = 0; k < kOctaveBandCount; ++k) {
+      air[n * kOctaveBandCount + static_cast<std::size_t>(k)] =
+          std::exp(-model.air_attenuation_per_m[k] * static_cast<double>(n) * bin_m);
+    }
+  }
+  ChunkReplay replay{ledger, reflectance, model, air};
   out.histogram = replayAll(ledger, replay, threads);
-
-  // The rays' energies in each band's decay range: of the replay, and of the traced walls
-  // with the new source and air in theirs (each estimate judged where its decay is read).
-  const DecayRange range = decayRange(out.histogram, ledger.speed_of_sound_m_s);
-  const ChunkReplay reference{ledger, ledger.reflectance, model};
-  const DecayRange reference_range = decayRange(replayAll(ledger, reference, threads), ledger.speed_of_sound_m_s);
+  // The rays' energies where each estimate's decay is read: replayed in the replay's range,
+  // with the traced walls in the traced one's.
   RayShares shares(ledger.ray_count);
   for (auto& s : shares) {
     for (auto& band : s) band = {0.0, 0.0};
   }
-  ChunkReplay counting{ledger, reflectance, model, &range, &reference_range, &shares};
-  for (std::size_t c = 0; c < ledger.chunks.size(); ++c) {
-    EnergyHistogram scratch(ledger.bin_s, ledger.bins);
-    counting.run(c, scratch);
-  }
+  replay.shares = &shares;
+  decayRange(out.histogram, ledger.speed_of_sound_m_s, replay.from_m, replay.to_m);
+  replayAll(ledger, replay, threads);  // each ray is in one chunk: no two threads share a count
   for (int k = 0; k < kOctaveBandCount; ++k) {
     double sum[2] = {0.0, 0.0}, squares[2] = {0.0, 0.0};
     for (const auto& s : shares) {

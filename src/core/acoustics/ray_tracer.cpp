@@ -639,6 +639,7 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
       ledger->scattering.push_back(m.scattering);
     }
     ledger->image_source_order = options.image_source_order;
+    decayRange(result.histogram, model.speed_of_sound_m_s, ledger->decay_from_m, ledger->decay_to_m);
     result.ledger = std::move(ledger);
   }
   if (!in_flight.empty()) {

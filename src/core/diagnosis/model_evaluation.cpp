@@ -264,9 +264,9 @@ Evaluation ModelEvaluator::analyse(const PreparedCase& p, std::vector<Simulation
 std::vector<Evaluation> ModelEvaluator::evaluateMany(const std::vector<EvaluationCase>& cases) const {
   evaluations_ += static_cast<int>(cases.size());
   std::vector<Evaluation> evaluations(cases.size());
-  const auto invalid = [](const InputError& e) {
+  const auto invalid = [](const std::string& reason) {
     Evaluation evaluation;
-    evaluation.reason = e.what();
+    evaluation.reason = reason;
     return evaluation;
   };
   // Every case's scene and requests first; a case of the same extension as the last one
@@ -278,64 +278,135 @@ std::vector<Evaluation> ModelEvaluator::evaluateMany(const std::vector<Evaluatio
       prepared[k] = prepare(cases[k], last && last->extension == cases[k].extension ? last : nullptr);
       last = &*prepared[k];
     } catch (const InputError& e) {
-      evaluations[k] = invalid(e);
+      evaluations[k] = invalid(e.what());
+    }
+  }
+  // Each pair replayed from the paths kept at its seed where only absorption, air or
+  // directivity differ (path_ledger.h); the rest traced: a pair whose seed has no paths kept
+  // yet in this process, keeping them, and the others by the runner or here. Which pairs
+  // are replayed depends only on the cases, so a runner changes nothing in the results.
+  std::vector<std::vector<SimulationResult>> results(cases.size());
+  std::vector<std::string> refused(cases.size());
+  struct Trace {
+    std::size_t k, i;
+    bool keep;
+  };
+  std::vector<Trace> local, remote, replays;
+  std::map<std::pair<std::uint32_t, std::size_t>, bool> keeping;  // seeds whose paths this batch keeps
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    if (!prepared[k]) continue;
+    const PreparedCase& p = *prepared[k];
+    results[k].resize(p.requests.size());
+    for (std::size_t i = 0; i < p.requests.size(); ++i) {
+      const SimulationRequest& r = p.requests[i];
+      const auto key = std::make_pair(r.settings.rays.seed, i);
+      if (kept_paths_.count(key)) {
+        replays.push_back({k, i, false});
+        continue;
+      }
+      // Paths are kept at the base seed only: the candidates of every fit are evaluated
+      // there; the noise seeds' evaluations of a few confirmed fits are not worth the memory.
+      const bool keep = settings_.replay_paths && cases[k].seed_offset == 0 && !keeping.count(key) &&
+                        r.settings.mode == SimulationMode::kAccurate && kept_bytes_ < kKeptPathsBudgetBytes;
+      if (keep) keeping[key] = true;
+      (keep ? local : remote).push_back({k, i, keep});
+    }
+  }
+  // The replays two (or the thread count) at a time, as traces run; a refused one is traced.
+  std::vector<char> replayed(replays.size(), 0);
+  runInRounds(replays.size(), settings_.simulation.rays.threads, [&](std::size_t j, int) {
+    const Trace& t = replays[j];
+    const PreparedCase& p = *prepared[t.k];
+    const SimulationRequest& r = p.requests[t.i];
+    std::string why_not;
+    const SimulationResult& kept = kept_paths_.at(std::make_pair(r.settings.rays.seed, t.i));
+    if (auto result = replaySimulation(kept, *p.scene, r.source_m, r.listener_m, r.settings, why_not)) {
+      results[t.k][t.i] = std::move(*result);
+      results[t.k][t.i].ledger = nullptr;
+      replayed[j] = 1;
+    }
+  });
+  for (std::size_t j = 0; j < replays.size(); ++j) {
+    if (replayed[j]) {
+      ++replayed_;
+    } else {
+      remote.push_back(replays[j]);
     }
   }
   if (!settings_.runner) {
-    // In this process one case after another, each's responses freed before the next.
-    for (std::size_t k = 0; k < cases.size(); ++k) {
-      if (!prepared[k]) continue;
-      try {
-        std::vector<SimulationResult> results =
-            runSimulations(*prepared[k]->scene, prepared[k]->requests, prepared[k]->settings.rays.threads, nullptr);
-        evaluations[k] = analyse(*prepared[k], results);
-      } catch (const InputError& e) {
-        evaluations[k] = invalid(e);
-      }
-    }
-    return evaluations;
+    local.insert(local.end(), remote.begin(), remote.end());
+    remote.clear();
   }
-  // A runner gets every pair of every case at once, so that as many simulators as there
-  // are simulations can work together; each result is the same as in this process.
-  std::vector<const AcousticScene*> scenes;
-  std::vector<SimulationRequest> requests;
-  std::vector<std::size_t> scene_of;
-  for (std::size_t k = 0; k < cases.size(); ++k) {
-    if (!prepared[k]) continue;
-    if (scenes.empty() || scenes.back() != prepared[k]->scene.get()) scenes.push_back(prepared[k]->scene.get());
-    for (const SimulationRequest& r : prepared[k]->requests) {
-      requests.push_back(r);
+  std::vector<std::string> errors(local.size());
+  runInRounds(local.size(), settings_.simulation.rays.threads, [&](std::size_t j, int) {
+    const Trace& t = local[j];
+    const PreparedCase& p = *prepared[t.k];
+    const SimulationRequest& r = p.requests[t.i];
+    try {
+      results[t.k][t.i] = simulateRoom(*p.scene, r.source_m, r.listener_m, r.settings, {},
+                                       t.keep ? kLedgerBudgetBytes : 0);
+    } catch (const InputError& e) {
+      errors[j] = e.what();
+    }
+  });
+  for (std::size_t j = 0; j < local.size(); ++j) {
+    const Trace& t = local[j];
+    if (!errors[j].empty()) {
+      if (refused[t.k].empty()) refused[t.k] = errors[j];
+      continue;
+    }
+    SimulationResult& result = results[t.k][t.i];
+    if (!t.keep || !result.ledger) continue;
+    const std::size_t bytes = result.ledger->bytes();
+    if (kept_bytes_ + bytes <= kKeptPathsBudgetBytes) {
+      SimulationResult paths;
+      paths.ledger = result.ledger;
+      paths.stats = result.stats;
+      kept_paths_.emplace(std::make_pair(prepared[t.k]->requests[t.i].settings.rays.seed, t.i), std::move(paths));
+      kept_bytes_ += bytes;
+    }
+    result.ledger = nullptr;
+  }
+  if (!remote.empty()) {
+    // A runner gets every traced pair of every case at once, so that as many simulators as
+    // there are simulations can work together; each result is the same as in this process.
+    std::vector<const AcousticScene*> scenes;
+    std::vector<SimulationRequest> requests;
+    std::vector<std::size_t> scene_of;
+    for (const Trace& t : remote) {
+      const PreparedCase& p = *prepared[t.k];
+      if (scenes.empty() || scenes.back() != p.scene.get()) scenes.push_back(p.scene.get());
+      requests.push_back(p.requests[t.i]);
       scene_of.push_back(scenes.size() - 1);
     }
-  }
-  std::vector<SimulationResult> results;
-  try {
-    results = settings_.runner->simulateScenes(scenes, requests, scene_of, nullptr);
-  } catch (const InputError&) {
-    // A request the room refuses: each case again on its own, to tell which it was.
-    for (std::size_t k = 0; k < cases.size(); ++k) {
-      if (!prepared[k]) continue;
-      try {
-        std::vector<SimulationResult> own = settings_.runner->simulate(*prepared[k]->scene, prepared[k]->requests, nullptr);
-        evaluations[k] = analyse(*prepared[k], own);
-      } catch (const InputError& e) {
-        evaluations[k] = invalid(e);
+    try {
+      std::vector<SimulationResult> out = settings_.runner->simulateScenes(scenes, requests, scene_of, nullptr);
+      for (std::size_t j = 0; j < remote.size(); ++j) results[remote[j].k][remote[j].i] = std::move(out[j]);
+    } catch (const InputError&) {
+      // A request the room refuses: each one again on its own, to tell which case it was.
+      for (const Trace& t : remote) {
+        const PreparedCase& p = *prepared[t.k];
+        if (!refused[t.k].empty()) continue;
+        try {
+          results[t.k][t.i] = std::move(settings_.runner->simulate(*p.scene, {p.requests[t.i]}, nullptr).front());
+        } catch (const InputError& e) {
+          refused[t.k] = e.what();
+        }
       }
     }
-    return evaluations;
   }
-  std::size_t at = 0;
   for (std::size_t k = 0; k < cases.size(); ++k) {
     if (!prepared[k]) continue;
-    const std::size_t n = prepared[k]->requests.size();
-    std::vector<SimulationResult> own(std::make_move_iterator(results.begin() + static_cast<std::ptrdiff_t>(at)),
-                                      std::make_move_iterator(results.begin() + static_cast<std::ptrdiff_t>(at + n)));
-    at += n;
-    try {
-      evaluations[k] = analyse(*prepared[k], own);
-    } catch (const InputError& e) {
-      evaluations[k] = invalid(e);
+    if (!refused[k].empty()) {
+      evaluations[k] = invalid(refused[k]);
+      continue;
     }
+    try {
+      evaluations[k] = analyse(*prepared[k], results[k]);
+    } catch (const InputError& e) {
+      evaluations[k] = invalid(e.what());
+    }
+    results[k].clear();
   }
   return evaluations;
 }
