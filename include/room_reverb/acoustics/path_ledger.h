@@ -86,9 +86,10 @@ void decayRange(const EnergyHistogram& histogram, double speed_of_sound_m_s, Oct
                 OctaveBandValues& to_m);
 
 struct LedgerReplayOptions {
-  // The replay is refused when, in any band's decay range (PathLedger::decay_from_m), the
-  // effective number of rays, (sum w)^2 / sum w^2
-  // over the rays' energies there, falls below this share of what the traced walls give.
+  // The replay is refused when, in any band, the effective number of rays, (sum w)^2 /
+  // sum w^2 over the rays' energies in the replayed decay's range (decayRange), falls below
+  // this share of what the traced walls give in the traced decay's range (with the new
+  // source and air: a directive source traced afresh weights its rays the same way).
   double min_effective_share = 0.5;
   int threads = 0;  // 0: the ledger's
 };
