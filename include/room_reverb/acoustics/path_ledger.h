@@ -54,9 +54,10 @@ struct LedgerEvent {
 };
 
 struct PathLedger {
-  // Per chunk of rays (ray_tracer.cpp's kRaysPerChunk), in the tracer's order; chunk c was
-  // traced by thread c mod `threads`, whose histograms add in thread order.
+  // Per chunk of `rays_per_chunk` rays, in the tracer's order; chunk c was traced by
+  // thread c mod `threads`, whose histograms add in thread order.
   std::vector<std::vector<LedgerEvent>> chunks;
+  std::size_t rays_per_chunk = 0;
   int threads = 1;
   Eigen::Vector3d source = Eigen::Vector3d::Zero();
   Eigen::Vector3d listener = Eigen::Vector3d::Zero();
@@ -69,7 +70,6 @@ struct PathLedger {
   int image_source_order = 3;               // specular paths up to it were not counted
   std::uint64_t mesh_fingerprint = 0;       // meshFingerprint of the traced scene
   SourceDirectivity directivity;            // of the traced model
-  OctaveBandValues air_attenuation_per_m{};  // of the traced model
   std::vector<OctaveBandValues> reflectance;  // per triangle, of the traced scene
   std::vector<OctaveBandValues> scattering;   // per triangle, of the traced scene
   // Per band, the travel (m) over which the traced decay curve (Schroeder's backward

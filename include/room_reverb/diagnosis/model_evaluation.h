@@ -153,9 +153,8 @@ class ModelEvaluator {
   mutable int evaluations_ = 0;
   mutable int replayed_ = 0;
   // The paths kept per (ray-tracing seed, pair): the first model traced there at the base
-  // seed. One trace keeps at most kLedgerBudgetBytes, all together at most
-  // kKeptPathsBudgetBytes (the sample room at 10 000 rays and 1.5 s keeps 42 MB per pair).
-  static constexpr std::size_t kLedgerBudgetBytes = std::size_t{256} << 20;
+  // seed, all together at most kKeptPathsBudgetBytes (the sample room at 10 000 rays and
+  // 1.5 s keeps 42 MB per pair).
   static constexpr std::size_t kKeptPathsBudgetBytes = std::size_t{512} << 20;
   mutable std::map<std::pair<std::uint32_t, std::size_t>, SimulationResult> kept_paths_;
   mutable std::size_t kept_bytes_ = 0;

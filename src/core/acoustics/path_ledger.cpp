@@ -5,12 +5,11 @@
 #include <cstring>
 #include <thread>
 
+#include "room_reverb/acoustics/air_loss_table.h"
 #include "room_reverb/common/hash_mix.h"
 
 namespace room_reverb::core {
 namespace {
-
-constexpr std::size_t kRaysPerChunk = 256;  // ray_tracer.cpp's
 
 // A branch being replayed: its energy per band under the new model and under the traced
 // one, and the ray it belongs to.
@@ -28,7 +27,7 @@ struct ChunkReplay {
   const PathLedger& ledger;
   const std::vector<OctaveBandValues>& reflectance;  // the new model's, per triangle
   const PropagationModel& model;
-  const std::vector<double>& air;  // [bin][band]: exp(-m k L) of the new air, L = c bin_s
+  const AirLossTable& air;  // of the new model
   // With `shares`: count the rays' energies, replayed in the replay's decay range
   // (from_m, to_m) and with the traced walls in the traced decay's.
   RayShares* shares = nullptr;
@@ -38,19 +37,9 @@ struct ChunkReplay {
                const LedgerEvent& e) const {
     const double d = e.distance_m;
     const Eigen::Vector3d direction(e.direction[0], e.direction[1], e.direction[2]);
-    // exp(-m d) as the table's exp(-m k L) times a 5-term series of exp(-x), x = m (d - k L)
-    // <= m L, as the tracer computes it.
-    const double bin_m = ledger.bin_s * ledger.speed_of_sound_m_s;
-    const std::size_t n = std::min(static_cast<std::size_t>(std::max(0.0, d) / bin_m), air.size() / kOctaveBandCount - 1);
-    const double rest = d - static_cast<double>(n) * bin_m;
     OctaveBandValues energy, weight;
-    for (int k = 0; k < kOctaveBandCount; ++k) {
-      const double s = scattering ? (*scattering)[k] : 1.0;
-      const double x = model.air_attenuation_per_m[k] * rest;
-      const double series = 1.0 - x * (1.0 - x * (0.5 - x * (1.0 / 6.0 - x * (1.0 / 24.0))));
-      energy[k] = b.energy[k] * s;
-      weight[k] = e.factor * air[n * kOctaveBandCount + static_cast<std::size_t>(k)] * series;
-    }
+    air.loss(d, e.factor, weight);  // as the tracer computes it
+    for (int k = 0; k < kOctaveBandCount; ++k) energy[k] = b.energy[k] * (scattering ? (*scattering)[k] : 1.0);
     histogram.addBands(d / ledger.speed_of_sound_m_s, energy, weight, direction);
     if (!shares) return;
     auto& mine = (*shares)[b.ray];
@@ -64,7 +53,7 @@ struct ChunkReplay {
   void run(std::size_t chunk, EnergyHistogram& histogram) const {
     std::vector<ReplayBranch> pending, parked_next, parked;
     std::size_t resume_at = 0;
-    std::size_t next_ray = chunk * kRaysPerChunk;
+    std::size_t next_ray = chunk * ledger.rays_per_chunk;
     ReplayBranch branch;
     const auto endBranch = [&]() {
       if (pending.empty()) return;
@@ -245,14 +234,7 @@ LedgerReplay replayLedger(const PathLedger& ledger, const AcousticScene& scene, 
     }
   }
   const int threads = options.threads > 0 ? options.threads : std::max(1, ledger.threads);
-  std::vector<double> air((ledger.bins + 2) * kOctaveBandCount);
-  const double bin_m = ledger.bin_s * ledger.speed_of_sound_m_s;
-  for (std::size_t n = 0; n < ledger.bins + 2; ++n) {
-    for (int k = 0; k < kOctaveBandCount; ++k) {
-      air[n * kOctaveBandCount + static_cast<std::size_t>(k)] =
-          std::exp(-model.air_attenuation_per_m[k] * static_cast<double>(n) * bin_m);
-    }
-  }
+  const AirLossTable air(model.air_attenuation_per_m, ledger.bin_s * ledger.speed_of_sound_m_s, ledger.bins);
   ChunkReplay replay{ledger, reflectance, model, air};
   out.histogram = replayAll(ledger, replay, threads);
   // The rays' energies where each estimate's decay is read: replayed in the replay's range,

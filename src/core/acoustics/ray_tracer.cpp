@@ -10,6 +10,7 @@
 #include <random>
 #include <thread>
 
+#include "room_reverb/acoustics/air_loss_table.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/hash_mix.h"
 
@@ -149,7 +150,7 @@ struct Tracer {
   double ray_energy;
   std::vector<MaterialTerms> terms;       // per scene material
   std::vector<double> plane_offset;       // per triangle: normal . vertex0
-  std::vector<double> air_upper, air_lower;  // [k][band]: exp(-m k L), exp(-m (k+1) L), L = c bin_s
+  AirLossTable air;
   double bin_length_m;
   double roulette_level;  // J: below it a branch plays Russian roulette
   Eigen::Matrix3d launch_rotation;
@@ -161,7 +162,8 @@ struct Tracer {
          const PropagationModel& model_, const RayTracingOptions& options_, double receiver_radius_m_,
          double ray_energy_, std::size_t bins)
       : scene(scene_), source(source_), listener(listener_), model(model_), options(options_),
-        receiver_radius_m(receiver_radius_m_), ray_energy(ray_energy_) {
+        receiver_radius_m(receiver_radius_m_), ray_energy(ray_energy_),
+        air(model_.air_attenuation_per_m, options_.bin_s * model_.speed_of_sound_m_s, bins) {
     for (const AcousticMaterial& material : scene.materials()) {
       MaterialTerms t;
       for (int b = 0; b < kOctaveBandCount; ++b) {
@@ -173,14 +175,6 @@ struct Tracer {
     const TriangleMesh& mesh = scene.mesh();
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) plane_offset.push_back(mesh.normal(t).dot(mesh.vertices[mesh.triangles[t][0]]));
     bin_length_m = options.bin_s * model.speed_of_sound_m_s;
-    air_upper.resize((bins + 2) * kOctaveBandCount);
-    air_lower.resize((bins + 2) * kOctaveBandCount);
-    for (std::size_t k = 0; k < bins + 2; ++k) {
-      for (int b = 0; b < kOctaveBandCount; ++b) {
-        air_upper[k * kOctaveBandCount + b] = std::exp(-model.air_attenuation_per_m[b] * (static_cast<double>(k) * bin_length_m));
-        air_lower[k * kOctaveBandCount + b] = std::exp(-model.air_attenuation_per_m[b] * (static_cast<double>(k + 1) * bin_length_m));
-      }
-    }
     loss_bin_m = kFlightBinS * model.speed_of_sound_m_s;
     mean_free_path_m = scene.closed() && scene.volumeM3() > 0.0 ? 4.0 * scene.volumeM3() / scene.surfaceM2() : 0.0;
     roulette_level = ray_energy * std::pow(10.0, options.roulette_db / 10.0);
@@ -188,19 +182,12 @@ struct Tracer {
     seed_key = mixBits(0x7ace5eedull ^ static_cast<std::uint64_t>(options.seed));
   }
 
-  // Arrival of `energy` after `distance_m` scaled by `factor`, with air: exp(-m d) as the
-  // table's exp(-m k L) times a 5-term series of exp(-x), x = m (d - k L) <= m L (1e-9 exact).
+  // Arrival of `energy` after `distance_m` scaled by `factor`, with air.
   void deposit(EnergyHistogram& histogram, const OctaveBandValues& energy, double distance_m, double factor,
                const Eigen::Vector3d& direction, const OctaveBandValues& live) const {
-    const std::size_t k = std::min(static_cast<std::size_t>(std::max(0.0, distance_m) / bin_length_m), air_upper.size() / kOctaveBandCount - 2);
-    const double* upper = &air_upper[k * kOctaveBandCount];
-    const double rest = distance_m - static_cast<double>(k) * bin_length_m;
     OctaveBandValues weight;
-    for (int b = 0; b < kOctaveBandCount; ++b) {
-      const double x = model.air_attenuation_per_m[b] * rest;
-      const double series = 1.0 - x * (1.0 - x * (0.5 - x * (1.0 / 6.0 - x * (1.0 / 24.0))));
-      weight[b] = factor * upper[b] * series * live[b];
-    }
+    air.loss(distance_m, factor, weight);
+    for (int b = 0; b < kOctaveBandCount; ++b) weight[b] *= live[b];
     histogram.addBands(distance_m / model.speed_of_sound_m_s, energy, weight, direction);
   }
 
@@ -208,8 +195,7 @@ struct Tracer {
   // roulette level (the tables bound exp(-m travelled) from both sides and settle most
   // cases without an exp); nullopt when it is not.
   std::optional<double> loudestBelowRoulette(const OctaveBandValues& energy, double travelled) const {
-    const std::size_t k = std::min(static_cast<std::size_t>(travelled / bin_length_m), air_upper.size() / kOctaveBandCount - 2);
-    const double* lower = &air_lower[k * kOctaveBandCount];
+    const double* lower = air.lowerBound(travelled);
     double lo = 0.0;
     for (int b = 0; b < kOctaveBandCount; ++b) lo = std::max(lo, energy[b] * lower[b]);
     if (lo >= roulette_level) return std::nullopt;
@@ -300,8 +286,8 @@ struct Tracer {
       const double lower = static_cast<double>(k) * bin_m;
       const double share = (std::min(last_m, lower + bin_m) - std::max(from_m, lower)) / bin_m;
       if (!(share > 0.0)) continue;
-      const double* air = &air_upper[k * kOctaveBandCount];
-      for (int b = 0; b < kOctaveBandCount; ++b) in_flight[k][b] += share * ray.energy[b] * air[b];
+      const double* loss = air.atBin(k);
+      for (int b = 0; b < kOctaveBandCount; ++b) in_flight[k][b] += share * ray.energy[b] * loss[b];
     }
   }
 
@@ -621,6 +607,7 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
   if (keeping && !ledger_overflow && active == kAllBands) {
     auto ledger = std::make_shared<PathLedger>();
     ledger->chunks = std::move(ledger_chunks);
+    ledger->rays_per_chunk = kRaysPerChunk;
     ledger->threads = threads;
     ledger->source = source;
     ledger->listener = listener;
@@ -631,7 +618,6 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
     ledger->bins = bins;
     ledger->speed_of_sound_m_s = model.speed_of_sound_m_s;
     ledger->directivity = model.directivity;
-    ledger->air_attenuation_per_m = model.air_attenuation_per_m;
     ledger->mesh_fingerprint = meshFingerprint(scene.mesh());
     for (std::size_t t = 0; t < scene.mesh().triangleCount(); ++t) {
       const MaterialTerms& m = tracer.terms[static_cast<std::size_t>(scene.mesh().triangle_material[t])];

@@ -343,8 +343,9 @@ std::vector<Evaluation> ModelEvaluator::evaluateMany(const std::vector<Evaluatio
     const PreparedCase& p = *prepared[t.k];
     const SimulationRequest& r = p.requests[t.i];
     try {
+      // A trace records at most what the budget has left when the traces start.
       results[t.k][t.i] = simulateRoom(*p.scene, r.source_m, r.listener_m, r.settings, {},
-                                       t.keep ? kLedgerBudgetBytes : 0);
+                                       t.keep ? kKeptPathsBudgetBytes - kept_bytes_ : 0);
     } catch (const InputError& e) {
       errors[j] = e.what();
     }
