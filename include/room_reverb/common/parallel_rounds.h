@@ -13,8 +13,8 @@ namespace room_reverb::core {
 int roundThreads(std::size_t count, int threads, std::size_t i);
 
 // Calls job(i, roundThreads(count, threads, i)) for every i in [0, count): up to `threads`
-// jobs at once, in rounds (the tracer parallelises within a simulation, the analysis of a
-// response does not). The first exception (lowest i) of a job is rethrown after every job
+// jobs at once, each worker starting the next job when its last one ends (the tracer
+// parallelises within a simulation, the analysis of a response does not). The first exception (lowest i) of a job is rethrown after every job
 // has ended.
 void runInRounds(std::size_t count, int threads, const std::function<void(std::size_t, int)>& job);
 

@@ -163,7 +163,8 @@ class ModelEvaluator {
   // same extension at another seed).
   PreparedCase prepare(const EvaluationCase& c, const PreparedCase* same_model) const;
   // The case's evaluation from its pairs' results (moved from), scored.
-  Evaluation analyse(const PreparedCase& prepared, std::vector<SimulationResult>& results) const;
+  // Pair i's simulated response analysed as its measurement is.
+  void predictPair(const PreparedCase& prepared, std::size_t i, SimulationResult& result, PairPrediction& prediction) const;
 };
 
 // Marks the evaluation valid and scores its predictions: terms and the three errors.

@@ -4,8 +4,8 @@
 #include <array>
 #include <cmath>
 #include <complex>
-#include <random>
 
+#include "room_reverb/acoustics/late_field_noise.h"
 #include "room_reverb/ambisonics/spherical_harmonics.h"
 #include "room_reverb/audio/band_filter_bank.h"
 #include "room_reverb/audio/fft.h"
@@ -59,41 +59,6 @@ void addEarlyPaths(const std::vector<SpecularPath>& paths, const BandFilterBank&
       for (std::size_t c = 0; c < out.channelCount(); ++c) out.channels[c][static_cast<std::size_t>(index)] += static_cast<float>(harmonics[c] * sample);
     }
   }
-}
-
-// Probability of an event per sample at time t: the reflection density 4 pi c^3 t^2 / V
-// (Kuttruff), capped.
-double eventProbability(double t, const SynthesisOptions& o) {
-  const double growth = 4.0 * kPi * std::pow(o.speed_of_sound_m_s, 3) / o.room_volume_m3;
-  return std::min(o.max_event_rate_per_s, growth * t * t) / o.sample_rate_hz;
-}
-
-// Signed unit impulses at Poisson times with that density.
-std::vector<float> poissonSequence(std::size_t frames, const SynthesisOptions& o, std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  std::vector<float> x(frames, 0.0f);
-  for (std::size_t n = 0; n < frames; ++n) {
-    if (u(rng) < eventProbability(n / o.sample_rate_hz, o)) x[n] = u(rng) < 0.5 ? -1.0f : 1.0f;
-  }
-  return x;
-}
-
-// The realised energy per sample of a band signal, averaged over a centred window. The
-// late field is scaled by target / realised energy: averaging over a few of the band's
-// correlation times keeps that gain smooth (no spreading into other bands) while still
-// taking out the noise's own slow level wander, which would otherwise scatter the decay
-// time from one seed to the next (the ISO 3382-2 scatter of a single noise realisation).
-std::vector<double> smoothedEnergy(const std::vector<float>& x, std::size_t window) {
-  std::vector<double> prefix(x.size() + 1, 0.0);
-  for (std::size_t n = 0; n < x.size(); ++n) prefix[n + 1] = prefix[n] + static_cast<double>(x[n]) * x[n];
-  std::vector<double> out(x.size());
-  const std::size_t half = window / 2;
-  for (std::size_t n = 0; n < x.size(); ++n) {
-    const std::size_t first = n > half ? n - half : 0;
-    const std::size_t last = std::min(x.size(), n + half + 1);
-    out[n] = (prefix[last] - prefix[first]) / static_cast<double>(last - first);
-  }
-  return out;
 }
 
 // Per-sample energy targets from a histogram, linearly interpolated between bin centres
@@ -185,7 +150,6 @@ std::vector<std::vector<double>> synthesisBandDensities(const std::vector<std::a
 }
 
 void addLateField(const EnergyHistogram& late, const SynthesisOptions& o, AudioBuffer& out) {
-  std::mt19937_64 rng(o.seed);
   const std::size_t frames = out.frameCount();
   const std::size_t channels = out.channelCount();
   const int order = static_cast<int>(std::lround(std::sqrt(static_cast<double>(channels)))) - 1;
@@ -200,11 +164,11 @@ void addLateField(const EnergyHistogram& late, const SynthesisOptions& o, AudioB
   // Per bin and octave: power spectral density per sample, and per channel the two gains
   // the sample loop applies (flat: [bin][band][channel]): of the main sequence (the
   // direction's harmonic times the square root of the directional fraction) and of the
-  // channel's own sequence's power (the diffuse fraction spread over the order's 2l+1
-  // channels). Precomputed here, the loop over samples takes one square root per channel.
+  // channel's own sequence (the root of the diffuse fraction spread over the order's 2l+1
+  // channels). Precomputed here, the loop over samples takes one square root per sample.
   std::vector<std::array<double, kOctaveBandCount>> density(late.bins());
   std::vector<double> directional_gain(late.bins() * kOctaveBandCount * channels);
-  std::vector<double> diffuse_share(late.bins() * kOctaveBandCount * channels);
+  std::vector<double> diffuse_gain(late.bins() * kOctaveBandCount * channels);
   const double per_hz = 1.0 / (0.5 * o.sample_rate_hz);
   for (std::size_t bin = 0; bin < late.bins(); ++bin) {
     for (int b = 0; b < kOctaveBandCount; ++b) {
@@ -216,41 +180,44 @@ void addLateField(const EnergyHistogram& late, const SynthesisOptions& o, AudioB
       const std::size_t at = (bin * kOctaveBandCount + b) * channels;
       for (std::size_t c = 0; c < channels; ++c) {
         directional_gain[at + c] = y[c] * std::sqrt(directional);
-        diffuse_share[at + c] = (1.0 - directional) / (2.0 * orderOfChannel(c) + 1.0);
+        diffuse_gain[at + c] = std::sqrt((1.0 - directional) / (2.0 * orderOfChannel(c) + 1.0));
       }
     }
   }
   std::vector<int> owner;
   const std::vector<std::vector<double>> targets = synthesisBandDensities(density, octaves, bank.bands(), owner);
 
-  // One independent sequence per channel: channel 0 carries the whole energy and the
-  // directional part, the others add the diffuse part.
-  std::vector<BandFilterBank::PaddedSpectrum> spectra(channels);
-  for (std::size_t c = 0; c < channels; ++c) spectra[c] = bank.analyse(poissonSequence(frames, o, rng));
+  // Channel 0 carries the whole energy and the directional part, the others add the
+  // diffuse part, each from its own noise.
+  std::vector<bool> wanted(bank.bands().size());
+  for (std::size_t t = 0; t < wanted.size(); ++t) wanted[t] = owner[t] >= 0 && bank.bandBelowNyquist(t);
+  LateFieldNoiseShape shape;
+  shape.seed = o.seed;
+  shape.frames = frames;
+  shape.channels = channels;
+  shape.sample_rate_hz = o.sample_rate_hz;
+  shape.room_volume_m3 = o.room_volume_m3;
+  shape.speed_of_sound_m_s = o.speed_of_sound_m_s;
+  shape.max_event_rate_per_s = o.max_event_rate_per_s;
+  shape.bin_frames = bin_frames;
+  const std::shared_ptr<const LateFieldNoise> noise = lateFieldNoise(shape, bank, wanted);
 
   for (std::size_t t = 0; t < bank.bands().size(); ++t) {
-    if (owner[t] < 0 || !bank.bandBelowNyquist(t)) continue;
+    if (!wanted[t]) continue;
     const auto b = static_cast<std::size_t>(owner[t]);
-    const FrequencyBand& band = bank.bands()[t];
-    const auto window = static_cast<std::size_t>(std::max(5.0 * bin_frames, 4.0 * o.sample_rate_hz / (band.upper_hz - band.lower_hz)));
-    std::vector<std::vector<float>> noise(channels);
-    std::vector<std::vector<double>> realised(channels);
-    for (std::size_t c = 0; c < channels; ++c) {
-      noise[c] = bank.extract(spectra[c], t);
-      realised[c] = smoothedEnergy(noise[c], window);
-    }
+    const std::vector<std::vector<float>>& unit = noise->normalised[t];
     for (std::size_t n = 0; n < frames; ++n) {
       const double position = n / bin_frames;
-      // The band's noise has density realised / bandwidth; scaled to the target density.
+      // The band's noise has density 1 / bandwidth once normalised; scaled to the target.
       const double target = interpolatedTarget(targets[t], position) * bandwidth_hz[t];
-      if (target <= 0.0 || realised[0][n] <= 0.0) continue;
+      if (target <= 0.0 || unit[0][n] == 0.0f) continue;
       const auto bin = std::min(late.bins() - 1, static_cast<std::size_t>(position));
       const std::size_t at = (bin * kOctaveBandCount + b) * channels;
-      const double main = std::sqrt(target / realised[0][n]) * noise[0][n];
+      const double amplitude = std::sqrt(target);
+      const double main = amplitude * unit[0][n];
       out.channels[0][n] += static_cast<float>(main);
       for (std::size_t c = 1; c < channels; ++c) {
-        double v = main * directional_gain[at + c];
-        if (realised[c][n] > 0.0) v += std::sqrt(target * diffuse_share[at + c] / realised[c][n]) * noise[c][n];
+        const double v = main * directional_gain[at + c] + amplitude * diffuse_gain[at + c] * unit[c][n];
         out.channels[c][n] += static_cast<float>(v);
       }
     }

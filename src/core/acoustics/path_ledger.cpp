@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <thread>
 
 #include "room_reverb/acoustics/air_loss_table.h"
@@ -32,16 +33,21 @@ struct ChunkReplay {
   // (from_m, to_m) and with the traced walls in the traced decay's.
   RayShares* shares = nullptr;
   OctaveBandValues from_m{}, to_m{};
+  double counted_from_m = 0.0, counted_to_m = 0.0;  // the union of both ranges over the bands
 
   void deposit(EnergyHistogram& histogram, const ReplayBranch& b, const OctaveBandValues* scattering,
                const LedgerEvent& e) const {
     const double d = e.distance_m;
+    if (shares && (d < counted_from_m || d >= counted_to_m)) return;
     const Eigen::Vector3d direction(e.direction[0], e.direction[1], e.direction[2]);
     OctaveBandValues energy, weight;
     air.loss(d, e.factor, weight);  // as the tracer computes it
     for (int k = 0; k < kOctaveBandCount; ++k) energy[k] = b.energy[k] * (scattering ? (*scattering)[k] : 1.0);
-    histogram.addBands(d / ledger.speed_of_sound_m_s, energy, weight, direction);
-    if (!shares) return;
+    // The counting pass only adds up each ray's energies: the histogram is the first pass's.
+    if (!shares) {
+      histogram.addBands(d / ledger.speed_of_sound_m_s, energy, weight, direction);
+      return;
+    }
     auto& mine = (*shares)[b.ray];
     for (int k = 0; k < kOctaveBandCount; ++k) {
       const double s = scattering ? (*scattering)[k] : 1.0;
@@ -245,6 +251,12 @@ LedgerReplay replayLedger(const PathLedger& ledger, const AcousticScene& scene, 
   }
   replay.shares = &shares;
   decayRange(out.histogram, ledger.speed_of_sound_m_s, replay.from_m, replay.to_m);
+  replay.counted_from_m = std::numeric_limits<double>::infinity();
+  replay.counted_to_m = 0.0;
+  for (int k = 0; k < kOctaveBandCount; ++k) {
+    replay.counted_from_m = std::min({replay.counted_from_m, replay.from_m[k], ledger.decay_from_m[k]});
+    replay.counted_to_m = std::max({replay.counted_to_m, replay.to_m[k], ledger.decay_to_m[k]});
+  }
   replayAll(ledger, replay, threads);  // each ray is in one chunk: no two threads share a count
   for (int k = 0; k < kOctaveBandCount; ++k) {
     double sum[2] = {0.0, 0.0}, squares[2] = {0.0, 0.0};

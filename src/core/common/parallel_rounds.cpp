@@ -1,6 +1,7 @@
 #include "room_reverb/common/parallel_rounds.h"
 
 #include <algorithm>
+#include <atomic>
 #include <exception>
 #include <thread>
 #include <vector>
@@ -22,22 +23,25 @@ int roundThreads(std::size_t count, int threads, std::size_t i) {
 }
 
 void runInRounds(std::size_t count, int threads, const std::function<void(std::size_t, int)>& job) {
-  const std::size_t workers = workerCount(threads);
+  const std::size_t workers = std::min(workerCount(threads), count);
   std::vector<std::exception_ptr> failures(count);
-  for (std::size_t first = 0; first < count; first += workers) {
-    const std::size_t in_round = std::min(workers, count - first);
-    auto run = [&](std::size_t i) {
+  // Each worker takes the next job as soon as it is free (jobs differ in length, and a
+  // worker waiting for a round's slowest job idles); which threads a job gets still
+  // depends only on its index.
+  std::atomic<std::size_t> next{0};
+  const auto work = [&] {
+    for (std::size_t i = next++; i < count; i = next++) {
       try {
         job(i, roundThreads(count, threads, i));
       } catch (...) {
         failures[i] = std::current_exception();
       }
-    };
-    std::vector<std::thread> pool;
-    for (std::size_t i = first + 1; i < first + in_round; ++i) pool.emplace_back(run, i);
-    run(first);
-    for (std::thread& t : pool) t.join();
-  }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (std::size_t w = 1; w < workers; ++w) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
   for (const std::exception_ptr& failure : failures) {
     if (failure) std::rethrow_exception(failure);
   }

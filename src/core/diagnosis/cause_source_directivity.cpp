@@ -5,6 +5,7 @@
 // image sources), then the pattern and the azimuth are refined at full rays.
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "cause_fitting.h"
 #include "room_reverb/common/directions.h"
@@ -27,27 +28,36 @@ std::optional<FittedCause> fitSourceDirectivity(const FitContext& context, std::
   EvaluationSettings coarse_settings = context.evaluator.settings();
   coarse_settings.simulation.rays.ray_count = std::max<std::size_t>(1000, coarse_settings.simulation.rays.ray_count / 5);
   const ModelEvaluator coarse(context.evaluator.room(), context.evaluator.evidence(), coarse_settings);
-  const auto coarseError = [&](const ModelExtension& e) {
-    ModelExtension combined = context.accepted;
-    combined.add(e);
-    const Evaluation ev = coarse.evaluate(combined);
-    return ev.valid ? ev.fit_error_jnd : std::numeric_limits<double>::infinity();
-  };
-  double best_error = std::numeric_limits<double>::infinity();
-  double best_a = 1.0, best_azimuth = 0.0, best_elevation = 0.0;
+  // The grid in one batch, so that the first pattern's traced paths serve the others'
+  // replays two at a time (path_ledger.h).
   std::vector<std::pair<double, double>> axes;
   for (int k = 0; k < 6; ++k) axes.emplace_back(k * M_PI / 3.0 - M_PI, 0.0);
   axes.emplace_back(0.0, M_PI / 2.0);
   axes.emplace_back(0.0, -M_PI / 2.0);
+  struct GridPoint {
+    double a, azimuth, elevation;
+  };
+  std::vector<GridPoint> grid;
   for (const auto& [azimuth, elevation] : axes) {
-    for (double a : {0.3, 0.6}) {
-      const double error = coarseError(withPattern(a, azimuth, elevation));
-      if (error < best_error) {
-        best_error = error;
-        best_a = a;
-        best_azimuth = azimuth;
-        best_elevation = elevation;
-      }
+    for (double a : {0.3, 0.6}) grid.push_back({a, azimuth, elevation});
+  }
+  std::vector<ModelExtension> candidates(grid.size(), context.accepted);
+  std::vector<ModelEvaluator::EvaluationCase> cases;
+  for (std::size_t g = 0; g < grid.size(); ++g) {
+    candidates[g].add(withPattern(grid[g].a, grid[g].azimuth, grid[g].elevation));
+    cases.push_back({&candidates[g], 0});
+  }
+  const std::vector<Evaluation> coarse_evaluations = coarse.evaluateMany(cases);
+  double best_error = std::numeric_limits<double>::infinity();
+  double best_a = 1.0, best_azimuth = 0.0, best_elevation = 0.0;
+  for (std::size_t g = 0; g < grid.size(); ++g) {
+    const Evaluation& ev = coarse_evaluations[g];
+    const double error = ev.valid ? ev.fit_error_jnd : std::numeric_limits<double>::infinity();
+    if (error < best_error) {
+      best_error = error;
+      best_a = grid[g].a;
+      best_azimuth = grid[g].azimuth;
+      best_elevation = grid[g].elevation;
     }
   }
   const ScalarFit pattern = fitScalar(

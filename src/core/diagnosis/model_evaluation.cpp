@@ -225,40 +225,31 @@ ModelEvaluator::PreparedCase ModelEvaluator::prepare(const EvaluationCase& c, co
   return p;
 }
 
-Evaluation ModelEvaluator::analyse(const PreparedCase& p, std::vector<SimulationResult>& results) const {
-  // The pairs' analyses in parallel: a response's analysis (band filters, decay fits) does
-  // not parallelise as the tracer does, and was half of a five-pair diagnosis's wall time.
-  Evaluation evaluation;
+void ModelEvaluator::predictPair(const PreparedCase& p, std::size_t i, SimulationResult& result,
+                                 PairPrediction& prediction) const {
   const ModelExtension& extension = *p.extension;
-  evaluation.predictions.resize(evidence_.positions.size());
-  runInRounds(evidence_.positions.size(), p.settings.rays.threads, [&](std::size_t i, int) {
-    const MeasurementPair& pair = evidence_.positions[i];
-    SimulationResult& result = results[i];
-    PairPrediction& prediction = evaluation.predictions[i];
-    prediction.simulated_omni = std::move(result.impulse_response.channels.front());
-    prediction.paths = std::move(result.paths);
-    prediction.seed = p.requests[i].settings.rays.seed;
-    if (given_scene_ && i < evidence_.rirs.size() && evidence_.rirs[i].reflections) {
-      prediction.reflection_error_jnd =
-          reflectionMismatchJnd(*evidence_.rirs[i].reflections, prediction.paths, pair, *given_scene_,
-                                result.speed_of_sound_m_s);
+  const MeasurementPair& pair = evidence_.positions[i];
+  prediction.simulated_omni = std::move(result.impulse_response.channels.front());
+  prediction.paths = std::move(result.paths);
+  prediction.seed = p.requests[i].settings.rays.seed;
+  if (given_scene_ && i < evidence_.rirs.size() && evidence_.rirs[i].reflections) {
+    prediction.reflection_error_jnd =
+        reflectionMismatchJnd(*evidence_.rirs[i].reflections, prediction.paths, pair, *given_scene_,
+                              result.speed_of_sound_m_s);
+  }
+  const AudioBuffer extended = extendedResponse(prediction.simulated_omni, prediction, pair, extension,
+                                                p.modal_room.get());
+  prediction.analysis = analysePair(pair, extended);
+  if (score_directions_ && i < evidence_.rirs.size() && evidence_.rirs[i].directions) {
+    const std::size_t keep = prediction.analysis.metrics.onset_sample +
+                             static_cast<std::size_t>((EarlyDirectionOptions{}.end_s + 0.02) * extended.sample_rate_hz);
+    for (std::size_t c = 1; c < 4; ++c) {
+      std::vector<float>& channel = result.impulse_response.channels[c];
+      channel.resize(std::min(channel.size(), keep));
+      prediction.simulated_velocity.push_back(std::move(channel));
     }
-    const AudioBuffer extended = extendedResponse(prediction.simulated_omni, prediction, pair, extension,
-                                                  p.modal_room.get());
-    prediction.analysis = analysePair(pair, extended);
-    if (score_directions_ && i < evidence_.rirs.size() && evidence_.rirs[i].directions) {
-      const std::size_t keep = prediction.analysis.metrics.onset_sample +
-                               static_cast<std::size_t>((EarlyDirectionOptions{}.end_s + 0.02) * extended.sample_rate_hz);
-      for (std::size_t c = 1; c < 4; ++c) {
-        std::vector<float>& channel = result.impulse_response.channels[c];
-        channel.resize(std::min(channel.size(), keep));
-        prediction.simulated_velocity.push_back(std::move(channel));
-      }
-      prediction.analysis.directions = predictedDirections(extended, prediction);
-    }
-  });
-  score(evaluation, evidence_, settings_);
-  return evaluation;
+    prediction.analysis.directions = predictedDirections(extended, prediction);
+  }
 }
 
 std::vector<Evaluation> ModelEvaluator::evaluateMany(const std::vector<EvaluationCase>& cases) const {
@@ -291,7 +282,7 @@ std::vector<Evaluation> ModelEvaluator::evaluateMany(const std::vector<Evaluatio
     std::size_t k, i;
     bool keep;
   };
-  std::vector<Trace> local, remote, replays;
+  std::vector<Trace> keepers, traces, replays, deferred;
   std::map<std::pair<std::uint32_t, std::size_t>, bool> keeping;  // seeds whose paths this batch keeps
   for (std::size_t k = 0; k < cases.size(); ++k) {
     if (!prepared[k]) continue;
@@ -306,68 +297,86 @@ std::vector<Evaluation> ModelEvaluator::evaluateMany(const std::vector<Evaluatio
       }
       // Paths are kept at the base seed only: the candidates of every fit are evaluated
       // there; the noise seeds' evaluations of a few confirmed fits are not worth the memory.
-      const bool keep = settings_.replay_paths && cases[k].seed_offset == 0 && !keeping.count(key) &&
-                        r.settings.mode == SimulationMode::kAccurate && kept_bytes_ < kKeptPathsBudgetBytes;
-      if (keep) keeping[key] = true;
-      (keep ? local : remote).push_back({k, i, keep});
+      const bool may_keep = settings_.replay_paths && cases[k].seed_offset == 0 &&
+                            r.settings.mode == SimulationMode::kAccurate && kept_bytes_ < kKeptPathsBudgetBytes;
+      if (!may_keep) {
+        traces.push_back({k, i, false});
+      } else if (keeping.count(key)) {
+        deferred.push_back({k, i, false});  // replayed from this batch's keeper
+      } else {
+        keeping[key] = true;
+        keepers.push_back({k, i, true});
+      }
     }
   }
-  // The replays two (or the thread count) at a time, as traces run; a refused one is traced.
+  // Traced here: the keepers, and the other traces when there is no runner.
+  const auto traceHere = [&](const std::vector<Trace>& here) {
+    std::vector<std::string> errors(here.size());
+    runInRounds(here.size(), settings_.simulation.rays.threads, [&](std::size_t j, int) {
+      const Trace& t = here[j];
+      const PreparedCase& p = *prepared[t.k];
+      const SimulationRequest& r = p.requests[t.i];
+      try {
+        // A trace records at most what the budget has left when the traces start.
+        results[t.k][t.i] = simulateRoom(*p.scene, r.source_m, r.listener_m, r.settings, {},
+                                         t.keep ? kKeptPathsBudgetBytes - kept_bytes_ : 0);
+      } catch (const InputError& e) {
+        errors[j] = e.what();
+      }
+    });
+    for (std::size_t j = 0; j < here.size(); ++j) {
+      const Trace& t = here[j];
+      if (!errors[j].empty()) {
+        if (refused[t.k].empty()) refused[t.k] = errors[j];
+        continue;
+      }
+      SimulationResult& result = results[t.k][t.i];
+      if (!t.keep || !result.ledger) continue;
+      const std::size_t bytes = result.ledger->bytes();
+      if (kept_bytes_ + bytes <= kKeptPathsBudgetBytes) {
+        SimulationResult paths;
+        paths.ledger = result.ledger;
+        paths.stats = result.stats;
+        kept_paths_.emplace(std::make_pair(prepared[t.k]->requests[t.i].settings.rays.seed, t.i), std::move(paths));
+        kept_bytes_ += bytes;
+      }
+      result.ledger = nullptr;
+    }
+  };
+  std::vector<Trace> remote;
+  if (settings_.runner) {
+    remote = std::move(traces);
+    traces.clear();
+  }
+  keepers.insert(keepers.end(), traces.begin(), traces.end());
+  traceHere(keepers);
+  // The replays, two (or the thread count) at a time as traces run: of the paths kept
+  // before this batch and of its keepers'. A refused one, or one whose keeper kept no
+  // paths, is traced.
+  replays.insert(replays.end(), deferred.begin(), deferred.end());
   std::vector<char> replayed(replays.size(), 0);
   runInRounds(replays.size(), settings_.simulation.rays.threads, [&](std::size_t j, int) {
     const Trace& t = replays[j];
     const PreparedCase& p = *prepared[t.k];
     const SimulationRequest& r = p.requests[t.i];
+    const auto kept = kept_paths_.find(std::make_pair(r.settings.rays.seed, t.i));
+    if (kept == kept_paths_.end() || !refused[t.k].empty()) return;
     std::string why_not;
-    const SimulationResult& kept = kept_paths_.at(std::make_pair(r.settings.rays.seed, t.i));
-    if (auto result = replaySimulation(kept, *p.scene, r.source_m, r.listener_m, r.settings, why_not)) {
+    if (auto result = replaySimulation(kept->second, *p.scene, r.source_m, r.listener_m, r.settings, why_not)) {
       results[t.k][t.i] = std::move(*result);
       results[t.k][t.i].ledger = nullptr;
       replayed[j] = 1;
     }
   });
+  std::vector<Trace> again;
   for (std::size_t j = 0; j < replays.size(); ++j) {
     if (replayed[j]) {
       ++replayed_;
-    } else {
-      remote.push_back(replays[j]);
+    } else if (refused[replays[j].k].empty()) {
+      (settings_.runner ? remote : again).push_back(replays[j]);
     }
   }
-  if (!settings_.runner) {
-    local.insert(local.end(), remote.begin(), remote.end());
-    remote.clear();
-  }
-  std::vector<std::string> errors(local.size());
-  runInRounds(local.size(), settings_.simulation.rays.threads, [&](std::size_t j, int) {
-    const Trace& t = local[j];
-    const PreparedCase& p = *prepared[t.k];
-    const SimulationRequest& r = p.requests[t.i];
-    try {
-      // A trace records at most what the budget has left when the traces start.
-      results[t.k][t.i] = simulateRoom(*p.scene, r.source_m, r.listener_m, r.settings, {},
-                                       t.keep ? kKeptPathsBudgetBytes - kept_bytes_ : 0);
-    } catch (const InputError& e) {
-      errors[j] = e.what();
-    }
-  });
-  for (std::size_t j = 0; j < local.size(); ++j) {
-    const Trace& t = local[j];
-    if (!errors[j].empty()) {
-      if (refused[t.k].empty()) refused[t.k] = errors[j];
-      continue;
-    }
-    SimulationResult& result = results[t.k][t.i];
-    if (!t.keep || !result.ledger) continue;
-    const std::size_t bytes = result.ledger->bytes();
-    if (kept_bytes_ + bytes <= kKeptPathsBudgetBytes) {
-      SimulationResult paths;
-      paths.ledger = result.ledger;
-      paths.stats = result.stats;
-      kept_paths_.emplace(std::make_pair(prepared[t.k]->requests[t.i].settings.rays.seed, t.i), std::move(paths));
-      kept_bytes_ += bytes;
-    }
-    result.ledger = nullptr;
-  }
+  traceHere(again);
   if (!remote.empty()) {
     // A runner gets every traced pair of every case at once, so that as many simulators as
     // there are simulations can work together; each result is the same as in this process.
@@ -396,16 +405,37 @@ std::vector<Evaluation> ModelEvaluator::evaluateMany(const std::vector<Evaluatio
       }
     }
   }
+  // Every pair of every case analysed in parallel: a response's analysis (band filters,
+  // decay fits) does not parallelise as the tracer does, and one case's few pairs leave
+  // threads idle.
+  std::vector<std::pair<std::size_t, std::size_t>> analyses;
   for (std::size_t k = 0; k < cases.size(); ++k) {
     if (!prepared[k]) continue;
     if (!refused[k].empty()) {
       evaluations[k] = invalid(refused[k]);
       continue;
     }
+    evaluations[k].predictions.resize(evidence_.positions.size());
+    for (std::size_t i = 0; i < evidence_.positions.size(); ++i) analyses.emplace_back(k, i);
+  }
+  std::vector<std::string> failed(analyses.size());
+  runInRounds(analyses.size(), settings_.simulation.rays.threads, [&](std::size_t j, int) {
+    const auto [k, i] = analyses[j];
     try {
-      evaluations[k] = analyse(*prepared[k], results[k]);
+      predictPair(*prepared[k], i, results[k][i], evaluations[k].predictions[i]);
     } catch (const InputError& e) {
-      evaluations[k] = invalid(e.what());
+      failed[j] = e.what();
+    }
+  });
+  for (std::size_t j = analyses.size(); j-- > 0;) {
+    if (!failed[j].empty()) refused[analyses[j].first] = failed[j];  // the first pair's reason stays
+  }
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    if (!prepared[k] || !evaluations[k].reason.empty()) continue;
+    if (!refused[k].empty()) {
+      evaluations[k] = invalid(refused[k]);
+    } else {
+      score(evaluations[k], evidence_, settings_);
     }
     results[k].clear();
   }
