@@ -1,5 +1,6 @@
 #include "room_reverb/ros/simulation_server.h"
 
+#include <cmath>
 #include <limits>
 #include <optional>
 
@@ -17,10 +18,14 @@ SimulationServer::SimulationServer(::ros::NodeHandle& private_nh) {
   defaults_.mode = core::parseSimulationMode(mode);
   defaults_.image_source_order = positiveIntParam(private_nh, "image_source_order", 3);
   defaults_.rays.ray_count = static_cast<std::size_t>(positiveIntParam(private_nh, "rays", 100000));
-  defaults_.fast_ray_count = static_cast<std::size_t>(positiveIntParam(private_nh, "fast_rays", 8000));
+  defaults_.fast_ray_count = static_cast<std::size_t>(positiveIntParam(private_nh, "fast_rays", 64000));
   typedParam(private_nh, "fast_rate_tolerance", defaults_.fast_rays.rate_tolerance, defaults_.fast_rays.rate_tolerance);
   if (!(defaults_.fast_rays.rate_tolerance >= 0.0 && defaults_.fast_rays.rate_tolerance < 1.0)) {
     throw core::InputError("parameter ~fast_rate_tolerance must be 0 (a fixed ray count) or a share below 1");
+  }
+  typedParam(private_nh, "fast_reflection_budget", defaults_.fast_rays.reflection_budget, defaults_.fast_rays.reflection_budget);
+  if (!(defaults_.fast_rays.reflection_budget > 0.0 && std::isfinite(defaults_.fast_rays.reflection_budget))) {
+    throw core::InputError("parameter ~fast_reflection_budget must be a positive number of reflections");
   }
   max_rays_ = positiveIntParam(private_nh, "max_rays", 10000000);
   if (defaults_.rays.ray_count > static_cast<std::size_t>(max_rays_) ||

@@ -14,11 +14,12 @@ const char* const kSimulationOptionsHelp = R"(  --mode MODE          accurate (i
                        thousand rays) or eyring (image sources + Eyring tail: the
                        paper's fast route)
   --order N            image-source order (default 3)
-  --rays N             rays (default 100000; fast mode: at most 8000, see --fast-tolerance)
+  --rays N             rays (default 100000; fast mode: at most 64000, see --fast-tolerance)
   --fast-tolerance X   the fast mode's pilot of 2000 rays (four batches) is its decay when
                        every octave from 125 Hz to 4 kHz knows its decay rate within this
-                       relative standard error there (default 0.02), else --rays rays in
-                       one run; 0: always --rays rays
+                       relative standard error there (default 0.02), else one run of
+                       --rays rays, or of fewer where they would cost more than 3.2
+                       million reflections at the pilot's rate; 0: always --rays rays
   --seed N             random seed (default 1); same seed and threads, same output
   --threads N          worker threads (default: all cores)
   --ambisonic-order N  0 to 3 (default 1)

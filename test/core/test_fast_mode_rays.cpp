@@ -1,6 +1,7 @@
 // The fast mode's rays in batches (fast_mode_rays.h): a band's decay rate from its energy
 // in flight, and a pilot of batches that is the decay in a diffuse room and gives way to
-// one run of every ray where the sound rides on a few grazing paths.
+// one run of every ray, or of what a budget of reflections buys, where the sound rides on
+// a few grazing paths.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -99,6 +100,18 @@ TEST(FastModeRays, GrazingPathsBetweenAnAbsorbingFloorAndCeilingTakeEveryRay) {
   const Traced few = trace(scene, source, listener, 1500, FastRayOptions{}, 1);
   EXPECT_EQ(few.trace.stats.rays, 1500u);
   EXPECT_EQ(few.trace.batches, 1u);
+  // A budget of reflections below what the rays asked for would cost: as many rays as it
+  // buys at the pilot's reflections per ray, which the run itself then about spends.
+  FastRayOptions budget;
+  budget.reflection_budget = 3.0e5;
+  const Traced bought = trace(scene, source, listener, 64000, budget, 1);
+  const double per_ray = static_cast<double>(bought.trace.stats.reflections) / static_cast<double>(bought.trace.stats.rays);
+  std::cout << "[ measured ] grazing room, 3e5 reflections: " << bought.trace.stats.rays << " rays, " << per_ray
+            << " reflections per ray\n";
+  EXPECT_EQ(bought.trace.batches, 1u);
+  EXPECT_GT(bought.trace.stats.rays, budget.min_rays);
+  EXPECT_LT(bought.trace.stats.rays, 64000u);
+  EXPECT_NEAR(static_cast<double>(bought.trace.stats.reflections) / budget.reflection_budget, 1.0, 0.15);
 }
 
 TEST(FastModeRays, BadCountsAreClearErrors) {
@@ -110,6 +123,9 @@ TEST(FastModeRays, BadCountsAreClearErrors) {
   FastRayOptions no_batch;
   no_batch.batch_rays = 0;
   EXPECT_THROW(traceFastModeDecay(scene, {1, 1, 1}, {3, 2, 1}, model, rays, 5000, no_batch), InputError);
+  FastRayOptions no_budget;
+  no_budget.reflection_budget = 0.0;
+  EXPECT_THROW(traceFastModeDecay(scene, {1, 1, 1}, {3, 2, 1}, model, rays, 5000, no_budget), InputError);
 }
 
 }  // namespace

@@ -7,7 +7,11 @@
 // floor and ceiling spreads by 5-17 % at 8000. So a pilot of a few rays comes first, in
 // batches, each batch's fall giving one decay rate per band: when every band from 125 Hz to
 // 4 kHz knows its mean rate within a tolerance (the standard error over the batches), the
-// pilot is the decay; otherwise every ray is traced in one run, as with a fixed count.
+// pilot is the decay; otherwise one run of as many rays as a preview's budget of
+// reflections allows, at most the fast mode's ray count. Where the pilot does not settle
+// the long-lived energy rests on few paths and its estimate is heavy-tailed: ten seeds in
+// a carpeted room spread T20 by 5-11 % at 8000 rays, 4-8 % at 32 000 and 1-4 % at 64 000
+// (docs/simulation.md), so the run takes all the rays the budget buys.
 #include <optional>
 #include <vector>
 
@@ -25,6 +29,10 @@ struct FastRayOptions {
   double rate_tolerance = 0.02;
   std::size_t min_rays = 2000;  // the pilot's rays (four batches: a spread to go by)
   std::size_t batch_rays = 500;
+  // The reflections the run after an unsettled pilot may cost, at the pilot's reflections
+  // per ray: 3.2 million is 64 000 rays in the carpeted room of scripts/fast-mode-check
+  // (0.48 s with the tool), 18 000 in its hall, whose rays live three times as long.
+  double reflection_budget = 3.2e6;
 };
 
 // The decay rate (dB/s, negative) of one band's energy in flight: the least-squares line
@@ -42,8 +50,10 @@ struct FastModeTrace {
 
 // The fast mode's rays: `rays` as the fast mode sets them up (energy in flight recorded):
 // the pilot (options.min_rays in batches, batch b > 0 with a seed of its own drawn from
-// rays.seed and b) when it knows every band's rate, else `max_rays` in one run with
-// rays.seed, which is what a fixed count gives. InputError for a zero ray count or batch.
+// rays.seed and b) when it knows every band's rate, else one run with rays.seed of
+// `max_rays` or, when that would cost more than options.reflection_budget at the pilot's
+// reflections per ray, of as many as it buys (never fewer than the pilot's). With a rate
+// tolerance of 0, exactly `max_rays` in one run. InputError for a zero ray count or batch.
 FastModeTrace traceFastModeDecay(const AcousticScene& scene, const Eigen::Vector3d& source,
                                  const Eigen::Vector3d& listener, const PropagationModel& model,
                                  const RayTracingOptions& rays, std::size_t max_rays, const FastRayOptions& options);

@@ -39,14 +39,11 @@ struct SimulationSettings {
   SourceDirectivity directivity;
   RayTracingOptions rays;   // ray count, seed, threads, receiver radius (accurate mode)
   // The most rays of the fast mode's decay (seed and threads from `rays`); `fast_rays`
-  // says when fewer will do (fast_mode_rays.h). The decay's seed spread falls as
-  // 1 / sqrt(rays) and depends on the room: in the sample room T20's spread over seeds is
-  // 6-16 % at 2000 rays and 5-9 % at 8000, in BRAS CR2 1-2 % at either. More than 8000 do
-  // not pay in the rooms with grazing paths: one run of 32 000 spreads as much as 8000 in
-  // the carpeted room and the corridor, and 64 batches of 500 put the sample room's T20
-  // 13-14 % long at 1-2 kHz against the accurate mode (6-8 % from one run of 8000;
-  // docs/simulation.md).
-  std::size_t fast_ray_count = 8000;
+  // says when fewer will do (fast_mode_rays.h). In BRAS CR2 T20 spreads by 1-2 % over
+  // seeds at 2000 rays as at 8000 and the pilot settles; in rooms whose late sound rides
+  // on grazing paths the spread is 5-11 % at 8000 and 1-4 % at 64 000 (the carpeted room),
+  // and the run takes as many of these as fast_rays.reflection_budget buys.
+  std::size_t fast_ray_count = 64000;
   FastRayOptions fast_rays;
   // The scattering of the surfaces' finite size, added to the materials' in the image
   // sources and the rays alike (diffraction_scattering.h; the `rays` option of the same
