@@ -1,7 +1,7 @@
 #pragma once
 // How many rays the fast mode's decay needs. The fast mode plays the energy all rays carry
-// through the room over time (RayTracingResult::energy_in_flight); its seed spread falls as
-// one over the root of the ray count and depends on the room: in BRAS CR2, whose walls
+// through the room over time (RayTracingResult::energy_in_flight); its seed spread falls
+// with the ray count and depends on the room: in BRAS CR2, whose walls
 // scatter, 2000 rays give T20 as steady as 8000 (1-2 % between seeds, the synthesis's own
 // noise), while a room whose late sound rides on a few grazing paths between an absorbing
 // floor and ceiling spreads by 5-17 % at 8000. So a pilot of a few rays comes first, in
