@@ -3,7 +3,7 @@
 #   check_room_args ROOM DIR     the simulate arguments of ROOM: its room or mesh, source,
 #                                listener and response length
 # cr2 (BRAS CR2, the bundled mesh) and sample (the demo's sample room) come from data/;
-# carpeted, hall, classroom, corridor, studio and church are defined here. Needs $here,
+# carpeted, hall, classroom, corridor, studio, church, office and gym are defined here. Needs $here,
 # the repository.
 write_check_rooms() {
   cat > "$1/carpeted.yaml" <<'YAML'
@@ -71,6 +71,32 @@ surfaces:
   wall_y_min: {material: plasterboard_on_studs}
   wall_y_max: {material: plasterboard_on_studs}
 YAML
+  # office and gym: added to check the fast mode's track receiver, whose radius was chosen
+  # on the sample and carpeted rooms; never used to choose anything.
+  cat > "$1/office.yaml" <<'YAML'
+frame: room
+room_box: {size_m: [4.5, 3.5, 2.7], has_ceiling: true}
+surfaces:
+  floor: {material: carpet_on_concrete}
+  ceiling: {material: acoustic_ceiling_tiles}
+  wall_x_min: {material: glass_double_glazing}
+  wall_x_max: {material: plasterboard_on_studs}
+  wall_y_min: {material: plasterboard_on_studs}
+  wall_y_max: {material: bookshelf_with_books}
+objects:
+  - {label: desk, material: wood_panel, center_m: [2.8, 1.2, 0.37], size_m: [1.6, 0.8, 0.74]}
+YAML
+  cat > "$1/gym.yaml" <<'YAML'
+frame: room
+room_box: {size_m: [24.0, 14.0, 7.0], has_ceiling: true}
+surfaces:
+  floor: {material: wood_floor}
+  ceiling: {material: metal}
+  wall_x_min: {material: concrete_block_painted}
+  wall_x_max: {material: mineral_wool_panel}
+  wall_y_min: {material: glass_window}
+  wall_y_max: {material: concrete_block_coarse}
+YAML
   cat > "$1/studio.yaml" <<'YAML'
 frame: room
 room_box: {size_m: [5.0, 4.0, 2.7], has_ceiling: true}
@@ -95,8 +121,10 @@ check_room_args() {
     classroom) echo "--room $2/classroom.yaml --source 1.2 3.5 1.6 --listener 6.2 1.6 1.2 --duration 1.5" ;;
     corridor) echo "--room $2/corridor.yaml --source 3.0 1.2 1.6 --listener 16.0 0.9 1.5 --duration 2" ;;
     studio) echo "--room $2/studio.yaml --source 1.2 1.0 1.2 --listener 3.6 2.1 1.1 --duration 1" ;;
+    office) echo "--room $2/office.yaml --source 1.0 2.6 1.2 --listener 3.4 2.5 1.2 --duration 1" ;;
+    gym) echo "--room $2/gym.yaml --source 5.0 7.0 1.6 --listener 16.0 4.5 1.6 --duration 3" ;;
     church) echo "--room $2/church.yaml --source 3.0 6.0 2.0 --listener 15.0 4.0 1.6 --duration 3" ;;
-    *) echo "unknown room '$1' (cr2, carpeted, sample, hall, classroom, corridor, studio, church)" >&2; exit 2 ;;
+    *) echo "unknown room '$1' (cr2, carpeted, sample, hall, classroom, corridor, studio, church, office, gym)" >&2; exit 2 ;;
   esac
 }
 

@@ -27,6 +27,10 @@ SimulationServer::SimulationServer(::ros::NodeHandle& private_nh) {
   if (!(defaults_.fast_rays.reflection_budget > 0.0 && std::isfinite(defaults_.fast_rays.reflection_budget))) {
     throw core::InputError("parameter ~fast_reflection_budget must be a positive number of reflections");
   }
+  typedParam(private_nh, "fast_track_radius", defaults_.fast_rays.track_radius_m, defaults_.fast_rays.track_radius_m);
+  if (!(defaults_.fast_rays.track_radius_m > 0.0 && defaults_.fast_rays.track_radius_m <= 100.0)) {
+    throw core::InputError("parameter ~fast_track_radius must be a positive number of metres (at most 100)");
+  }
   max_rays_ = positiveIntParam(private_nh, "max_rays", 10000000);
   if (defaults_.rays.ray_count > static_cast<std::size_t>(max_rays_) ||
       defaults_.fast_ray_count > static_cast<std::size_t>(max_rays_)) {

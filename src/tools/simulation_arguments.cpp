@@ -10,8 +10,7 @@ namespace room_reverb::tool {
 using namespace room_reverb::core;
 
 const char* const kSimulationOptionsHelp = R"(  --mode MODE          accurate (image sources + ray tracing, default), fast (image
-                       sources + a diffuse tail on the room's own decay from a few
-                       thousand rays) or eyring (image sources + Eyring tail: the
+                       sources + the late part of 2000-64000 rays: a preview) or eyring (image sources + Eyring tail: the
                        paper's fast route)
   --order N            image-source order (default 3)
   --rays N             rays (default 100000; fast mode: at most 64000, see --fast-tolerance)
@@ -20,6 +19,8 @@ const char* const kSimulationOptionsHelp = R"(  --mode MODE          accurate (i
                        relative standard error there (default 0.02), else one run of
                        --rays rays, or of fewer where they would cost more than 3.2
                        million reflections at the pilot's rate; 0: always --rays rays
+  --fast-track-radius M  that run's receiver: the track the rays run within M metres of
+                       the listener (default 2; docs/simulation.md)
   --seed N             random seed (default 1); same seed and threads, same output
   --threads N          worker threads (default: all cores)
   --ambisonic-order N  0 to 3 (default 1)
@@ -46,7 +47,7 @@ const char* const kSimulationOptionsHelp = R"(  --mode MODE          accurate (i
 
 std::set<std::string> simulationValueOptions() {
   return {"mode", "order", "rays", "seed", "threads", "ambisonic-order", "duration", "materials", "temperature",
-          "humidity", "scattering", "receiver-radius", "fast-tolerance", "low-band", "crossover"};
+          "humidity", "scattering", "receiver-radius", "fast-tolerance", "fast-track-radius", "low-band", "crossover"};
 }
 
 std::set<std::string> simulationFlags() { return {"no-air", "trace-to-end", "diffraction-scattering"}; }
@@ -62,6 +63,10 @@ SimulationSettings simulationSettingsFrom(const Arguments& args) {
   settings.fast_rays.rate_tolerance = args.doubleValue("fast-tolerance", settings.fast_rays.rate_tolerance);
   if (!(settings.fast_rays.rate_tolerance >= 0.0 && settings.fast_rays.rate_tolerance < 1.0)) {
     throw InputError("--fast-tolerance must be 0 (a fixed ray count) or a share below 1");
+  }
+  settings.fast_rays.track_radius_m = args.doubleValue("fast-track-radius", settings.fast_rays.track_radius_m);
+  if (!(settings.fast_rays.track_radius_m > 0.0 && settings.fast_rays.track_radius_m <= 100.0)) {
+    throw InputError("--fast-track-radius must be a positive number of metres (at most 100)");
   }
   settings.rays.seed = static_cast<std::uint32_t>(args.intValue("seed", 1));
   settings.rays.threads = args.intValue("threads", 0);

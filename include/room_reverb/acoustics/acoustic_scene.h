@@ -73,6 +73,10 @@ class AcousticScene {
   // holds the point ("listener (2, 1, 1) m is inside object 3 (cabinet)", numbered from 0
   // as in the model's list).
   void requireInside(const Eigen::Vector3d& point, const std::string& what, double clearance_m = 0.01) const;
+  // The volume (m^3) of the part of the sphere about `centre` that lies inside the room
+  // and outside every object: the sphere's volume times the share of a grid of 16 points
+  // per diameter that isInside accepts (exact for a sphere clear of every surface).
+  double freeVolumeInSphereM3(const Eigen::Vector3d& centre, double radius_m) const;
   // Distance (m) from `point` to the nearest point of any triangle.
   double distanceToNearestSurface(const Eigen::Vector3d& point) const;
 

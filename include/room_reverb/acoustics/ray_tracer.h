@@ -36,6 +36,14 @@ struct RayTracingOptions {
   // of late decay times between seeds falls with it: raise it with the ray count to make
   // more rays lower the spread rather than shrink the sphere (docs/diagnosis.md).
   double crossings_per_ms = 300.0;
+  // > 0: the receiver is instead the track every ray runs inside a sphere of this radius
+  // about the listener, its energy times the length run there over the sphere's free
+  // volume (the fluence, which the crossings of the detection sphere also estimate), per
+  // bin of the time it runs there. Every leg that passes near counts over its whole chord,
+  // diffuse legs included (no diffuse rain then), and the sphere may reach through walls:
+  // only its part inside the room counts. Specular paths up to image_source_order are left
+  // to the image sources as with the sphere. The fast mode's receiver (room_simulation.h).
+  double track_radius_m = 0.0;
   // A branch whose every band has fallen this far below its launch energy (air included)
   // plays Russian roulette: unbiased, and the faded paths stop costing reflections.
   double roulette_db = -60.0;
@@ -46,7 +54,8 @@ struct RayTracingOptions {
   // path 4V/S (the leg it leaves on is not known before the choice; in an open room, d1).
   bool diffraction_scattering = false;
   // Also sum the energy every ray carries through the room over time
-  // (RayTracingResult::energy_in_flight): the room's own decay, which the fast mode plays.
+  // (RayTracingResult::energy_in_flight): the room's own decay, which the fast mode's pilot
+  // reads.
   bool record_energy_in_flight = false;
   // Stop tracing a band once its decay is established and continue it analytically
   // (decay_continuation.h): the rays are traced in slices of time, and after each slice
@@ -70,7 +79,7 @@ struct RayTracingStats {
   // Energy (J, per band) still carried by rays when they reached max_time_s, over the
   // energy emitted: 1 in a lossless closed room.
   OctaveBandValues energy_left_at_time_limit{};
-  double receiver_radius_m = 0.0;   // the radius used
+  double receiver_radius_m = 0.0;   // the radius used (the track receiver's, with one)
   // Per band: the time from which its decay is continued analytically (the full duration
   // when it was traced to the end).
   OctaveBandValues traced_until_s{};
@@ -85,6 +94,9 @@ struct RayTracingResult {
   // volume, and its course holds where the absorption sits (a ray between hard walls
   // keeps its energy longer than Eyring's mean absorption allows).
   std::vector<OctaveBandValues> energy_in_flight;
+  // The same less what the specular paths up to image_source_order carry: the part the
+  // image sources do not hold (a continued band's line is both).
+  std::vector<OctaveBandValues> late_energy_in_flight;
   // With a ledger budget: the paths, when they fit and could be kept (null otherwise).
   std::shared_ptr<const PathLedger> ledger;
 };

@@ -2,9 +2,10 @@
 // One interface, three renderers:
 //  - accurate: image sources plus stochastic ray tracing (what Steam Audio's baking does;
 //    the paper's accurate route);
-//  - fast: image sources plus a diffuse tail that follows the room's own energy decay,
-//    the energy a few thousand rays carry through the room over time (no receiver
-//    detection, so few rays give a smooth curve). It knows where the absorption is: in a
+//  - fast: image sources plus the late part of fewer rays: where a pilot of 2000 rays
+//    shows a diffuse room, the energy they carry through the room over time as a diffuse
+//    field; otherwise up to 64 000 rays heard at a track receiver, the track they run
+//    within 2 m of the listener (fast_mode_rays.h). It knows where the absorption is: in a
 //    room whose absorption sits on the floor and ceiling the decay is what the rays
 //    between the hard walls make it, not Eyring's mean (docs/simulation.md);
 //  - eyring: image sources plus a parametric tail from Eyring's formula with air
@@ -105,11 +106,14 @@ OctaveBandValues eyringReverberationTimes(const AcousticScene& scene, const AirC
 EnergyHistogram parametricLateEnergy(const AcousticScene& scene, const PropagationModel& model,
                                      double direct_delay_s, int order, double duration_s, double bin_s);
 
-// The fast mode's late energy: the same diffuse field and fade, with the energy left in
-// the room at each bin (RayTracingResult::energy_in_flight) in place of Eyring's
-// exponential. An open room (no enclosed volume) takes its bounding box's volume.
+// The fast mode's late energy where its pilot settles: a diffuse field of the energy the
+// rays carry through the room at each bin less what the image sources' paths carry
+// (RayTracingResult::late_energy_in_flight), from the direct sound on with no fade: the
+// diffuse energy of the first reflections, which a fade after the image sources leaves
+// out, is heard (it sets the EDT). An open room (no enclosed volume) takes its bounding
+// box's volume.
 EnergyHistogram roomDecayLateEnergy(const AcousticScene& scene, const PropagationModel& model,
-                                    const std::vector<OctaveBandValues>& energy_in_flight, double direct_delay_s,
-                                    int order, double bin_s);
+                                    const std::vector<OctaveBandValues>& late_energy_in_flight, double direct_delay_s,
+                                    double bin_s);
 
 }  // namespace room_reverb::core

@@ -173,6 +173,27 @@ bool AcousticScene::isInside(const Eigen::Vector3d& point) const {
   return 2 * inside_votes > votes;
 }
 
+double AcousticScene::freeVolumeInSphereM3(const Eigen::Vector3d& centre, double radius_m) const {
+  constexpr int kPoints = 16;  // per diameter
+  const double step = 2.0 * radius_m / kPoints;
+  int in_sphere = 0, inside = 0;
+  for (int i = 0; i < kPoints; ++i) {
+    for (int j = 0; j < kPoints; ++j) {
+      for (int k = 0; k < kPoints; ++k) {
+        const Eigen::Vector3d offset = step * (Eigen::Vector3d(i, j, k) + Eigen::Vector3d::Constant(0.5)) -
+                                       Eigen::Vector3d::Constant(radius_m);
+        if (offset.squaredNorm() > radius_m * radius_m) continue;
+        ++in_sphere;
+        if (isInside(centre + offset)) ++inside;
+      }
+    }
+  }
+  // The share of the grid inside, times the sphere's exact volume: a sphere clear of
+  // every wall comes out exact.
+  const double sphere_m3 = 4.0 / 3.0 * 3.14159265358979323846 * radius_m * radius_m * radius_m;
+  return in_sphere > 0 ? sphere_m3 * inside / in_sphere : 0.0;
+}
+
 void AcousticScene::requireInside(const Eigen::Vector3d& point, const std::string& what, double clearance_m) const {
   std::ostringstream where;
   where << what << " (" << point.x() << ", " << point.y() << ", " << point.z() << ") m";

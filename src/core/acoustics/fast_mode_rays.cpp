@@ -33,6 +33,14 @@ void addBatchStats(RayTracingStats& total, const RayTracingStats& part) {
   total.receiver_radius_m = part.receiver_radius_m;
 }
 
+// `mean` (over `before` rays so far) becomes the mean with `part` (over `added` more).
+void averageIn(std::vector<OctaveBandValues>& mean, const std::vector<OctaveBandValues>& part, double before, double added) {
+  if (mean.empty()) mean.assign(part.size(), OctaveBandValues{});
+  for (std::size_t bin = 0; bin < mean.size(); ++bin) {
+    for (int b = 0; b < kOctaveBandCount; ++b) mean[bin][b] = (mean[bin][b] * before + part[bin][b] * added) / (before + added);
+  }
+}
+
 bool ratesKnown(const std::vector<std::array<std::optional<double>, kOctaveBandCount>>& rates, double tolerance) {
   for (int b = kFirstJudgedBand; b <= kLastJudgedBand; ++b) {
     std::vector<double> values;
@@ -85,14 +93,19 @@ FastModeTrace traceFastModeDecay(const AcousticScene& scene, const Eigen::Vector
                                  const RayTracingOptions& rays, std::size_t max_rays, const FastRayOptions& options) {
   if (max_rays == 0) throw InputError("the fast mode's ray count must be at least 1");
   if (!std::isfinite(options.rate_tolerance)) throw InputError("the fast mode's rate tolerance must be finite");
+  if (!(options.track_radius_m > 0.0) || !std::isfinite(options.track_radius_m)) {
+    throw InputError("the fast mode's track receiver needs a positive radius in metres");
+  }
   const auto one_run = [&](std::size_t count) {
     RayTracingOptions all = rays;
     all.ray_count = count;
+    all.track_radius_m = options.track_radius_m;
+    all.record_energy_in_flight = false;  // its receiver is heard, not the room's mean
     RayTracingResult traced = traceRays(scene, source, listener, model, all);
     FastModeTrace out;
-    out.energy_in_flight = std::move(traced.energy_in_flight);
     out.stats = traced.stats;
     out.batches = 1;
+    out.receiver = std::move(traced.histogram);
     return out;
   };
   if (!(options.rate_tolerance > 0.0) || max_rays <= options.min_rays) return one_run(max_rays);
@@ -108,13 +121,8 @@ FastModeTrace traceFastModeDecay(const AcousticScene& scene, const Eigen::Vector
     batch.seed = batchSeed(rays.seed, pilot.batches);
     RayTracingResult traced = traceRays(scene, source, listener, model, batch);
     const double before = static_cast<double>(traced_rays), added = static_cast<double>(batch.ray_count);
-    if (pilot.energy_in_flight.empty()) pilot.energy_in_flight.assign(traced.energy_in_flight.size(), OctaveBandValues{});
-    for (std::size_t bin = 0; bin < pilot.energy_in_flight.size(); ++bin) {
-      for (int b = 0; b < kOctaveBandCount; ++b) {
-        pilot.energy_in_flight[bin][b] =
-            (pilot.energy_in_flight[bin][b] * before + traced.energy_in_flight[bin][b] * added) / (before + added);
-      }
-    }
+    averageIn(pilot.energy_in_flight, traced.energy_in_flight, before, added);
+    averageIn(pilot.late_energy_in_flight, traced.late_energy_in_flight, before, added);
     std::array<std::optional<double>, kOctaveBandCount> batch_rates;
     for (int b = 0; b < kOctaveBandCount; ++b) batch_rates[b] = energyDecayRateDbPerS(traced.energy_in_flight, b, batch.bin_s);
     rates.push_back(batch_rates);

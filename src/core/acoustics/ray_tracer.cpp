@@ -124,6 +124,7 @@ struct Slice {
   OctaveBandValues live;
   std::vector<RayBranch>* parked = nullptr;
   std::vector<OctaveBandValues>* fine = nullptr;
+  std::vector<OctaveBandValues>* late = nullptr;  // the same, without the image sources' paths
   std::vector<OctaveBandValues>* losses = nullptr;
   std::vector<LedgerEvent>* ledger = nullptr;  // the chunk's, when paths are kept
 };
@@ -157,6 +158,7 @@ struct Tracer {
   std::uint64_t seed_key;  // every ray's key derives from it and the ray's index
   double loss_bin_m;        // kFlightBinS of travel
   double mean_free_path_m;  // 4V/S of a closed room, 0 for an open one
+  double track_weight = 0.0;  // with a track receiver: 1 / its free volume (m^-3)
 
   Tracer(const AcousticScene& scene_, const Eigen::Vector3d& source_, const Eigen::Vector3d& listener_,
          const PropagationModel& model_, const RayTracingOptions& options_, double receiver_radius_m_,
@@ -178,6 +180,10 @@ struct Tracer {
     loss_bin_m = kFlightBinS * model.speed_of_sound_m_s;
     mean_free_path_m = scene.closed() && scene.volumeM3() > 0.0 ? 4.0 * scene.volumeM3() / scene.surfaceM2() : 0.0;
     roulette_level = ray_energy * std::pow(10.0, options.roulette_db / 10.0);
+    if (options.track_radius_m > 0.0) {
+      const double volume = scene.freeVolumeInSphereM3(listener, options.track_radius_m);
+      track_weight = volume > 0.0 ? 1.0 / volume : 0.0;
+    }
     launch_rotation = randomRotation(options.seed);
     seed_key = mixBits(0x7ace5eedull ^ static_cast<std::uint64_t>(options.seed));
   }
@@ -274,6 +280,25 @@ struct Tracer {
     }
   }
 
+  // The track receiver's share of one leg of `leg_m` from the branch's position: its
+  // energy times the length it runs inside the sphere over the sphere's free volume (a
+  // fluence, as deposit's crossings give), at the time of the chord's middle. The chord
+  // lasts at most 2 R / c (12 ms for 2 m); binning it whole costs one deposit per chord
+  // instead of one per bin, with T20 and EDT unchanged (docs/simulation.md).
+  void depositTrack(EnergyHistogram& histogram, const RayBranch& ray, double leg_m, const OctaveBandValues& live) const {
+    const double radius = options.track_radius_m;
+    const Eigen::Vector3d to_listener = listener - ray.position;
+    const double along = to_listener.dot(ray.direction);
+    const double off_axis2 = to_listener.squaredNorm() - along * along;
+    if (!(off_axis2 < radius * radius)) return;
+    const double half_chord = std::sqrt(radius * radius - off_axis2);
+    const double from_m = std::max(0.0, along - half_chord);
+    const double to_m = std::min(leg_m, along + half_chord);
+    if (!(to_m > from_m)) return;
+    deposit(histogram, ray.energy, ray.travelled + 0.5 * (from_m + to_m), (to_m - from_m) * track_weight, -ray.direction,
+            live);
+  }
+
   // Adds the branch's energy, air included, to every bin it spends travelling between
   // `from_m` and `to_m` along its path, weighted by the share of the bin it covers.
   void addInFlight(std::vector<OctaveBandValues>& in_flight, const RayBranch& ray, double from_m, double to_m) const {
@@ -316,7 +341,11 @@ struct Tracer {
       }
       const RayHit hit = scene.geometry().intersect(ray.position, ray.direction, 1e-7);
       const double leg = hit.hit ? hit.distance_m : std::numeric_limits<double>::infinity();
-      if (ray.last_specular && !(ray.specular_only && ray.order <= options.image_source_order)) {
+      if (track_weight > 0.0) {
+        if (!(ray.specular_only && ray.order <= options.image_source_order)) {
+          depositTrack(histogram, ray, std::min(leg, max_distance - ray.travelled), slice.live);
+        }
+      } else if (ray.last_specular && !(ray.specular_only && ray.order <= options.image_source_order)) {
         const Eigen::Vector3d to_listener = listener - ray.position;
         const double along = to_listener.dot(ray.direction);
         if (along > 0.0 && along < leg && (to_listener - along * ray.direction).squaredNorm() < r * r &&
@@ -327,7 +356,10 @@ struct Tracer {
         }
       }
       const double leg_end = std::min(ray.travelled + leg, max_distance);
-      if (slice.fine) addInFlight(*slice.fine, ray, ray.travelled, leg_end);
+      if (slice.fine) {
+        addInFlight(*slice.fine, ray, ray.travelled, leg_end);
+        if (!(ray.specular_only && ray.order <= options.image_source_order)) addInFlight(*slice.late, ray, ray.travelled, leg_end);
+      }
       if (!hit.hit) {
         ++(scene.closed() ? stats.leaked_rays : stats.escaped_rays);
         if (slice.losses) {  // its energy has left the room
@@ -365,8 +397,9 @@ struct Tracer {
                                           characteristicDistance(leg, mean_free_path_m > 0.0 ? mean_free_path_m : leg),
                                           model.speed_of_sound_m_s)
               : m.scattering;
-      const RainArrival rained =
-          options.diffuse_rain ? rain(histogram, ray, scattering, normal, slice.live) : RainArrival{};
+      const RainArrival rained = options.diffuse_rain && !(track_weight > 0.0)
+                                     ? rain(histogram, ray, scattering, normal, slice.live)
+                                     : RainArrival{};
       note(slice, LedgerEvent::kReflect, static_cast<std::uint32_t>(hit.triangle), rained.distance_m, rained.factor,
            rained.direction);
       // Back onto the wall's plane (the float hit distance leaves the point up to ~1e-6 m
@@ -481,6 +514,9 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
   if (!(options.max_time_s > 0.0) || !(options.bin_s > 0.0)) throw InputError("ray tracing needs a positive duration and bin width");
   if (!(options.receiver_radius_m >= 0.0)) throw InputError("the receiver radius must be positive (or 0: automatic)");
   if (!(options.crossings_per_ms > 0.0)) throw InputError("the detection sphere's crossings per millisecond must be positive");
+  if (!(options.track_radius_m >= 0.0) || !std::isfinite(options.track_radius_m)) {
+    throw InputError("the track receiver's radius must be 0 (none) or a positive number of metres");
+  }
   const int threads = options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
   const auto bins = static_cast<std::size_t>(std::ceil(options.max_time_s / options.bin_s));
   const double radius = options.receiver_radius_m > 0.0
@@ -494,13 +530,15 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
   std::vector<RayTracingStats> stats(static_cast<std::size_t>(threads));
   std::vector<std::vector<OctaveBandValues>> in_flight(
       options.record_energy_in_flight ? static_cast<std::size_t>(threads) : 0, std::vector<OctaveBandValues>(bins, OctaveBandValues{}));
+  std::vector<std::vector<OctaveBandValues>> late_in_flight = in_flight;
   const bool continuing = options.continue_established_decays;
   const std::size_t flight_bins = Tracer::flightBins(options.max_time_s);
   std::vector<std::vector<OctaveBandValues>> losses(continuing ? static_cast<std::size_t>(threads) : 0,
                                                     std::vector<OctaveBandValues>(flight_bins, OctaveBandValues{}));
   std::vector<std::vector<RayBranch>> parked(chunks);
   // The paths, per chunk, while they fit the budget (path_ledger.h).
-  const bool keeping = ledger_budget_bytes > 0 && !options.diffraction_scattering;
+  // (Replay knows the detection sphere's crossings only.)
+  const bool keeping = ledger_budget_bytes > 0 && !options.diffraction_scattering && !(options.track_radius_m > 0.0);
   std::vector<std::vector<LedgerEvent>> ledger_chunks(keeping ? chunks : 0);
   std::atomic<std::size_t> ledger_bytes{0};
   std::atomic<bool> ledger_overflow{false};
@@ -521,6 +559,7 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
       slice.active = active;
       for (int b = 0; b < kOctaveBandCount; ++b) slice.live[b] = (active >> b & 1u) ? 1.0 : 0.0;
       slice.fine = in_flight.empty() ? nullptr : &in_flight[t];
+      slice.late = late_in_flight.empty() ? nullptr : &late_in_flight[t];
       slice.losses = losses.empty() ? nullptr : &losses[t];
       for (std::size_t chunk = t; chunk < chunks; chunk += static_cast<std::size_t>(threads)) {
         slice.parked = &parked[chunk];
@@ -597,10 +636,10 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
     next_end_s = kFlightBinS * std::ceil((end_s + wait_s) / kFlightBinS - 1e-9);
   }
 
-  RayTracingResult result{EnergyHistogram(options.bin_s, bins), {}, {}, nullptr};
+  RayTracingResult result{EnergyHistogram(options.bin_s, bins), {}, {}, {}, nullptr};
   for (int t = 0; t < threads; ++t) result.histogram.merge(histograms[static_cast<std::size_t>(t)]);
   for (int t = 0; t < threads; ++t) addStats(result.stats, stats[t]);
-  result.stats.receiver_radius_m = radius;
+  result.stats.receiver_radius_m = options.track_radius_m > 0.0 ? options.track_radius_m : radius;
   result.stats.traced_until_s = traced_until;
   // A continued band's later arrivals were never deposited, so its paths say nothing of
   // its tail: no ledger then.
@@ -628,14 +667,17 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
     decayRange(result.histogram, model.speed_of_sound_m_s, ledger->decay_from_m, ledger->decay_to_m);
     result.ledger = std::move(ledger);
   }
-  if (!in_flight.empty()) {
-    result.energy_in_flight.assign(bins, OctaveBandValues{});
-    for (const auto& part : in_flight) {
+  const auto sum_parts = [&](const std::vector<std::vector<OctaveBandValues>>& parts, std::vector<OctaveBandValues>& out) {
+    if (parts.empty()) return;
+    out.assign(bins, OctaveBandValues{});
+    for (const auto& part : parts) {
       for (std::size_t k = 0; k < bins; ++k) {
-        for (int b = 0; b < kOctaveBandCount; ++b) result.energy_in_flight[k][b] += part[k][b];
+        for (int b = 0; b < kOctaveBandCount; ++b) out[k][b] += part[k][b];
       }
     }
-  }
+  };
+  sum_parts(in_flight, result.energy_in_flight);
+  sum_parts(late_in_flight, result.late_energy_in_flight);
   for (int b = 0; b < kOctaveBandCount; ++b) {
     if (!lines[b]) continue;
     const EstablishedDecay& line = *lines[b];
@@ -644,6 +686,7 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
     const auto from_bin = static_cast<std::size_t>(std::floor(traced_until[b] / options.bin_s + 1e-9));
     for (std::size_t k = from_bin; k < result.energy_in_flight.size(); ++k) {
       result.energy_in_flight[k][b] = line.energyAt((static_cast<double>(k) + 0.5) * options.bin_s);
+      result.late_energy_in_flight[k][b] = result.energy_in_flight[k][b];
     }
   }
   return result;

@@ -47,21 +47,17 @@ namespace {
 
 // A diffuse field holding energy(t, b) joules (per J emitted) in `volume_m3`, as the
 // energy arriving at a receiver per bin: density energy / V times c per unit area and
-// time. The image sources hold the first `order` reflections; the field takes over after
-// them with a raised-cosine fade one mean free time wide.
+// time, from `start_s` on, faded in with a raised cosine over `fade_s` (0: at once).
 template <typename EnergyAt>
-EnergyHistogram diffuseLateField(const AcousticScene& scene, double volume_m3, double speed_of_sound_m_s,
-                                 double direct_delay_s, int order, std::size_t bins, double bin_s, EnergyAt energy) {
+EnergyHistogram diffuseLateField(double volume_m3, double speed_of_sound_m_s, double start_s, double fade_s,
+                                 std::size_t bins, double bin_s, EnergyAt energy) {
   EnergyHistogram histogram(bin_s, bins);
   const double c = speed_of_sound_m_s;
-  const double mean_free_time = 4.0 * volume_m3 / (scene.surfaceM2() * c);
-  const double fade_start = direct_delay_s + std::max(0, order) * mean_free_time;
-  const double fade_end = fade_start + mean_free_time;
   for (std::size_t bin = 0; bin < bins; ++bin) {
     const double t = (bin + 0.5) * bin_s;
     double weight = 1.0;
-    if (t <= fade_start) continue;
-    if (t < fade_end) weight = 0.5 - 0.5 * std::cos(kPi * (t - fade_start) / mean_free_time);
+    if (t <= start_s) continue;
+    if (t < start_s + fade_s) weight = 0.5 - 0.5 * std::cos(kPi * (t - start_s) / fade_s);
     for (int b = 0; b < kOctaveBandCount; ++b) {
       const double e = energy(bin, t, b);
       if (e > 0.0) histogram.add(t, b, weight * c / volume_m3 * e * bin_s, Eigen::Vector3d::Zero());
@@ -83,20 +79,23 @@ EnergyHistogram parametricLateEnergy(const AcousticScene& scene, const Propagati
                                      double direct_delay_s, int order, double duration_s, double bin_s) {
   const auto bins = static_cast<std::size_t>(std::ceil(duration_s / bin_s));
   const OctaveBandValues t60 = eyringReverberationTimes(scene, model.air);
-  return diffuseLateField(scene, scene.volumeM3(), model.speed_of_sound_m_s, direct_delay_s, order, bins, bin_s,
-                          [&](std::size_t, double t, int b) {
+  // The image sources hold the first `order` reflections; the field takes over after them
+  // with a fade one mean free time wide.
+  const double mean_free_time = 4.0 * scene.volumeM3() / (scene.surfaceM2() * model.speed_of_sound_m_s);
+  return diffuseLateField(scene.volumeM3(), model.speed_of_sound_m_s, direct_delay_s + std::max(0, order) * mean_free_time,
+                          mean_free_time, bins, bin_s, [&](std::size_t, double t, int b) {
                             if (!std::isfinite(t60[b])) return 0.0;
                             return std::exp(-6.0 * std::log(10.0) / t60[b] * t);
                           });
 }
 
 EnergyHistogram roomDecayLateEnergy(const AcousticScene& scene, const PropagationModel& model,
-                                    const std::vector<OctaveBandValues>& energy_in_flight, double direct_delay_s,
-                                    int order, double bin_s) {
+                                    const std::vector<OctaveBandValues>& late_energy_in_flight, double direct_delay_s,
+                                    double bin_s) {
   const double volume = diffuseVolumeM3(scene);
-  if (!(volume > 0.0)) return EnergyHistogram(bin_s, energy_in_flight.size());
-  return diffuseLateField(scene, volume, model.speed_of_sound_m_s, direct_delay_s, order, energy_in_flight.size(), bin_s,
-                          [&](std::size_t bin, double, int b) { return energy_in_flight[bin][b]; });
+  if (!(volume > 0.0)) return EnergyHistogram(bin_s, late_energy_in_flight.size());
+  return diffuseLateField(volume, model.speed_of_sound_m_s, direct_delay_s, 0.0, late_energy_in_flight.size(), bin_s,
+                          [&](std::size_t bin, double, int b) { return late_energy_in_flight[bin][b]; });
 }
 
 SimulationResult simulateRoom(const AcousticScene& scene, const Eigen::Vector3d& source,
@@ -144,8 +143,11 @@ SimulationResult simulateRoom(const AcousticScene& scene, const Eigen::Vector3d&
         traceFastModeDecay(scene, source, listener, model, rays, settings.fast_ray_count, settings.fast_rays);
     result.stats = traced.stats;
     const double direct_delay = (source - listener).norm() / model.speed_of_sound_m_s;
-    result.late = roomDecayLateEnergy(scene, model, traced.energy_in_flight, direct_delay, settings.image_source_order,
-                                      rays.bin_s);
+    // A settled pilot says the room's decay is one diffuse field; otherwise the track
+    // receiver near the listener is heard (fast_mode_rays.h).
+    result.late = traced.receiver ? *traced.receiver
+                                  : roomDecayLateEnergy(scene, model, traced.late_energy_in_flight, direct_delay,
+                                                        rays.bin_s);
   } else {
     const double direct_delay = (source - listener).norm() / model.speed_of_sound_m_s;
     result.late = parametricLateEnergy(scene, model, direct_delay, settings.image_source_order,

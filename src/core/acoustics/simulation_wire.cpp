@@ -12,7 +12,7 @@ namespace {
 // Magic numbers with the encoding's version in the low byte; read back in another byte
 // order they do not match, so a foreign machine's bytes are refused, not misread.
 constexpr std::uint32_t kSceneMarker = 0x52525301;    // "RRS" 1
-constexpr std::uint32_t kRequestMarker = 0x52525104;  // "RRQ" 4
+constexpr std::uint32_t kRequestMarker = 0x52525105;  // "RRQ" 5
 constexpr std::uint32_t kResultMarker = 0x52525202;   // "RRR" 2
 constexpr std::uint32_t kJobMarker = 0x52524a01;      // "RRJ" 1
 
@@ -21,9 +21,9 @@ constexpr std::uint32_t kJobMarker = 0x52524a01;      // "RRJ" 1
 static_assert(sizeof(AirConditions) == 32, "AirConditions changed: encode the new field");
 static_assert(sizeof(SourceDirectivity) == 32, "SourceDirectivity changed: encode the new field");
 static_assert(sizeof(DecayContinuationOptions) == 40, "DecayContinuationOptions changed: encode the new field");
-static_assert(sizeof(RayTracingOptions) == 104, "RayTracingOptions changed: encode the new field");
-static_assert(sizeof(SimulationSettings) == 264, "SimulationSettings changed: encode the new field");
-static_assert(sizeof(FastRayOptions) == 32, "FastRayOptions changed: encode the new field");
+static_assert(sizeof(RayTracingOptions) == 112, "RayTracingOptions changed: encode the new field");
+static_assert(sizeof(SimulationSettings) == 280, "SimulationSettings changed: encode the new field");
+static_assert(sizeof(FastRayOptions) == 40, "FastRayOptions changed: encode the new field");
 static_assert(sizeof(WaveLowBandOptions) == 24, "WaveLowBandOptions changed: encode the new field");
 static_assert(sizeof(WaveLowBandStats) == 56, "WaveLowBandStats changed: encode the new field");
 static_assert(sizeof(RayTracingStats) == 208, "RayTracingStats changed: encode the new field");
@@ -65,6 +65,7 @@ void putSettings(ByteWriter& w, const SimulationSettings& s) {
   w.put<double>(o.bin_s);
   w.put<double>(o.receiver_radius_m);
   w.put<double>(o.crossings_per_ms);
+  w.put<double>(o.track_radius_m);
   w.put<double>(o.roulette_db);
   w.put<std::int32_t>(o.image_source_order);
   w.putBool(o.diffuse_rain);
@@ -83,6 +84,7 @@ void putSettings(ByteWriter& w, const SimulationSettings& s) {
   w.put<std::uint64_t>(s.fast_rays.min_rays);
   w.put<std::uint64_t>(s.fast_rays.batch_rays);
   w.put<double>(s.fast_rays.reflection_budget);
+  w.put<double>(s.fast_rays.track_radius_m);
   w.putBool(s.diffraction_scattering);
   w.put<std::int32_t>(static_cast<std::int32_t>(s.low_band));
   w.put<double>(s.wave.crossover_hz);
@@ -110,6 +112,7 @@ SimulationSettings getSettings(ByteReader& r) {
   o.bin_s = r.get<double>();
   o.receiver_radius_m = r.get<double>();
   o.crossings_per_ms = r.get<double>();
+  o.track_radius_m = r.get<double>();
   o.roulette_db = r.get<double>();
   o.image_source_order = r.get<std::int32_t>();
   o.diffuse_rain = r.getBool();
@@ -128,6 +131,7 @@ SimulationSettings getSettings(ByteReader& r) {
   s.fast_rays.min_rays = static_cast<std::size_t>(r.get<std::uint64_t>());
   s.fast_rays.batch_rays = static_cast<std::size_t>(r.get<std::uint64_t>());
   s.fast_rays.reflection_budget = r.get<double>();
+  s.fast_rays.track_radius_m = r.get<double>();
   s.diffraction_scattering = r.getBool();
   const auto low_band = r.get<std::int32_t>();
   if (low_band < 0 || low_band > static_cast<std::int32_t>(LowBandMethod::kWave)) r.fail("unknown low-band method " + std::to_string(low_band));
