@@ -41,7 +41,7 @@ const char* const kSimulationOptionsHelp = R"(  --mode MODE          accurate (i
                        (docs/simulation.md)
   --crossover HZ       where the wave low band hands over (default 500)
   --trace-to-end       trace every band to the end of the response (default: a band whose
-                       decay is established, 30 dB down and straight, is continued
+                       decay is established, 25 dB down and straight, is continued
                        analytically; docs/simulation.md)
 )";
 

@@ -39,10 +39,10 @@ AirConditions noAir() {
 }  // namespace
 
 TEST(DecayContinuation, AStraightDecayIsEstablishedOnceItHasFallenFarEnough) {
-  const double rate = -6.0 * std::log(10.0) / 0.8;  // T60 0.8 s: 30 dB at 0.4 s
+  const double rate = -6.0 * std::log(10.0) / 0.8;  // T60 0.8 s: 25 dB at 0.33 s
   const std::vector<double> e = sampled(2.0, [&](double t) { return std::exp(rate * t); });
   const DecayContinuationOptions options;
-  EXPECT_FALSE(establishedDecay(e, static_cast<std::size_t>(0.35 / kBinS), kBinS, options));
+  EXPECT_FALSE(establishedDecay(e, static_cast<std::size_t>(0.3 / kBinS), kBinS, options));
   const auto line = establishedDecay(e, static_cast<std::size_t>(0.45 / kBinS), kBinS, options);
   ASSERT_TRUE(line);
   EXPECT_NEAR(line->rate_per_s / rate, 1.0, 1e-6);
@@ -105,7 +105,7 @@ TEST(DecayContinuation, TheTracerStopsAStraightDecayEarlyAndKeepsItsLateEnergy) 
 // A low room (1 m) with a nearly black floor and ceiling between mirror-like walls: a ray
 // at elevation e loses its energy at a rate that grows with sin e, so the energy in flight
 // falls as 1 / t, a decay that bends all the way. The tracer must trace on past the first
-// 30 dB.
+// 25 dB.
 TEST(DecayContinuation, TheTracerTracesABentDecayOn) {
   const Eigen::Vector3d size(8, 6, 1), source(1.5, 1.2, 0.4), listener(6.2, 4.4, 0.6);
   TriangleMesh mesh = room_reverb::test::shoeboxMesh(size);
@@ -135,6 +135,6 @@ TEST(DecayContinuation, TheTracerTracesABentDecayOn) {
   std::cout << "[ measured ] 1.4-2.1 s energy over tracing to the end: " << ratio << "\n";
   EXPECT_EQ(continued.stats.traced_until_s[4], options.max_time_s);
   EXPECT_NEAR(ratio, 1.0, 0.1);
-  // Without the checks of its shape the band stops once it has fallen 30 dB.
+  // Without the checks of its shape the band stops once it has fallen 25 dB.
   EXPECT_LT(unchecked.stats.traced_until_s[4], 0.8 * options.max_time_s);
 }

@@ -8,6 +8,7 @@
 
 #include "room_reverb/acoustics/room_model.h"
 #include "room_reverb/acoustics/room_simulation.h"
+#include "room_reverb/acoustics/triangle_visibility.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/sample_statistics.h"
 #include "room_reverb/metrics/room_acoustic_parameters.h"
@@ -390,4 +391,50 @@ TEST(RayTracer, OneSurfaceChangedAtTheSameSeedChangesLittleElse) {
     }
     EXPECT_LT(sampleStandardDeviation(paired), 0.5 * sampleStandardDeviation(unpaired)) << w[0] << "-" << w[1] << " s";
   }
+}
+
+TEST(TriangleVisibility, TheListenerSeesEveryWallOfAnEmptyBoxWholeAndNotWhatAnObjectHides) {
+  // An empty shoebox: nothing can hide any of its twelve triangles (neighbours only touch).
+  const TriangleMesh box = room_reverb::test::shoeboxMesh({5, 4, 3});
+  const std::vector<bool> empty = trianglesSeenWhole(box, {2.0, 1.5, 1.2});
+  ASSERT_EQ(empty.size(), box.triangleCount());
+  for (std::size_t t = 0; t < empty.size(); ++t) EXPECT_TRUE(empty[t]) << t;
+  // A pillar between the listener and the x = 5 wall: that wall is not seen whole, the
+  // x = 0 wall behind the listener still is.
+  const RoomModel model = parseRoomModel(R"(frame: room
+room_box: {size_m: [5.0, 4.0, 3.0], has_ceiling: true}
+surfaces:
+  floor: {material: concrete_painted}
+  ceiling: {material: concrete_painted}
+  wall_x_min: {material: concrete_painted}
+  wall_x_max: {material: concrete_painted}
+  wall_y_min: {material: concrete_painted}
+  wall_y_max: {material: concrete_painted}
+objects:
+  - {label: pillar, material: concrete_painted, center_m: [3.8, 2.0, 1.5], size_m: [0.4, 0.4, 3.0]}
+)");
+  const AcousticScene scene = roomModelToScene(model, MaterialLibrary::loadDefault(), {});
+  const Eigen::Vector3d listener(2.0, 2.0, 1.5);
+  const std::vector<bool> seen = trianglesSeenWhole(scene.mesh(), listener);
+  std::size_t hidden_far = 0, seen_near = 0, far = 0, near = 0;
+  for (std::size_t t = 0; t < seen.size(); ++t) {
+    const TriangleMesh& mesh = scene.mesh();
+    const Eigen::Vector3d centre =
+        (mesh.vertices[mesh.triangles[t][0]] + mesh.vertices[mesh.triangles[t][1]] + mesh.vertices[mesh.triangles[t][2]]) / 3.0;
+    if (std::abs(centre.x() - 5.0) < 1e-9) {
+      ++far;
+      if (!seen[t]) ++hidden_far;
+    }
+    if (std::abs(centre.x()) < 1e-9) {
+      ++near;
+      if (seen[t]) ++seen_near;
+    }
+  }
+  EXPECT_GT(far, 0u);
+  EXPECT_EQ(hidden_far, far);
+  EXPECT_GT(near, 0u);
+  EXPECT_EQ(seen_near, near);
+  // More triangles than the limit: each ray decides.
+  const std::vector<bool> limited = trianglesSeenWhole(box, {2.0, 1.5, 1.2}, 4);
+  for (bool whole : limited) EXPECT_FALSE(whole);
 }

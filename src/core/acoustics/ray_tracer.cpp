@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "room_reverb/acoustics/air_loss_table.h"
+#include "room_reverb/acoustics/triangle_visibility.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/hash_mix.h"
 
@@ -159,6 +160,7 @@ struct Tracer {
   double loss_bin_m;        // kFlightBinS of travel
   double mean_free_path_m;  // 4V/S of a closed room, 0 for an open one
   double track_weight = 0.0;  // with a track receiver: 1 / its free volume (m^-3)
+  std::vector<bool> seen_whole;  // per triangle: the listener sees all of it (the rain needs no ray)
 
   Tracer(const AcousticScene& scene_, const Eigen::Vector3d& source_, const Eigen::Vector3d& listener_,
          const PropagationModel& model_, const RayTracingOptions& options_, double receiver_radius_m_,
@@ -183,6 +185,8 @@ struct Tracer {
     if (options.track_radius_m > 0.0) {
       const double volume = scene.freeVolumeInSphereM3(listener, options.track_radius_m);
       track_weight = volume > 0.0 ? 1.0 / volume : 0.0;
+    } else if (options.diffuse_rain) {
+      seen_whole = trianglesSeenWhole(mesh, listener);
     }
     launch_rotation = randomRotation(options.seed);
     seed_key = mixBits(0x7ace5eedull ^ static_cast<std::uint64_t>(options.seed));
@@ -398,7 +402,7 @@ struct Tracer {
                                           model.speed_of_sound_m_s)
               : m.scattering;
       const RainArrival rained = options.diffuse_rain && !(track_weight > 0.0)
-                                     ? rain(histogram, ray, scattering, normal, slice.live)
+                                     ? rain(histogram, ray, hit.triangle, scattering, normal, slice.live)
                                      : RainArrival{};
       note(slice, LedgerEvent::kReflect, static_cast<std::uint32_t>(hit.triangle), rained.distance_m, rained.factor,
            rained.direction);
@@ -459,9 +463,10 @@ struct Tracer {
   };
 
   // Diffuse rain (Schröder 2011): the scattered share of this reflection sent straight to
-  // the receiver when it sees the wall point.
-  RainArrival rain(EnergyHistogram& histogram, const RayBranch& ray, const OctaveBandValues& scattering,
-                   const Eigen::Vector3d& normal, const OctaveBandValues& live) const {
+  // the receiver when it sees the wall point (without asking Embree where it sees the
+  // whole triangle).
+  RainArrival rain(EnergyHistogram& histogram, const RayBranch& ray, std::size_t triangle,
+                   const OctaveBandValues& scattering, const Eigen::Vector3d& normal, const OctaveBandValues& live) const {
     const Eigen::Vector3d to_listener = listener - ray.position;
     const double d = to_listener.norm();
     const double cos_theta = normal.dot(to_listener) / d;
@@ -472,7 +477,7 @@ struct Tracer {
       scattered[b] = ray.energy[b] * scattering[b] * live[b];
       any = any || scattered[b] > 0.0;
     }
-    if (!any || scene.geometry().occluded(ray.position, listener, 1e-5)) return {};
+    if (!any || (!seen_whole[triangle] && scene.geometry().occluded(ray.position, listener, 1e-5))) return {};
     const RainArrival arrival{ray.travelled + d, cos_theta / (kPi * d * d), -to_listener / d};
     deposit(histogram, scattered, arrival.distance_m, arrival.factor, arrival.direction, live);
     return arrival;
