@@ -1,8 +1,8 @@
 #pragma once
 // Which triangles of a mesh a point sees whole. The ray tracer's diffuse rain sends each
 // scattered reflection straight to the listener when the listener sees the wall point;
-// asking Embree for every reflection is a second ray per bounce (38 % of the accurate
-// BRAS CR2 pair's time). For a triangle that no other triangle can hide from the listener
+// asking Embree for every reflection is a second ray per bounce (about 7 % of the
+// accurate BRAS CR2 pair's time, docs/simulation.md). For a triangle that no other triangle can hide from the listener
 // the answer is yes wherever on it the reflection lands, so the ray is not needed.
 #include <cstddef>
 #include <vector>

@@ -159,7 +159,8 @@ struct Tracer {
   std::uint64_t seed_key;  // every ray's key derives from it and the ray's index
   double loss_bin_m;        // kFlightBinS of travel
   double mean_free_path_m;  // 4V/S of a closed room, 0 for an open one
-  double track_weight = 0.0;  // with a track receiver: 1 / its free volume (m^-3)
+  bool tracking = false;      // the receiver is the track receiver (RayTracingOptions::track_radius_m)
+  double track_weight = 0.0;  // then 1 / its free volume (m^-3)
   std::vector<bool> seen_whole;  // per triangle: the listener sees all of it (the rain needs no ray)
 
   Tracer(const AcousticScene& scene_, const Eigen::Vector3d& source_, const Eigen::Vector3d& listener_,
@@ -182,9 +183,11 @@ struct Tracer {
     loss_bin_m = kFlightBinS * model.speed_of_sound_m_s;
     mean_free_path_m = scene.closed() && scene.volumeM3() > 0.0 ? 4.0 * scene.volumeM3() / scene.surfaceM2() : 0.0;
     roulette_level = ray_energy * std::pow(10.0, options.roulette_db / 10.0);
-    if (options.track_radius_m > 0.0) {
+    tracking = options.track_radius_m > 0.0;
+    if (tracking) {
       const double volume = scene.freeVolumeInSphereM3(listener, options.track_radius_m);
-      track_weight = volume > 0.0 ? 1.0 / volume : 0.0;
+      if (!(volume > 0.0)) throw InputError("the track receiver's sphere holds no free volume about the listener");
+      track_weight = 1.0 / volume;
     } else if (options.diffuse_rain) {
       seen_whole = trianglesSeenWhole(mesh, listener);
     }
@@ -345,7 +348,7 @@ struct Tracer {
       }
       const RayHit hit = scene.geometry().intersect(ray.position, ray.direction, 1e-7);
       const double leg = hit.hit ? hit.distance_m : std::numeric_limits<double>::infinity();
-      if (track_weight > 0.0) {
+      if (tracking) {
         if (!(ray.specular_only && ray.order <= options.image_source_order)) {
           depositTrack(histogram, ray, std::min(leg, max_distance - ray.travelled), slice.live);
         }
@@ -401,7 +404,7 @@ struct Tracer {
                                           characteristicDistance(leg, mean_free_path_m > 0.0 ? mean_free_path_m : leg),
                                           model.speed_of_sound_m_s)
               : m.scattering;
-      const RainArrival rained = options.diffuse_rain && !(track_weight > 0.0)
+      const RainArrival rained = options.diffuse_rain && !tracking
                                      ? rain(histogram, ray, hit.triangle, scattering, normal, slice.live)
                                      : RainArrival{};
       note(slice, LedgerEvent::kReflect, static_cast<std::uint32_t>(hit.triangle), rained.distance_m, rained.factor,
