@@ -162,7 +162,9 @@ Eigen::Vector3d walking(double t_s) {  // 1 m/s around a circle of 1.5 m about t
 
 void BM_WalkingRendererChunk(benchmark::State& state) {
   const HrtfSet hrtf = HrtfSet::loadSofa(HrtfSet::defaultSofaPath());
-  BinauralStream stream(makeBinauralDecoder(hrtf, 3));
+  BinauralStreamOptions stream_options;
+  stream_options.mixed_order_late = state.range(1) != 0;
+  BinauralStream stream(makeBinauralDecoder(hrtf, 3), stream_options);
   stream.setRoom(decayingNoise(static_cast<std::size_t>(state.range(0)), 2.0, 1));
   const ListenerTranslation translation = walkableRoom();
   ReflectionTapBankOptions options;
@@ -185,8 +187,16 @@ void BM_WalkingRendererChunk(benchmark::State& state) {
   });
   state.counters["taps"] = static_cast<double>(translation.anchors().size());
 }
-// Arg as above; the node's walkable RSAO rooms have a first-order late part (4).
-BENCHMARK(BM_WalkingRendererChunk)->Arg(16)->Arg(4)->Unit(benchmark::kMicrosecond)->Repetitions(3)->ReportAggregatesOnly(true);
+// Args: the late part's channels as above (the node's walkable RSAO rooms have a
+// first-order late part, 4), and 1 for a mixed-order late part (~mixed_order_late: all
+// orders for the first 0.1 s, orders 0-1 after it).
+BENCHMARK(BM_WalkingRendererChunk)
+    ->Args({16, 0})
+    ->Args({4, 0})
+    ->Args({16, 1})
+    ->Unit(benchmark::kMicrosecond)
+    ->Repetitions(3)
+    ->ReportAggregatesOnly(true);
 
 // The taps alone: one block of the 24 walking taps (filters of order 9) into a third-order
 // field, their targets moved by a few centimetres each block (setTargets included).

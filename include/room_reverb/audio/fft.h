@@ -32,6 +32,16 @@ class RealFft {
   std::vector<std::complex<float>> forward(const std::vector<float>& time);
   std::vector<float> inverse(const std::vector<std::complex<float>>& spectrum);
 
+  // The transform's own buffers, for a caller that fills the input and reads the output
+  // where they are (the streaming convolver: each copy around a 512-point transform costs
+  // a sizeable part of the transform): timeData() holds size() samples, spectrumData()
+  // spectrumSize() bins. forwardInPlace() transforms timeData() into spectrumData();
+  // inverseInPlace() the other way, unnormalised (size() times inverse()'s result).
+  float* timeData() { return time_buffer_; }
+  std::complex<float>* spectrumData() { return static_cast<std::complex<float>*>(spectrum_buffer_); }
+  void forwardInPlace();
+  void inverseInPlace();
+
  private:
   struct Plans;
   std::size_t size_;

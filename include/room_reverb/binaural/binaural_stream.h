@@ -144,9 +144,10 @@ class BinauralStream {
   std::unique_ptr<ReflectionTapBank> taps_, retiring_taps_;
   Eigen::MatrixXd rotation_from_, rotation_to_;
   std::vector<float> source_block_;
-  std::vector<std::vector<float>> field_, rotated_;
-  std::vector<float> rotation_scratch_;  // R_from x for one channel while the head turns
-  std::vector<float> ramp_;              // (n + 1) / block_size
+  // The field before and after the head rotation, channel c's block at c * block_size.
+  std::vector<float> field_, rotated_;
+  std::vector<float> rotation_from_gains_, rotation_change_;  // per order block, as encodeGliding takes them
+  std::vector<float> ramp_;                                   // (n + 1) / block_size
   std::vector<float*> field_out_, rotated_out_;
   std::vector<const float*> rotated_in_;
   std::size_t non_finite_samples_ = 0;

@@ -77,9 +77,9 @@ class ReflectionTapBank {
   // lanes_ is the tap count rounded up to whole SIMD vectors, a tap with fewer sections
   // and the spare lanes pass their input through (b0 = 1).
   std::size_t lanes_ = 0, sections_ = 0;
-  std::vector<double> b0_, b1_, b2_, a1_, a2_, s1_, s2_;
-  std::vector<double> samples_;  // the block's tap signals, tap k's sample n at k * block_size + n
-  std::vector<double> lane_scratch_;  // the same, sample-major, for the filters
+  std::vector<float> b0_, b1_, b2_, a1_, a2_, s1_, s2_;
+  std::vector<float> samples_;  // the block's tap signals, tap k's sample n at k * block_size + n
+  std::vector<float> lane_scratch_;  // the same, sample-major, for the filters
   std::vector<float> history_;  // the source, a ring of history_size_ samples, stored twice
   std::size_t history_size_ = 0;
   std::size_t write_ = 0;       // where the next source sample goes

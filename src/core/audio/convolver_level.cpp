@@ -19,11 +19,10 @@ ConvolverLevel::ConvolverLevel(const PartitionLevel& plan, bool open_ended, std:
       bins_(plan.partition_size + 1),
       stride_(rowStride(bins_)),
       fft_(2 * plan.partition_size),
-      units_(inputs + outputs * (inputs + 1)),
+      groups_((outputs + kOutputGroup - 1) / kOutputGroup),
+      units_(inputs + groups_ * (inputs + 1)),
       next_unit_(units_),
-      fft_unit_cost_(fftCost(2 * plan.partition_size)),
-      time_(2 * plan.partition_size),
-      spectrum_(bins_) {
+      fft_unit_cost_(fftCost(2 * plan.partition_size)) {
   reserve(plan.partitions);
 }
 
@@ -34,6 +33,7 @@ LevelSpectra ConvolverLevel::transform(const PartitionLevel& plan, bool open_end
   RealFft fft(2 * p);
   std::vector<float> time(2 * p);
   std::vector<std::complex<float>> spectrum(bins);
+  const float scale = 1.0f / static_cast<float>(2 * p);
   LevelSpectra spectra;
   spectra.partitions = longest > plan.first_tap ? (longest - plan.first_tap + p - 1) / p : 0;
   if (!open_ended) spectra.partitions = std::min(spectra.partitions, plan.partitions);
@@ -58,6 +58,9 @@ LevelSpectra ConvolverLevel::transform(const PartitionLevel& plan, bool open_end
         std::copy(taps.begin() + begin, taps.begin() + end, time.begin());
         fft.forward(time.data(), spectrum.data());
         splitSpectrum(spectrum.data(), bins, row, stride);
+        // The inverse transform of the output is left unnormalised (finishOutputs): its
+        // 1 / 2P is applied here once.
+        for (std::size_t k = 0; k < 2 * stride; ++k) row[k] *= scale;
       }
     }
   }
@@ -97,9 +100,14 @@ float* ConvolverLevel::slotRow(std::int64_t block, std::size_t input) {
   return &delay_line_[(slotOf(block) * inputs_ + input) * 2 * stride_];
 }
 
+std::size_t ConvolverLevel::groupSize(std::size_t group) const {
+  return std::min(kOutputGroup, outputs_ - group * kOutputGroup);
+}
+
 double ConvolverLevel::unitCost(std::size_t unit) const {
   if (unit < inputs_) return fft_unit_cost_;
-  return (unit - inputs_) % (inputs_ + 1) == inputs_ ? fft_unit_cost_ : mac_unit_cost_;
+  const std::size_t outputs = groupSize((unit - inputs_) / (inputs_ + 1));
+  return outputs * ((unit - inputs_) % (inputs_ + 1) == inputs_ ? fft_unit_cost_ : mac_unit_cost_);
 }
 
 void ConvolverLevel::run(std::int64_t call, const SampleRing& input, const LevelTarget* targets, std::size_t count) {
@@ -126,14 +134,14 @@ void ConvolverLevel::runUnit(std::size_t unit, const SampleRing& input, const Le
     transformInput(block_, unit, input);
     return;
   }
-  const std::size_t output = (unit - inputs_) / (inputs_ + 1);
+  const std::size_t group = (unit - inputs_) / (inputs_ + 1);
   const std::size_t step = (unit - inputs_) % (inputs_ + 1);
   for (std::size_t t = 0; t < count; ++t) {
     if (targets[t].spectra->partitions == 0) continue;
     if (step < inputs_) {
-      multiplyAdd(block_, output, step, targets[t]);
+      multiplyAdd(block_, group, step, targets[t]);
     } else {
-      finishOutput(block_, output, targets[t], std::numeric_limits<std::int64_t>::min());
+      finishOutputs(block_, group, targets[t], std::numeric_limits<std::int64_t>::min());
     }
   }
 }
@@ -154,9 +162,9 @@ void ConvolverLevel::catchUp(std::int64_t next_call, const SampleRing& input, co
   const auto p = static_cast<std::int64_t>(plan_.partition_size);
   // Older blocks' outputs end earlier; stop at the first one already played.
   for (std::int64_t m = newest; m >= 0 && outputBegin(m) + p > from; --m) {
-    for (std::size_t o = 0; o < outputs_; ++o) {
-      for (std::size_t i = 0; i < inputs_; ++i) multiplyAdd(m, o, i, target);
-      finishOutput(m, o, target, from);
+    for (std::size_t g = 0; g < groups_; ++g) {
+      for (std::size_t i = 0; i < inputs_; ++i) multiplyAdd(m, g, i, target);
+      finishOutputs(m, g, target, from);
     }
   }
 }
@@ -169,37 +177,59 @@ void ConvolverLevel::reset() {
 void ConvolverLevel::transformInput(std::int64_t block, std::size_t input, const SampleRing& ring) {
   // The 2P-frame window ending with the block (overlap-save).
   const auto p = static_cast<std::int64_t>(plan_.partition_size);
-  ring.read(input, (block - 1) * p, time_.data(), time_.size());
-  fft_.forward(time_.data(), spectrum_.data());
-  splitSpectrum(spectrum_.data(), bins_, slotRow(block, input), stride_);
+  ring.read(input, (block - 1) * p, fft_.timeData(), fft_.size());
+  fft_.forwardInPlace();
+  splitSpectrum(fft_.spectrumData(), bins_, slotRow(block, input), stride_);
 }
 
-void ConvolverLevel::multiplyAdd(std::int64_t block, std::size_t output, std::size_t input,
+void ConvolverLevel::multiplyAdd(std::int64_t block, std::size_t group, std::size_t input,
                                  const LevelTarget& target) const {
   const std::size_t partitions = target.spectra->partitions;
-  const std::size_t used = target.spectra->used[output * inputs_ + input];
+  const std::size_t first = group * kOutputGroup, count = groupSize(group);
   float* y = target.accumulator;
-  if (input == 0) std::fill_n(y, 2 * stride_, 0.0f);
-  // Partition q of the filter meets the input block q blocks older.
-  const float* h = &target.spectra->rows[(output * inputs_ + input) * partitions * 2 * stride_];
-  std::size_t q = 0;
-  for (; q + 1 < used; q += 2, h += 4 * stride_) {
-    const auto older = block - static_cast<std::int64_t>(q);
-    multiplyAccumulatePair(slotRow(older, input), h, slotRow(older - 1, input), h + 2 * stride_, y, stride_, stride_);
+  if (input == 0) std::fill_n(y, count * 2 * stride_, 0.0f);
+  // Partition q of the filter meets the input block q blocks older. The group's outputs
+  // run together over the partitions they all use (outputs whose filter from this input
+  // is zero here drop out); each then finishes its own alone.
+  const float* h[kOutputGroup];
+  float* acc[kOutputGroup];
+  std::size_t used[kOutputGroup];
+  std::size_t active = 0, common = partitions;
+  for (std::size_t j = 0; j < count; ++j) {
+    const std::size_t o = first + j;
+    const std::size_t u = target.spectra->used[o * inputs_ + input];
+    if (u == 0) continue;
+    h[active] = &target.spectra->rows[(o * inputs_ + input) * partitions * 2 * stride_];
+    acc[active] = y + j * 2 * stride_;
+    used[active] = u;
+    common = std::min(common, u);
+    ++active;
   }
-  if (q < used) multiplyAccumulate(slotRow(block - static_cast<std::int64_t>(q), input), h, y, stride_, stride_);
+  if (active == 0) return;
+  const std::size_t slot_step = inputs_ * 2 * stride_;
+  const DelayLineRows rows{delay_line_.data() + input * 2 * stride_, capacity_, slot_step, slotOf(block)};
+  multiplyAccumulateOutputs(rows, common, h, 2 * stride_, active, acc, stride_);
+  for (std::size_t j = 0; j < active; ++j) {
+    if (used[j] == common) continue;
+    const float* rest = h[j] + common * 2 * stride_;
+    const DelayLineRows older{rows.ring, capacity_, slot_step, slotOf(block - static_cast<std::int64_t>(common))};
+    multiplyAccumulateOutputs(older, used[j] - common, &rest, 2 * stride_, 1, &acc[j], stride_);
+  }
 }
 
-void ConvolverLevel::finishOutput(std::int64_t block, std::size_t output, const LevelTarget& target,
-                                  std::int64_t from_frame) {
-  if (target.spectra->output_used[output] == 0) return;  // every filter of this output is zero here
-  joinSpectrum(target.accumulator, stride_, bins_, spectrum_.data());
-  fft_.inverse(spectrum_.data(), time_.data());
-  // The second half of the 2P-point result is the linear convolution (overlap-save).
+void ConvolverLevel::finishOutputs(std::int64_t block, std::size_t group, const LevelTarget& target,
+                                   std::int64_t from_frame) {
   const std::size_t p = plan_.partition_size;
   const std::int64_t begin = outputBegin(block);
   const std::size_t skip = from_frame > begin ? std::min(static_cast<std::size_t>(from_frame - begin), p) : 0;
-  target.output->add(output, begin + static_cast<std::int64_t>(skip), time_.data() + p + skip, p - skip);
+  for (std::size_t j = 0; j < groupSize(group); ++j) {
+    const std::size_t output = group * kOutputGroup + j;
+    if (target.spectra->output_used[output] == 0) continue;  // every filter of this output is zero here
+    joinSpectrum(target.accumulator + j * 2 * stride_, stride_, bins_, fft_.spectrumData());
+    fft_.inverseInPlace();  // normalised by the filter spectra's scale (transform)
+    // The second half of the 2P-point result is the linear convolution (overlap-save).
+    target.output->add(output, begin + static_cast<std::int64_t>(skip), fft_.timeData() + p + skip, p - skip);
+  }
 }
 
 }  // namespace room_reverb::core

@@ -9,8 +9,9 @@
 // filter partitions, then one inverse FFT) gives output frames [mP + D, mP + D + P),
 // which it adds into each filter set's output ring. The work starts in the call that
 // completes the block and may take spreadCalls() calls (partition_plan.h): it is cut into
-// units (one forward FFT, one input's multiply-adds for one output, one inverse FFT) that
-// run in order, each call running units until its share of the block's cost is done.
+// units (one forward FFT, one input's multiply-adds for a group of outputs, the group's
+// inverse FFTs) that run in order, each call running units until its share of the
+// block's cost is done.
 //
 // Several filter sets (the one playing, the one fading out, one waiting to fade in) run
 // on one FDL; the caller says which take part in each call's units.
@@ -22,6 +23,7 @@
 #include "room_reverb/audio/partition_plan.h"
 #include "room_reverb/audio/partitioned_convolver.h"
 #include "sample_ring.h"
+#include "spectral_kernels.h"
 
 namespace room_reverb::core {
 
@@ -42,7 +44,7 @@ struct LevelSpectra {
 // Where a level's work for one filter set goes.
 struct LevelTarget {
   const LevelSpectra* spectra = nullptr;
-  float* accumulator = nullptr;  // 2 x stride() floats: the output spectrum being summed
+  float* accumulator = nullptr;  // accumulatorFloats(): the output spectra being summed
   SampleRing* output = nullptr;  // the set's output, by stream frame
 };
 
@@ -57,6 +59,8 @@ class ConvolverLevel {
 
   const PartitionLevel& plan() const { return plan_; }
   std::size_t stride() const { return stride_; }
+  // A target's accumulator: the spectra of one group of outputs (spectral_kernels.h).
+  std::size_t accumulatorFloats() const { return kOutputGroup * 2 * stride_; }
 
   // The level block whose work runs in process() call `call` (-1 before the first), and
   // the first output frame of a block.
@@ -90,8 +94,9 @@ class ConvolverLevel {
   void runUnit(std::size_t unit, const SampleRing& input, const LevelTarget* targets, std::size_t count);
   void finishInputTransforms(const SampleRing& input);
   void transformInput(std::int64_t block, std::size_t input, const SampleRing& ring);
-  void multiplyAdd(std::int64_t block, std::size_t output, std::size_t input, const LevelTarget& target) const;
-  void finishOutput(std::int64_t block, std::size_t output, const LevelTarget& target, std::int64_t from_frame);
+  std::size_t groupSize(std::size_t group) const;
+  void multiplyAdd(std::int64_t block, std::size_t group, std::size_t input, const LevelTarget& target) const;
+  void finishOutputs(std::int64_t block, std::size_t group, const LevelTarget& target, std::int64_t from_frame);
 
   PartitionLevel plan_;
   bool open_ended_;
@@ -103,13 +108,15 @@ class ConvolverLevel {
   std::size_t bins_;    // P + 1 bins of a 2P real FFT
   std::size_t stride_;  // bins_ rounded up (spectral_kernels.h)
   RealFft fft_;
+  std::size_t groups_;  // outputs in groups of kOutputGroup (spectral_kernels.h)
 
   // FDL: capacity_ slots, block m in slot m mod capacity_, each one split spectrum per input.
   std::size_t capacity_ = 0;
   std::vector<float> delay_line_;
 
-  // Progress through the current block's units: inputs_ forward FFTs, then per output
-  // inputs_ multiply-add units (one input, all partitions) and one inverse FFT. Costs in
+  // Progress through the current block's units: inputs_ forward FFTs, then per group of
+  // outputs inputs_ multiply-add units (one input, all partitions) and one unit of the
+  // group's inverse FFTs. Costs in
   // partition_plan.h's units, for the per-call shares.
   std::int64_t block_ = -1;
   std::size_t units_;
@@ -118,10 +125,6 @@ class ConvolverLevel {
   double mac_unit_cost_ = 0.0;
   double block_cost_ = 0.0;
   double done_cost_ = 0.0;
-
-  // Scratch, preallocated.
-  std::vector<float> time_;                    // 2P
-  std::vector<std::complex<float>> spectrum_;  // bins_
 };
 
 }  // namespace room_reverb::core

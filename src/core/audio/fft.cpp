@@ -90,6 +90,14 @@ void RealFft::inverse(const std::complex<float>* spectrum, float* time) {
   for (std::size_t n = 0; n < size_; ++n) time[n] = time_buffer_[n] * scale;
 }
 
+void RealFft::forwardInPlace() {
+  fftwf_execute_dft_r2c(plans_->forward, time_buffer_, static_cast<fftwf_complex*>(spectrum_buffer_));
+}
+
+void RealFft::inverseInPlace() {
+  fftwf_execute_dft_c2r(plans_->inverse, static_cast<fftwf_complex*>(spectrum_buffer_), time_buffer_);
+}
+
 std::vector<std::complex<float>> RealFft::forward(const std::vector<float>& time) {
   if (time.size() != size_) throw std::invalid_argument("RealFft::forward: wrong input length");
   std::vector<std::complex<float>> spectrum(spectrumSize());

@@ -168,7 +168,7 @@ std::unique_ptr<PartitionedConvolver::FilterSet> PartitionedConvolver::makeSet(
   set->output = std::make_unique<SampleRing>(output_count_, ahead + 2 * block_size_);
   for (std::size_t l = 0; l < levels_.size(); ++l) {
     levels_[l]->reserve(prepared->levels[l].partitions);
-    set->accumulators.emplace_back(2 * levels_[l]->stride(), 0.0f);
+    set->accumulators.emplace_back(levels_[l]->accumulatorFloats(), 0.0f);
   }
   set->prepared = std::move(prepared);
   // The new set joins the stream now: it gets the outputs of every block already under

@@ -9,6 +9,7 @@
 #include "room_reverb/ambisonics/spherical_harmonics.h"
 #include "room_reverb/binaural/late_order.h"
 #include "room_reverb/common/error.h"
+#include "tap_kernels.h"
 
 namespace room_reverb::core {
 namespace {
@@ -37,26 +38,31 @@ BinauralStream::BinauralStream(BinauralDecoder decoder, const BinauralStreamOpti
   channels_ = static_cast<std::size_t>(ambisonicChannelCount(decoder_.order));
   if (decoder_.filters.size() != channels_) throw InputError("binaural stream: the decoder's filter count does not match its order");
   decoder_convolver_ = std::make_unique<PartitionedConvolver>(decoderMatrix(decoder_), options_.block_size, 1);
-  const auto planned = [&](double seconds) {
+  const auto planned = [&](double seconds, std::size_t max_partition) {
     const auto frames = static_cast<std::size_t>(std::ceil(seconds * kInternalSampleRateHz));
-    return planPartitions(std::max<std::size_t>(frames, 1), options_.block_size,
-                          PartitionedConvolver::kDefaultMaxPartitionSize, 1, channels_);
+    return planPartitions(std::max<std::size_t>(frames, 1), options_.block_size, max_partition, 1, channels_);
   };
-  room_plan_ = planned(options_.max_response_s);
-  early_plan_ = planned(std::min(kPlannedEarlyResponseS, options_.max_response_s));
+  room_plan_ = planned(options_.max_response_s, PartitionedConvolver::kDefaultMaxPartitionSize);
+  // The early part is uniformly partitioned: it changes every chunk or two while the
+  // listener walks, and a new response under a uniform plan starts from the delay line
+  // alone, where larger partitions would first have to compute their outputs in flight
+  // (bench_binaural_renderer, BM_SimulatedWalkChunk: a change every chunk costs 15 % less
+  // of the whole stream, one every two chunks 6 % less).
+  early_plan_ = planned(std::min(kPlannedEarlyResponseS, options_.max_response_s), options_.block_size);
   rotation_from_ = rotation_to_ = Eigen::MatrixXd::Identity(static_cast<Eigen::Index>(channels_), static_cast<Eigen::Index>(channels_));
   source_block_.assign(options_.block_size, 0.0f);
-  field_.assign(channels_, std::vector<float>(options_.block_size, 0.0f));
+  field_.assign(channels_ * options_.block_size, 0.0f);
   rotated_ = field_;
-  rotation_scratch_.assign(options_.block_size, 0.0f);
+  rotation_from_gains_.assign(channels_ * channels_, 0.0f);
+  rotation_change_ = rotation_from_gains_;
   ramp_.resize(options_.block_size);
   for (std::size_t n = 0; n < ramp_.size(); ++n) {
     ramp_[n] = static_cast<float>(static_cast<double>(n + 1) / static_cast<double>(options_.block_size));
   }
   for (std::size_t c = 0; c < channels_; ++c) {
-    field_out_.push_back(field_[c].data());
-    rotated_out_.push_back(rotated_[c].data());
-    rotated_in_.push_back(rotated_[c].data());
+    field_out_.push_back(field_.data() + c * options_.block_size);
+    rotated_out_.push_back(rotated_.data() + c * options_.block_size);
+    rotated_in_.push_back(rotated_out_.back());
   }
 }
 
@@ -179,7 +185,7 @@ void BinauralStream::process(const float* source, float* left, float* right) {
   if (early_) {
     early_->process(&input, early_out_.data());
     for (std::size_t c = 0; c < channels_; ++c) {
-      float* __restrict out = field_[c].data();
+      float* __restrict out = field_out_[c];
       const float* __restrict early = early_field_[c].data();
       for (std::size_t n = 0; n < frames; ++n) out[n] += early[n];
     }
@@ -190,33 +196,23 @@ void BinauralStream::process(const float* source, float* left, float* right) {
   }
   if (taps_) taps_->process(input, field_out_.data());
   // Rotation, moving linearly from last block's matrix to this one's across the block:
-  // ((1 - u) R_from + u R_to) x = R_from x + u (R_to x - R_from x). A rotation of
-  // spherical harmonics mixes only channels of one order (ACN blocks of 1, 3, 5, 7), so
-  // only those products are formed; each is a loop over the block's samples in single
-  // precision, which vectorises (a per-sample 16 x 16 product in double took a fifth of
-  // a walking stream's time).
-  const bool turning = rotation_from_ != rotation_to_;
-  const float* __restrict ramp = ramp_.data();
+  // ((1 - u) R_from + u R_to) x. A rotation of spherical harmonics mixes only channels of
+  // one order (ACN blocks of 1, 3, 5, 7), so each block is encoded on its own, as the
+  // taps are (tap_kernels.h: the channels' sum held in registers over a tile of samples;
+  // a per-sample 16 x 16 product in double took a fifth of a walking stream's time).
+  std::fill(rotated_.begin(), rotated_.end(), 0.0f);
   for (int l = 0; l <= decoder_.order; ++l) {
-    const auto first = static_cast<std::size_t>(l * l), end = static_cast<std::size_t>((l + 1) * (l + 1));
-    for (std::size_t o = first; o < end; ++o) {
-      float* __restrict out = rotated_[o].data();
-      std::fill(out, out + frames, 0.0f);
-      for (std::size_t i = first; i < end; ++i) {
-        const auto g = static_cast<float>(rotation_to_(static_cast<Eigen::Index>(o), static_cast<Eigen::Index>(i)));
-        const float* __restrict x = field_[i].data();
-        for (std::size_t n = 0; n < frames; ++n) out[n] += g * x[n];
+    const auto first = static_cast<std::size_t>(l * l), size = static_cast<std::size_t>(2 * l + 1);
+    // Gains of input k (a channel of the order) into output c, at k * size + c.
+    for (std::size_t k = 0; k < size; ++k) {
+      for (std::size_t c = 0; c < size; ++c) {
+        const auto row = static_cast<Eigen::Index>(first + c), column = static_cast<Eigen::Index>(first + k);
+        rotation_from_gains_[k * size + c] = static_cast<float>(rotation_from_(row, column));
+        rotation_change_[k * size + c] = static_cast<float>(rotation_to_(row, column) - rotation_from_(row, column));
       }
-      if (!turning) continue;
-      float* __restrict before = rotation_scratch_.data();
-      std::fill(before, before + frames, 0.0f);
-      for (std::size_t i = first; i < end; ++i) {
-        const auto g = static_cast<float>(rotation_from_(static_cast<Eigen::Index>(o), static_cast<Eigen::Index>(i)));
-        const float* __restrict x = field_[i].data();
-        for (std::size_t n = 0; n < frames; ++n) before[n] += g * x[n];
-      }
-      for (std::size_t n = 0; n < frames; ++n) out[n] = before[n] + ramp[n] * (out[n] - before[n]);
     }
+    encodeGliding(field_.data() + first * frames, size, rotation_from_gains_.data(), rotation_change_.data(), size,
+                  ramp_.data(), rotated_out_.data() + first, frames);
   }
   rotation_from_ = rotation_to_;
   decoder_convolver_->process(rotated_in_.data(), ears);

@@ -57,28 +57,34 @@ ReflectionTapBank::ReflectionTapBank(const std::vector<EarlyReflection>& reflect
   }
   lanes_ = (taps_.size() + kTapLanes - 1) / kTapLanes * kTapLanes;
   const std::size_t coefficients = sections_ * lanes_;
-  b0_.assign(coefficients, 1.0);
-  for (auto* c : {&b1_, &b2_, &a1_, &a2_, &s1_, &s2_}) c->assign(coefficients, 0.0);
+  b0_.assign(coefficients, 1.0f);
+  for (auto* c : {&b1_, &b2_, &a1_, &a2_, &s1_, &s2_}) c->assign(coefficients, 0.0f);
   for (std::size_t k = 0; k < filters.size(); ++k) {
     for (std::size_t s = 0; s < filters[k].size(); ++s) {
       const BiquadSection& f = filters[k][s];
       const std::size_t at = s * lanes_ + k;
-      b0_[at] = f.b0;
-      b1_[at] = f.b1;
-      b2_[at] = f.b2;
-      a1_[at] = f.a1;
-      a2_[at] = f.a2;
+      b0_[at] = static_cast<float>(f.b0);
+      b1_[at] = static_cast<float>(f.b1);
+      b2_[at] = static_cast<float>(f.b2);
+      a1_[at] = static_cast<float>(f.a1);
+      a2_[at] = static_cast<float>(f.a2);
+      // The section runs in single precision (tap_kernels.h): its rounded poles must stay
+      // inside the unit circle (the stability triangle |a2| < 1, |a1| < 1 + a2).
+      if (!(std::abs(a2_[at]) < 1.0f && std::abs(a1_[at]) < 1.0f + a2_[at])) {
+        throw InputError("reflection taps: the filter of reflection " + std::to_string(k) +
+                         " has a pole on or outside the unit circle in single precision");
+      }
     }
   }
-  samples_.assign(options_.block_size * lanes_, 0.0);
-  lane_scratch_.assign(options_.block_size * lanes_, 0.0);
+  samples_.assign(options_.block_size * lanes_, 0.0f);
+  lane_scratch_.assign(options_.block_size * lanes_, 0.0f);
   tap_signal_.assign(taps_.size() * options_.block_size, 0.0f);
   gains_from_.assign(taps_.size() * channels_, 0.0f);
   gains_change_.assign(taps_.size() * channels_, 0.0f);
 }
 
 void ReflectionTapBank::clearFilterState(std::size_t k) {
-  for (std::size_t s = 0; s < sections_; ++s) s1_[s * lanes_ + k] = s2_[s * lanes_ + k] = 0.0;
+  for (std::size_t s = 0; s < sections_; ++s) s1_[s * lanes_ + k] = s2_[s * lanes_ + k] = 0.0f;
 }
 
 void ReflectionTapBank::setTargets(const std::vector<TapTarget>& targets) {
@@ -125,7 +131,7 @@ void ReflectionTapBank::readTap(std::size_t k, std::size_t block_start) {
   const Tap& tap = taps_[k];
   const std::size_t frames = options_.block_size;
   const auto size = static_cast<long>(history_size_);
-  double* out = samples_.data() + k * frames;
+  float* out = samples_.data() + k * frames;
   const float* history = history_.data();
   // Sample n is read at n - delay(n), delay(n) = from + (n + 1) step: at block position
   // start + n - n step. Between the moments its whole part changes, the read is
@@ -150,8 +156,8 @@ void ReflectionTapBank::readTap(std::size_t k, std::size_t block_start) {
       if (step > 0.0) end = std::min(end, std::floor((start - whole) / step) + 1.0);
       if (step < 0.0) end = std::min(end, std::ceil((whole + 1.0 - start) / -step));
       const std::size_t run_end = std::max(n + 1, static_cast<std::size_t>(std::max(end, 0.0)));
-      interpolateCubic(history + base + static_cast<long>(whole) + static_cast<long>(n), q - whole, -step, run_end - n,
-                       out + n);
+      interpolateCubic(history + base + static_cast<long>(whole) + static_cast<long>(n), static_cast<float>(q - whole),
+                       static_cast<float>(-step), run_end - n, out + n);
       n = run_end;
     }
     return;
@@ -163,7 +169,7 @@ void ReflectionTapBank::readTap(std::size_t k, std::size_t block_start) {
     const double whole = std::floor(position);
     long index = static_cast<long>(block_start) + size + static_cast<long>(whole);
     if (index + 2 >= 2 * size) index -= size;
-    interpolateCubic(history + index, position - whole, 0.0, 1, out + n);
+    interpolateCubic(history + index, static_cast<float>(position - whole), 0.0f, 1, out + n);
   }
 }
 
@@ -181,7 +187,7 @@ void ReflectionTapBank::process(const float* source, float* const* field) {
   for (std::size_t k = 0; k < taps_.size(); ++k) {
     const Tap& tap = taps_[k];
     if (tap.amplitude_from == 0.0 && tap.amplitude_to == 0.0) {
-      std::fill_n(samples_.data() + k * frames, frames, 0.0);
+      std::fill_n(samples_.data() + k * frames, frames, 0.0f);
       continue;
     }
     readTap(k, block_start);
@@ -193,18 +199,17 @@ void ReflectionTapBank::process(const float* source, float* const* field) {
                     samples_.data(), lane_scratch_.data(), frames);
   }
   // The heard taps' signals scaled by their gliding amplitudes and their encoding glides,
-  // in single precision as the field is, packed for encodeGliding.
+  // packed for encodeGliding.
   const float* ramp = ramp_.data();
   std::size_t heard = 0;
   for (std::size_t k = 0; k < taps_.size(); ++k) {
     Tap& tap = taps_[k];
     if (tap.amplitude_from == 0.0 && tap.amplitude_to == 0.0) continue;
-    const double amplitude_change = tap.amplitude_to - tap.amplitude_from;
-    const double* __restrict in = samples_.data() + k * frames;
+    const auto amplitude_from = static_cast<float>(tap.amplitude_from);
+    const auto amplitude_change = static_cast<float>(tap.amplitude_to - tap.amplitude_from);
+    const float* __restrict in = samples_.data() + k * frames;
     float* __restrict signal = tap_signal_.data() + heard * frames;
-    for (std::size_t n = 0; n < frames; ++n) {
-      signal[n] = static_cast<float>(in[n] * (tap.amplitude_from + static_cast<double>(ramp[n]) * amplitude_change));
-    }
+    for (std::size_t n = 0; n < frames; ++n) signal[n] = in[n] * (amplitude_from + ramp[n] * amplitude_change);
     for (std::size_t c = 0; c < channels_; ++c) {
       gains_from_[heard * channels_ + c] = static_cast<float>(tap.gains_from[c]);
       gains_change_[heard * channels_ + c] = static_cast<float>(tap.gains_to[c] - tap.gains_from[c]);

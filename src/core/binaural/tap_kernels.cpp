@@ -5,29 +5,30 @@
 namespace room_reverb::core {
 
 ROOM_REVERB_SIMD_CLONES
-void interpolateCubic(const float* x, double t0, double dt, std::size_t count, double* __restrict out) {
+void interpolateCubic(const float* x, float t0, float dt, std::size_t count, float* __restrict out) {
   // A signed 32-bit counter and the four reads as their own pointers: an unsigned 64-bit
-  // index converted to double, or x[n - 1] with n unsigned, keeps the loop scalar.
+  // index converted to float, or x[n - 1] with n unsigned, keeps the loop scalar. The
+  // fraction in single precision is within 10^-5 of a sample over a block of 256.
   const float* __restrict before = x - 1;
   const float* __restrict at = x;
   const float* __restrict next = x + 1;
   const float* __restrict after = x + 2;
   const int runs = static_cast<int>(count);
   for (int n = 0; n < runs; ++n) {
-    const double t = t0 + static_cast<double>(n) * dt;
-    const double tm1 = t - 1.0, tm2 = t - 2.0, tp1 = t + 1.0;
-    out[n] = -t * tm1 * tm2 / 6.0 * before[n] + tp1 * tm1 * tm2 / 2.0 * at[n] - tp1 * t * tm2 / 2.0 * next[n] +
-             tp1 * t * tm1 / 6.0 * after[n];
+    const float t = t0 + static_cast<float>(n) * dt;
+    const float tm1 = t - 1.0f, tm2 = t - 2.0f, tp1 = t + 1.0f;
+    out[n] = -t * tm1 * tm2 * (1.0f / 6.0f) * before[n] + tp1 * tm1 * tm2 * 0.5f * at[n] -
+             tp1 * t * tm2 * 0.5f * next[n] + tp1 * t * tm1 * (1.0f / 6.0f) * after[n];
   }
 }
 
 namespace {
 
-// kTapLanes doubles, one vector register with AVX (two SSE2 registers in the baseline
+// kTapLanes floats, one vector register with AVX (two SSE2 registers in the baseline
 // clone): GCC's vector extension, so that the lanes are vectorised by construction. The
-// arrays are only as aligned as doubles are, so vectors move in and out by memcpy
+// arrays are only as aligned as floats are, so vectors move in and out by memcpy
 // (unaligned loads and stores).
-typedef double Lanes __attribute__((vector_size(kTapLanes * sizeof(double))));
+typedef float Lanes __attribute__((vector_size(kTapLanes * sizeof(float))));
 
 }  // namespace
 
@@ -36,7 +37,7 @@ typedef double Lanes __attribute__((vector_size(kTapLanes * sizeof(double))));
 // sample to sample, and the vectors' recursions are independent, so they overlap (one
 // tap's recursion alone is a chain of dependent multiply-adds, latency-bound).
 template <std::size_t Vectors>
-__attribute__((always_inline)) inline void sectionPass(const LaneSections& f, std::size_t section, std::size_t first, double* __restrict buffer,
+__attribute__((always_inline)) inline void sectionPass(const LaneSections& f, std::size_t section, std::size_t first, float* __restrict buffer,
                         std::size_t frames) {
   constexpr std::size_t kBytes = sizeof(Lanes);
   const std::size_t lanes = f.lanes;
@@ -52,7 +53,7 @@ __attribute__((always_inline)) inline void sectionPass(const LaneSections& f, st
     __builtin_memcpy(&z2[v], f.s2 + i, kBytes);
   }
   for (std::size_t n = 0; n < frames; ++n) {
-    double* at = buffer + n * lanes + first;
+    float* at = buffer + n * lanes + first;
     for (std::size_t v = 0; v < Vectors; ++v) {
       Lanes y;
       __builtin_memcpy(&y, at + v * kTapLanes, kBytes);
@@ -69,29 +70,38 @@ __attribute__((always_inline)) inline void sectionPass(const LaneSections& f, st
   }
 }
 
-// Section by section over the whole block (sectionPass), four vectors of taps at a time,
-// on a sample-major copy of the taps' signals.
+// Section by section over the whole block (sectionPass), up to four vectors of taps at a
+// time, on a sample-major copy of the taps' signals.
 ROOM_REVERB_SIMD_CLONES
-void runLaneSections(const LaneSections& f, double* samples, double* scratch, std::size_t frames) {
+void runLaneSections(const LaneSections& f, float* samples, float* scratch, std::size_t frames) {
   const std::size_t lanes = f.lanes;
-  // The transposes go four taps at a time: four rows read in step, one vector written
-  // per sample (a tap at a time strides through memory and took as long as the filters).
+  // The transposes go a vector of taps at a time: its rows read in step, one vector
+  // written per sample (a tap at a time strides through memory and took as long as the
+  // filters).
   for (std::size_t k = 0; k < lanes; k += kTapLanes) {
-    const double* __restrict rows = samples + k * frames;
-    double* __restrict to = scratch + k;
+    const float* __restrict rows = samples + k * frames;
+    float* __restrict to = scratch + k;
     for (std::size_t n = 0; n < frames; ++n) {
       for (std::size_t j = 0; j < kTapLanes; ++j) to[n * lanes + j] = rows[j * frames + n];
     }
   }
+  // Up to four vectors in one pass: a recursion's step is two dependent multiply-adds
+  // (about 8 cycles), in which three or four vectors' updates fit, so the taps of a
+  // typical RSAO (up to 32) run as one pass; two passes of fewer vectors each wait on
+  // their own chains.
   for (std::size_t s = 0; s < f.sections; ++s) {
     std::size_t first = 0;
     for (; first + 4 * kTapLanes <= lanes; first += 4 * kTapLanes) sectionPass<4>(f, s, first, scratch, frames);
-    for (; first + 2 * kTapLanes <= lanes; first += 2 * kTapLanes) sectionPass<2>(f, s, first, scratch, frames);
-    for (; first < lanes; first += kTapLanes) sectionPass<1>(f, s, first, scratch, frames);
+    switch ((lanes - first) / kTapLanes) {
+      case 3: sectionPass<3>(f, s, first, scratch, frames); break;
+      case 2: sectionPass<2>(f, s, first, scratch, frames); break;
+      case 1: sectionPass<1>(f, s, first, scratch, frames); break;
+      default: break;
+    }
   }
   for (std::size_t k = 0; k < lanes; k += kTapLanes) {
-    double* __restrict rows = samples + k * frames;
-    const double* __restrict from = scratch + k;
+    float* __restrict rows = samples + k * frames;
+    const float* __restrict from = scratch + k;
     for (std::size_t n = 0; n < frames; ++n) {
       for (std::size_t j = 0; j < kTapLanes; ++j) rows[j * frames + n] = from[n * lanes + j];
     }
