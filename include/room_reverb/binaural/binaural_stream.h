@@ -7,7 +7,7 @@
 //
 // K = (N+1)^2 for the decoder's order N. A room of lower order is zero-padded: its missing
 // channels are single-zero filters, which the convolver skips (a 2 s first-order room in
-// a third-order stream costs 0.012 of a core per 10.7 ms chunk, a third-order one 0.026;
+// a third-order stream costs 0.007 of a core per 10.7 ms chunk, a third-order one 0.016;
 // bench_binaural_renderer, docs/six_dof.md). Changing the room
 // crossfades inside the room convolver over `crossfade_blocks`, with the input history
 // kept, so the old room's tail rings on and the new one starts complete: no click, no gap.
