@@ -157,16 +157,19 @@ TEST(ReflectionTapBank, AMovingTapReadsTheSourceAtItsDelay) {
 }
 
 TEST(ReflectionTapBank, ManyFilteredMovingTapsMatchAPerSampleReference) {
-  // 27 taps (the filters run four taps per vector: groups of sixteen, eight and four, and
-  // a partly filled last vector), each with a ninth-order spectral shape, moving at
+  // 27, 20, 9 and 43 taps (the filters run eight taps per vector, up to four vectors per
+  // pass: one pass of four with a partly filled last vector, one of three, one of two, and
+  // one of four then one of two), each with a ninth-order spectral shape, moving at
   // walking pace in delay, level and direction, into a third-order field: every channel
   // equals the sum of the taps computed one sample at a time (the source read at
   // n - delay(n) by cubic Lagrange interpolation, the shape's sections, the gliding
   // amplitude and encoding gains).
+  for (const std::size_t count : {27u, 20u, 9u, 43u}) {
+  SCOPED_TRACE(count);
   std::mt19937 rng(11);
   std::normal_distribution<double> normal;
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  std::vector<EarlyReflection> reflections(27);
+  std::vector<EarlyReflection> reflections(count);
   for (std::size_t k = 0; k < reflections.size(); ++k) {
     EarlyReflection& r = reflections[k];
     r.time_of_arrival_s = 0.002 + 0.03 * uniform(rng);
@@ -248,6 +251,7 @@ TEST(ReflectionTapBank, ManyFilteredMovingTapsMatchAPerSampleReference) {
   }
   ASSERT_GT(peak, 1.0);
   EXPECT_LT(worst, 1e-5 * peak);
+  }
 }
 
 TEST(ReflectionTapBank, ATapThatGoesFadesOverOneBlockAndComesBackWithoutAGlide) {
@@ -290,6 +294,19 @@ TEST(ReflectionTapBank, BadTargetsAndOptions) {
   options.order = 3;
   options.max_delay_s = 0.0;
   EXPECT_THROW(ReflectionTapBank({r}, options), InputError);
+  // A section stable in double precision whose poles round onto the unit circle in the
+  // taps' single precision (radius 1 - 1e-9): refused, naming the reflection.
+  options.max_delay_s = 0.5;
+  EarlyReflection sharp = r;
+  sharp.sos = {BiquadSection{1.0, 0.0, 0.0, -2.0 * (1.0 - 1e-9) * std::cos(0.01), (1.0 - 1e-9) * (1.0 - 1e-9)}};
+  try {
+    ReflectionTapBank refused({r, sharp}, options);
+    ADD_FAILURE() << "a filter with poles on the unit circle in single precision was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("reflection 1 has a pole on or outside the unit circle in single precision"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace
