@@ -14,6 +14,8 @@
 
 #include "reflection_rooms.h"
 #include "reflection_score.h"
+#include "room_reverb/acoustics/acoustic_scene.h"
+#include "room_reverb/acoustics/image_sources.h"
 #include "room_reverb/ambisonics/bformat.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/quantile.h"
@@ -439,6 +441,108 @@ TEST(ListenerTranslation, HeardPathsRunThroughTheirReflectionPointsOnTheWalls) {
       EXPECT_LT(std::abs(to_face), 1e-6) << "reflection " << path.index << ", point " << i;
     }
   }
+}
+
+// A 7 x 5 x 3 m room with a 1.6 m tall cabinet between the source and the far side: the
+// RSAO is the direct sound alone, measured in view of the source.
+struct CabinetRoom {
+  RoomModel model;
+  Eigen::Vector3d source{1.5, 2.5, 1.4};
+  Eigen::Vector3d rig{3.0, 1.0, 1.4};
+  Rsao rsao;
+};
+
+CabinetRoom cabinetRoom() {
+  CabinetRoom room;
+  room.model.size_m = {7.0, 5.0, 3.0};
+  for (const char* name : kRoomSurfaceNames) room.model.surfaces[name] = SurfaceAssignment{"plaster_smooth", 1.0};
+  room.model.rig_position_m = room.rig;
+  CuboidObject cabinet;
+  cabinet.label = "cabinet";
+  cabinet.material = "wood";
+  cabinet.center_m = {3.5, 2.5, 0.8};
+  cabinet.size_m = {0.6, 1.2, 1.6};
+  room.model.objects.push_back(cabinet);
+  EarlyReflection direct;
+  const Eigen::Vector3d to_source = room.source - room.rig;
+  direct.distance_m = to_source.norm();
+  direct.time_of_arrival_s = direct.distance_m / kC;
+  direct.level = 1.0 / direct.distance_m;
+  direct.azimuth_rad = std::atan2(to_source.y(), to_source.x());
+  direct.elevation_rad = std::asin(to_source.z() / to_source.norm());
+  room.rsao.reflections.push_back(direct);
+  return room;
+}
+
+TEST(ListenerTranslation, TheDirectSoundBendsAroundAnObjectAsTheSimulatedRouteHearsIt) {
+  // Behind the cabinet the moved direct sound comes around its edge as the simulated
+  // route's image sources bring it (edge_diffraction.h): the same delay, the same
+  // direction, and the power mean of their octave gains 125 Hz-4 kHz as its level; the
+  // path drawn for it turns at the edge.
+  const CabinetRoom room = cabinetRoom();
+  ListenerTranslationOptions options;
+  options.speed_of_sound_m_s = kC;
+  const ListenerTranslation translation(room.rsao, room.rig, Eigen::Quaterniond::Identity(), room.model, options);
+  const AcousticScene scene = roomModelToScene(room.model, MaterialLibrary::loadDefault());
+  PropagationModel free_field;
+  free_field.speed_of_sound_m_s = kC;
+  free_field.air_attenuation_per_m.fill(0.0);
+  ImageSourceOptions search;
+  search.max_order = 0;
+  int behind = 0;
+  for (const Eigen::Vector3d listener : {Eigen::Vector3d(5.5, 2.5, 1.2), Eigen::Vector3d(5.0, 2.0, 1.0),
+                                          Eigen::Vector3d(5.5, 3.2, 1.5), Eigen::Vector3d(5.5, 1.0, 1.4)}) {
+    SCOPED_TRACE(listener.transpose());
+    const std::vector<SpecularPath> paths = computeImageSources(scene, room.source, listener, free_field, search);
+    ASSERT_EQ(paths.size(), 1u);
+    const SpecularPath& truth = paths.front();
+    const HeardReflection moved = translation.reflectionsAt(listener).front();
+    ASSERT_TRUE(moved.heard);
+    EXPECT_NEAR(moved.reflection.time_of_arrival_s, truth.delay_s, 1e-9);
+    EXPECT_LT(angleDeg(directionOf(moved.reflection), truth.arrival_direction), 1e-6);
+    double power = 0.0;
+    for (int b = 1; b <= 6; ++b) power += std::pow(std::abs(truth.pressure_gain[static_cast<std::size_t>(b)]), 2);
+    EXPECT_NEAR(20.0 * std::log10(moved.reflection.level), 10.0 * std::log10(power / 6.0), 0.01);
+    const bool shadowed = truth.distance_m > (listener - room.source).norm() + 1e-9;
+    behind += shadowed ? 1 : 0;
+    const std::vector<ReflectionPath> drawn = translation.heardPathsAt(listener);
+    ASSERT_FALSE(drawn.empty());
+    // Straight, or over one edge or two (across a face); as long as the arrival's path.
+    const std::vector<Eigen::Vector3d>& points = drawn.front().points;
+    EXPECT_EQ(points.size() > 2, shadowed);
+    double length = 0.0;
+    for (std::size_t i = 1; i < points.size(); ++i) length += (points[i] - points[i - 1]).norm();
+    EXPECT_NEAR(length, moved.reflection.distance_m, 1e-9);
+  }
+  EXPECT_GE(behind, 3);
+  // Well behind it the direct sound is more than 10 dB down on the free field's 1/r.
+  const Eigen::Vector3d deep(5.5, 2.5, 0.6);
+  EXPECT_LT(20.0 * std::log10(translation.reflectionsAt(deep).front().reflection.level *
+                              (deep - room.source).norm()),
+            -10.0);
+}
+
+TEST(ListenerTranslation, TheDirectSoundFadesSmoothlyIntoAnObjectsShadow) {
+  // Walking out of the cabinet's shadow over its top edge in 2 mm steps: no step in the
+  // direct sound's level above 0.5 dB, and none in its time above the step's own 6 us.
+  const CabinetRoom room = cabinetRoom();
+  ListenerTranslationOptions options;
+  options.speed_of_sound_m_s = kC;
+  const ListenerTranslation translation(room.rsao, room.rig, Eigen::Quaterniond::Identity(), room.model, options);
+  double previous_db = 0.0, previous_s = 0.0, worst_db = 0.0, worst_s = 0.0;
+  int steps = 0;
+  for (double z = 0.8; z <= 2.4; z += 0.002, ++steps) {
+    const EarlyReflection r = translation.reflectionsAt(Eigen::Vector3d(5.5, 2.5, z)).front().reflection;
+    const double db = 20.0 * std::log10(r.level);
+    if (steps > 0) {
+      worst_db = std::max(worst_db, std::abs(db - previous_db));
+      worst_s = std::max(worst_s, std::abs(r.time_of_arrival_s - previous_s));
+    }
+    previous_db = db;
+    previous_s = r.time_of_arrival_s;
+  }
+  EXPECT_LT(worst_db, 0.5);
+  EXPECT_LT(worst_s, 6e-6);
 }
 
 TEST(ListenerTranslation, EveryReflectionKeepsItsPlaceHeardOrNot) {

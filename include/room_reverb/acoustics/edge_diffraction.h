@@ -47,4 +47,19 @@ double barrierLossDb(double fresnel_number);
 // loss at N = 2 delta f / c, on the lit side the loss at -N (1 well clear of the shadow).
 OctaveBandValues edgeDiffractionGains(const EdgeDetour& detour, double speed_of_sound_m_s);
 
+// The direct sound from `source` to `listener` among `objects`, as both routes hear it
+// (the simulated route's image sources, the measured route's moved RSAO): blocked
+// (`in_view` false), bent around the edge of the object that takes the least at 1 kHz
+// whose way round no other object blocks; in view, weakened by the object whose shadow it
+// passes nearest (the most at 1 kHz). None when it is blocked and no single edge clears
+// it.
+struct DirectSoundPast {
+  std::optional<EdgeDetour> detour;  // the edge it bends around or passes; none: no object near its way
+  OctaveBandValues gains{};          // per band, the pressure gain that edge adds (1 without one)
+  bool bent = false;                 // it arrives around the edge, later and from its direction
+};
+std::optional<DirectSoundPast> directSoundPastObjects(const std::vector<CuboidObject>& objects,
+                                                      const Eigen::Vector3d& source, const Eigen::Vector3d& listener,
+                                                      bool in_view, double speed_of_sound_m_s);
+
 }  // namespace room_reverb::core

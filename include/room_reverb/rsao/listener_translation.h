@@ -18,6 +18,10 @@
 // unchecked, as published extrapolation from one spatial RIR does (Mueller & Zotter
 // 2020). The late reverb is a diffuse field and stays as measured, but for the early
 // energy of the reflections the model completes, which its fitted onset course gives up.
+// The direct sound behind one of the room model's objects is heard around its edge, as
+// the simulated route hears it (edge_diffraction.h): later by the detour, from the edge,
+// weaker by the edge's loss as one broadband gain (the taps' filters are fixed, so it is
+// not also duller); an object near the line of sight weakens it a little.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <memory>
@@ -25,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "room_reverb/acoustics/edge_diffraction.h"
 #include "room_reverb/acoustics/room_model.h"
 #include "room_reverb/rsao/rsao.h"
 
@@ -161,6 +166,19 @@ class ListenerTranslation {
 
   void completeFromModel(const std::vector<SpecularPath>& paths, const std::vector<bool>& path_taken,
                          const RoomModel& room);
+
+  // The direct sound at a position among the room model's objects (edge_diffraction.h's
+  // directSoundPastObjects): heard or blocked, the broadband gain an object's edge adds
+  // (the power mean of its octave gains 125 Hz-4 kHz), and the edge's way round where it
+  // arrives bent.
+  struct DirectSoundAt {
+    bool heard = true;
+    double gain = 1.0;
+    std::optional<EdgeDetour> bent;
+  };
+  DirectSoundAt directSoundAt(const Eigen::Vector3d& listener_m) const;
+  // That gain at the rig, which the measured direct sound's level already holds.
+  double rig_direct_gain_ = 1.0;
 };
 
 }  // namespace room_reverb::core

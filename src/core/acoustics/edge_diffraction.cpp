@@ -71,29 +71,21 @@ std::array<Edge, 12> boxEdges(const Eigen::Vector3d& half) {
   return edges;
 }
 
-// The minimum over t in [0, 1] of a convex function, by golden-section search.
-template <typename F>
-double goldenMinimum(const F& f) {
-  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
-  double lo = 0.0, hi = 1.0;
-  double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
-  double f1 = f(x1), f2 = f(x2);
-  for (int k = 0; k < 50; ++k) {
-    if (f1 < f2) {
-      hi = x2;
-      x2 = x1;
-      f2 = f1;
-      x1 = hi - g * (hi - lo);
-      f1 = f(x1);
-    } else {
-      lo = x1;
-      x1 = x2;
-      f1 = f2;
-      x2 = lo + g * (hi - lo);
-      f2 = f(x2);
-    }
-  }
-  return 0.5 * (lo + hi);
+// Where on the edge e (at e.from + t (e.to - e.from), t in [0, 1]) the way x -> edge -> y
+// is shortest. Turning the plane through the edge and y about the edge until it holds x
+// on the other side makes the shortest way a straight line; it meets the edge's line at
+// the parameter below, and since the length is convex along the edge, the nearest end of
+// the edge when that lies beyond it. Exact and without iteration: a walking listener
+// asks for every edge of every object at each pose.
+double shortestOnEdge(const Edge& e, const Eigen::Vector3d& x, const Eigen::Vector3d& y) {
+  const Eigen::Vector3d axis = e.to - e.from;
+  const double length = axis.norm();
+  const Eigen::Vector3d u = axis / length;
+  const double x_along = (x - e.from).dot(u), y_along = (y - e.from).dot(u);
+  const double x_off = ((x - e.from) - x_along * u).norm(), y_off = ((y - e.from) - y_along * u).norm();
+  const double sum = x_off + y_off;
+  const double at = sum > 0.0 ? x_along + (y_along - x_along) * x_off / sum : x_along;
+  return std::clamp(at / length, 0.0, 1.0);
 }
 
 }  // namespace
@@ -123,11 +115,8 @@ std::optional<EdgeDetour> shortestEdgeDetour(const CuboidObject& object, const E
     detour.length_m = total;
     best = detour;
   };
-  // Over one edge: |s - p| + |p - l| is convex along it.
-  for (const Edge& e : edges) {
-    const double t = goldenMinimum([&](double u) { return (s - at(e, u)).norm() + (at(e, u) - l).norm(); });
-    consider({at(e, t)});
-  }
+  // Over one edge.
+  for (const Edge& e : edges) consider({at(e, shortestOnEdge(e, s, l))});
   // Across one face, over two of its opposite, parallel edges (a box thicker than the
   // line of sight's clearance): convex in both positions, minimised one at a time.
   for (std::size_t i = 0; i < edges.size(); ++i) {
@@ -140,8 +129,8 @@ std::optional<EdgeDetour> shortestEdgeDetour(const CuboidObject& object, const E
       if ((offset.array().abs() > 1e-12).count() != 1) continue;
       double ta = 0.5, tb = 0.5;
       for (int round = 0; round < 8; ++round) {
-        ta = goldenMinimum([&](double u) { return (s - at(a, u)).norm() + (at(a, u) - at(b, tb)).norm(); });
-        tb = goldenMinimum([&](double u) { return (at(a, ta) - at(b, u)).norm() + (at(b, u) - l).norm(); });
+        ta = shortestOnEdge(a, s, at(b, tb));
+        tb = shortestOnEdge(b, at(a, ta), l);
       }
       consider({at(a, ta), at(b, tb)});
     }
@@ -171,6 +160,51 @@ OctaveBandValues edgeDiffractionGains(const EdgeDetour& detour, double speed_of_
     gains[static_cast<std::size_t>(b)] = std::pow(10.0, -barrierLossDb(detour.shadowed ? n : -n) / 20.0);
   }
   return gains;
+}
+
+std::optional<DirectSoundPast> directSoundPastObjects(const std::vector<CuboidObject>& objects,
+                                                      const Eigen::Vector3d& source, const Eigen::Vector3d& listener,
+                                                      bool in_view, double speed_of_sound_m_s) {
+  DirectSoundPast chosen;
+  chosen.gains.fill(1.0);
+  // In view, an object far from the line of sight costs nothing and is passed by without
+  // its detour: no point of it is nearer the line through source and listener than h, its
+  // centre's distance less its half-diagonal, so every way over it is at least
+  // 2 sqrt((d / 2)^2 + h^2) - d longer than d (the spheroid with the two as foci), and
+  // that far the lit side's loss is 0 in the lowest band.
+  static const double lowest_hz = standardBands(BandResolution::kOctave).front().center_hz;
+  const double clear_m = kLitLimit * speed_of_sound_m_s / (2.0 * lowest_hz);
+  const Eigen::Vector3d line = listener - source;
+  const double d = line.norm();
+  for (const CuboidObject& object : objects) {
+    if (in_view && d > 0.0) {
+      const Eigen::Vector3d off = object.center_m - source;
+      const double h = (off - off.dot(line) / (d * d) * line).norm() - 0.5 * object.size_m.norm();
+      if (h > 0.0 && 2.0 * std::sqrt(0.25 * d * d + h * h) - d > clear_m) continue;
+    }
+    const std::optional<EdgeDetour> detour = shortestEdgeDetour(object, source, listener);
+    if (!detour || detour->shadowed == in_view) continue;
+    if (!in_view) {
+      // Around this object's edge, no other object in the way.
+      bool clear = true;
+      Eigen::Vector3d from = source;
+      for (std::size_t leg = 0; leg <= detour->turns.size(); ++leg) {
+        const Eigen::Vector3d to = leg < detour->turns.size() ? detour->turns[leg] : listener;
+        for (const CuboidObject& other : objects) clear = clear && !segmentCrossesCuboid(other, from, to);
+        from = to;
+      }
+      if (!clear) continue;
+    }
+    const OctaveBandValues gains = edgeDiffractionGains(*detour, speed_of_sound_m_s);
+    if (in_view && gains[0] == 1.0) continue;  // clear of its shadow in every band (the lowest the last)
+    if (!chosen.detour || gains[4] < chosen.gains[4]) {
+      chosen.detour = detour;
+      chosen.gains = gains;
+    }
+  }
+  if (!in_view && !chosen.detour) return std::nullopt;
+  chosen.bent = !in_view;
+  return chosen;
 }
 
 }  // namespace room_reverb::core

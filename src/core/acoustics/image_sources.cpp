@@ -111,51 +111,25 @@ OctaveBandValues diffractionShares(const Search& s, const std::vector<Eigen::Vec
   return shares;
 }
 
-// The direct sound in a scene with known objects (diffract_direct_sound): blocked by
-// objects, bent around the edge of the one that takes the most; in view, weakened by the
-// object whose shadow it is nearest. False when it is blocked and no single edge clears it.
+// The direct sound in a scene with known objects (diffract_direct_sound), as
+// directSoundPastObjects hears it. False when it is blocked and no single edge clears it.
 bool addDirectSound(Search& s, bool in_view) {
-  const RoomShape& shape = *s.scene.roomShape();
   const double c = s.model.speed_of_sound_m_s;
-  std::optional<EdgeDetour> chosen;
-  OctaveBandValues chosen_gains;
-  chosen_gains.fill(1.0);
-  for (const CuboidObject& object : shape.objects) {
-    const std::optional<EdgeDetour> detour = shortestEdgeDetour(object, s.source, s.listener);
-    if (!detour || detour->shadowed == in_view) continue;
-    if (!in_view) {
-      // Around this object's edge, no other object in the way.
-      bool clear = true;
-      Eigen::Vector3d from = s.source;
-      for (std::size_t leg = 0; leg <= detour->turns.size(); ++leg) {
-        const Eigen::Vector3d to = leg < detour->turns.size() ? detour->turns[leg] : s.listener;
-        for (const CuboidObject& other : shape.objects) clear = clear && !segmentCrossesCuboid(other, from, to);
-        from = to;
-      }
-      if (!clear) continue;
-    }
-    const OctaveBandValues gains = edgeDiffractionGains(*detour, c);
-    if (in_view && gains[0] == 1.0) continue;  // clear of its shadow in every band (the lowest the last)
-    // The one that takes the most (at 1 kHz).
-    if (!chosen || gains[4] < chosen_gains[4]) {
-      chosen = detour;
-      chosen_gains = gains;
-    }
-  }
-  if (!in_view && !chosen) return false;
+  const std::optional<DirectSoundPast> past =
+      directSoundPastObjects(s.scene.roomShape()->objects, s.source, s.listener, in_view, c);
+  if (!past) return false;
   SpecularPath path;
   path.order = 0;
   // Around the object it leaves the source towards the first edge and reaches the
   // listener from the last.
-  const bool bent = !in_view && chosen;
-  const Eigen::Vector3d first = bent ? chosen->turns.front() : s.listener;
-  const Eigen::Vector3d last = bent ? chosen->turns.back() : s.source;
-  path.distance_m = bent ? chosen->length_m : (s.source - s.listener).norm();
+  const Eigen::Vector3d first = past->bent ? past->detour->turns.front() : s.listener;
+  const Eigen::Vector3d last = past->bent ? past->detour->turns.back() : s.source;
+  path.distance_m = past->bent ? past->detour->length_m : (s.source - s.listener).norm();
   path.arrival_direction = (last - s.listener).normalized();
   path.image_position = s.listener + path.distance_m * path.arrival_direction;
   path.delay_s = path.distance_m / c;
   path.pressure_gain = pathGains(s, (first - s.source).normalized(), path.distance_m, {});
-  for (int b = 0; b < kOctaveBandCount; ++b) path.pressure_gain[b] *= chosen_gains[b];
+  for (int b = 0; b < kOctaveBandCount; ++b) path.pressure_gain[b] *= past->gains[b];
   s.paths.push_back(std::move(path));
   return true;
 }

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "room_reverb/acoustics/acoustic_scene.h"
+#include "room_reverb/acoustics/edge_diffraction.h"
 #include "room_reverb/acoustics/image_sources.h"
 #include "room_reverb/acoustics/room_shape.h"
 #include "room_reverb/common/error.h"
@@ -23,6 +24,14 @@ std::string formatPoint(const Eigen::Vector3d& p) {
   os.precision(3);
   os << "(" << p.x() << ", " << p.y() << ", " << p.z() << ") m";
   return os.str();
+}
+
+// One gain for the octave gains an edge adds to the direct sound: their power mean over
+// 125 Hz-4 kHz (bands 1-6), the bands whose levels the RSAO's taps are checked in.
+double broadbandGain(const OctaveBandValues& gains) {
+  double power = 0.0;
+  for (int b = 1; b <= 6; ++b) power += gains[static_cast<std::size_t>(b)] * gains[static_cast<std::size_t>(b)];
+  return std::sqrt(power / 6.0);
 }
 
 void setDirection(EarlyReflection& r, const Eigen::Vector3d& direction) {
@@ -172,6 +181,10 @@ ListenerTranslation::ListenerTranslation(Rsao measured, const Eigen::Vector3d& r
                      "the source distance");
   }
 
+  // The measured direct sound holds whatever an object near its way took from it there.
+  const DirectSoundAt at_rig = directSoundAt(rig_m_);
+  if (at_rig.heard && at_rig.gain > 0.0) rig_direct_gain_ = at_rig.gain;
+
   // Every image of the source up to max_order valid at the rig, matched one to one to the
   // measured reflections, by path length first and direction second (the options).
   ImageSourceOptions search;
@@ -304,6 +317,18 @@ void ListenerTranslation::completeFromModel(const std::vector<SpecularPath>& pat
   late_ = yielding.late;
 }
 
+ListenerTranslation::DirectSoundAt ListenerTranslation::directSoundAt(const Eigen::Vector3d& listener_m) const {
+  if (!scene_ || !scene_->roomShape() || scene_->roomShape()->objects.empty()) return {};
+  const std::vector<CuboidObject>& objects = scene_->roomShape()->objects;
+  const bool in_view = std::none_of(objects.begin(), objects.end(), [&](const CuboidObject& object) {
+    return segmentCrossesCuboid(object, source_m_, listener_m);
+  });
+  const std::optional<DirectSoundPast> past =
+      directSoundPastObjects(objects, source_m_, listener_m, in_view, options_.speed_of_sound_m_s);
+  if (!past) return {false, 0.0, std::nullopt};
+  return {true, broadbandGain(past->gains), past->bent ? past->detour : std::nullopt};
+}
+
 std::vector<HeardReflection> ListenerTranslation::reflectionsAt(const Eigen::Vector3d& listener_m) const {
   if (!listener_m.allFinite()) throw InputError("the listener position is not finite");
   if (scene_) requireFreeAir(*scene_, listener_m, "the listener", scene_->roomShape()->objects);
@@ -328,6 +353,18 @@ std::vector<HeardReflection> ListenerTranslation::reflectionsAt(const Eigen::Vec
     h.reflection.distance_m = distance;
     setDirection(h.reflection, to_rig * path);
     h.heard = true;
+    if (a.anchor == ReflectionAnchor::kSource) {
+      const DirectSoundAt direct = directSoundAt(listener_m);
+      if (direct.bent) {
+        // Around the edge: the detour's length, from the edge's last turn.
+        h.reflection.time_of_arrival_s = time_offset_s_ + direct.bent->length_m / c;
+        h.reflection.level = reflections_[k].level * a.rig_distance_m / direct.bent->length_m;
+        h.reflection.distance_m = direct.bent->length_m;
+        setDirection(h.reflection, to_rig * (direct.bent->turns.back() - listener_m));
+      }
+      h.heard = direct.heard;
+      h.reflection.level *= direct.heard ? direct.gain / rig_direct_gain_ : 0.0;
+    }
     if (a.anchor == ReflectionAnchor::kSurface || a.anchor == ReflectionAnchor::kModelled) {
       // Heard while the model has a valid path to its image: each reflection point on a
       // face of its plane, no leg blocked.
@@ -368,6 +405,8 @@ std::vector<ReflectionPath> ListenerTranslation::heardPathsAt(const Eigen::Vecto
       }
     } else if (path.anchor == ReflectionAnchor::kSource) {
       path.points.push_back(source_m_);
+      const DirectSoundAt direct = directSoundAt(listener_m);
+      if (direct.bent) path.points.insert(path.points.end(), direct.bent->turns.begin(), direct.bent->turns.end());
     } else {
       path.points.push_back(anchors_[k].image_source_m);
     }
