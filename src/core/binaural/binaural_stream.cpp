@@ -199,7 +199,7 @@ void BinauralStream::process(const float* source, float* left, float* right) {
   // ((1 - u) R_from + u R_to) x. A rotation of spherical harmonics mixes only channels of
   // one order (ACN blocks of 1, 3, 5, 7), so each block is encoded on its own, as the
   // taps are (tap_kernels.h: the channels' sum held in registers over a tile of samples;
-  // a per-sample 16 x 16 product in double took a fifth of a walking stream's time).
+  // a per-sample 16 x 16 product in double takes a fifth of a walking stream's time).
   std::fill(rotated_.begin(), rotated_.end(), 0.0f);
   for (int l = 0; l <= decoder_.order; ++l) {
     const auto first = static_cast<std::size_t>(l * l), size = static_cast<std::size_t>(2 * l + 1);
