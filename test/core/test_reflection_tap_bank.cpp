@@ -156,6 +156,45 @@ TEST(ReflectionTapBank, AMovingTapReadsTheSourceAtItsDelay) {
   EXPECT_LT(worst, 1e-3 * std::abs(gain));
 }
 
+TEST(ReflectionTapBank, ATapsLowPassFollowsItsPoleAndLeavesNoState) {
+  // One unshaped tap 40 samples late with a one-pole low-pass, its pole 0.6 for 20
+  // blocks, 0.3 for 20, then none: every sample is the reference recursion in transposed
+  // form, y[n] = (1 - p) x[n - 40] + s, s = p y[n] with the pole of its block, times the
+  // tap's gain (the state a pole leaves feeds the next block's first sample); with none
+  // the tap is the delayed source again from the block after. A pole outside [0, 1)
+  // keeps the previous target.
+  EarlyReflection r;
+  r.level = 1.0;
+  ReflectionTapBankOptions options;
+  options.block_size = kBlock;
+  ReflectionTapBank bank({r}, options);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> normal;
+  std::vector<float> source(80 * kBlock);
+  for (float& x : source) x = static_cast<float>(normal(rng));
+  const auto poleAt = [](std::size_t b) { return b < 20 ? 0.6 : (b < 40 ? 0.3 : 0.0); };
+  const auto field = run(bank, source, 80, [&](std::size_t b) {
+    bank.setTargets({{40.0 / kFs, 1.0, Eigen::Vector3d::UnitX(), poleAt(b)}});
+    if (b == 10) bank.setTargets({{40.0 / kFs, 1.0, Eigen::Vector3d::UnitX(), 1.0}});
+    if (b == 30) bank.setTargets({{40.0 / kFs, 1.0, Eigen::Vector3d::UnitX(), NAN}});
+  });
+  // The tap's gain from the plain blocks at the end.
+  const std::size_t probe = 60 * kBlock + 7;
+  const double gain = field[0][probe] / source[probe - 40];
+  ASSERT_GT(std::abs(gain), 0.1);
+  double y = 0.0, state = 0.0, worst = 0.0, peak = 0.0;
+  for (std::size_t i = kBlock; i < 80 * kBlock; ++i) {
+    const double p = poleAt(i / kBlock);
+    y = (1.0 - p) * source[i - 40] + state;
+    state = p * y;
+    // The first block fades in from silence.
+    if (i < 2 * kBlock) continue;
+    worst = std::max(worst, std::abs(field[0][i] - gain * y));
+    peak = std::max(peak, std::abs(gain * y));
+  }
+  EXPECT_LT(worst, 1e-4 * peak);
+}
+
 TEST(ReflectionTapBank, ManyFilteredMovingTapsMatchAPerSampleReference) {
   // 27, 20, 9 and 43 taps (the filters run eight taps per vector, up to four vectors per
   // pass: one pass of four with a partly filled last vector, one of three, one of two, and

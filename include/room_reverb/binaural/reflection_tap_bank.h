@@ -31,6 +31,10 @@ struct TapTarget {
   double delay_s = 0.0;                                  // time of arrival
   double level = 0.0;                                    // EarlyReflection::level; 0: silent
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();  // unit, in the field's frame
+  // A one-pole low-pass after the tap's own filter, y[n] = (1 - p) x[n] + p y[n-1], p in
+  // [0, 1): the direct sound behind an object, duller as well as weaker
+  // (ListenerTranslation). 0: none.
+  double lowpass_pole = 0.0;
 };
 
 class ReflectionTapBank {
@@ -44,7 +48,7 @@ class ReflectionTapBank {
   std::size_t channels() const { return channels_; }
 
   // The targets for the next block, one per tap in the constructor's order; a non-finite
-  // target keeps the tap's previous one. Throws InputError for a count that differs.
+  // target, or one with a low-pass pole outside [0, 1), keeps the tap's previous one. Throws InputError for a count that differs.
   void setTargets(const std::vector<TapTarget>& targets);
 
   // Every tap fades out over the next block (a bank being replaced).
@@ -75,8 +79,11 @@ class ReflectionTapBank {
   std::vector<Tap> taps_;
   // The taps' filters side by side (tap_kernels.h): section s of tap k at s * lanes_ + k;
   // lanes_ is the tap count rounded up to whole SIMD vectors, a tap with fewer sections
-  // and the spare lanes pass their input through (b0 = 1).
+  // and the spare lanes pass their input through (b0 = 1). The last section is every
+  // tap's low-pass (TapTarget::lowpass_pole), run only while one of them is set and for
+  // the block after (its state, p y, then empties).
   std::size_t lanes_ = 0, sections_ = 0;
+  bool lowpass_running_ = false, lowpass_set_ = false;
   std::vector<float> b0_, b1_, b2_, a1_, a2_, s1_, s2_;
   std::vector<float> samples_;  // the block's tap signals, tap k's sample n at k * block_size + n
   std::vector<float> lane_scratch_;  // the same, sample-major, for the filters

@@ -20,8 +20,9 @@
 // energy of the reflections the model completes, which its fitted onset course gives up.
 // The direct sound behind one of the room model's objects is heard around its edge, as
 // the simulated route hears it (edge_diffraction.h): later by the detour, from the edge,
-// weaker by the edge's loss as one broadband gain (the taps' filters are fixed, so it is
-// not also duller); an object near the line of sight weakens it a little.
+// weaker and duller by the edge's loss, which a gain and a one-pole low-pass follow (the
+// least-squares fit in dB over the octaves 125 Hz-4 kHz); an object near the line of
+// sight weakens it a little.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <memory>
@@ -98,6 +99,10 @@ struct AnchoredReflection {
 struct HeardReflection {
   EarlyReflection reflection;
   bool heard = false;
+  // The direct sound behind an object: the pole of a one-pole low-pass that gives it the
+  // edge's loss rising with frequency (TapTarget::lowpass_pole), its level then the rest
+  // of the loss. 0 for every other arrival.
+  double lowpass_pole = 0.0;
 };
 
 // A reflection heard at a listener position, drawn: `points` run from where the sound
@@ -168,12 +173,12 @@ class ListenerTranslation {
                          const RoomModel& room);
 
   // The direct sound at a position among the room model's objects (edge_diffraction.h's
-  // directSoundPastObjects): heard or blocked, the broadband gain an object's edge adds
-  // (the power mean of its octave gains 125 Hz-4 kHz), and the edge's way round where it
-  // arrives bent.
+  // directSoundPastObjects): heard or blocked, the edge's loss as a gain and a one-pole
+  // low-pass, and the edge's way round where it arrives bent.
   struct DirectSoundAt {
     bool heard = true;
     double gain = 1.0;
+    double lowpass_pole = 0.0;
     std::optional<EdgeDetour> bent;
   };
   DirectSoundAt directSoundAt(const Eigen::Vector3d& listener_m) const;

@@ -56,6 +56,7 @@ ReflectionTapBank::ReflectionTapBank(const std::vector<EarlyReflection>& reflect
     tap.gains_to.assign(channels_, 0.0);
   }
   lanes_ = (taps_.size() + kTapLanes - 1) / kTapLanes * kTapLanes;
+  ++sections_;  // the low-pass, last; b0 = 1 and the rest 0 until a target sets it
   const std::size_t coefficients = sections_ * lanes_;
   b0_.assign(coefficients, 1.0f);
   for (auto* c : {&b1_, &b2_, &a1_, &a2_, &s1_, &s2_}) c->assign(coefficients, 0.0f);
@@ -92,13 +93,18 @@ void ReflectionTapBank::setTargets(const std::vector<TapTarget>& targets) {
     throw InputError("reflection taps: " + std::to_string(targets.size()) + " targets for " +
                      std::to_string(taps_.size()) + " taps");
   }
+  lowpass_set_ = false;
   const double max_delay = options_.max_delay_s * kInternalSampleRateHz;
   for (std::size_t k = 0; k < taps_.size(); ++k) {
     const TapTarget& t = targets[k];
     Tap& tap = taps_[k];
-    if (!std::isfinite(t.delay_s) || !std::isfinite(t.level) || !t.direction.allFinite() || t.direction.norm() < 1e-9) {
+    if (!std::isfinite(t.delay_s) || !std::isfinite(t.level) || !t.direction.allFinite() || t.direction.norm() < 1e-9 ||
+        !(t.lowpass_pole >= 0.0 && t.lowpass_pole < 1.0)) {
       continue;
     }
+    const std::size_t lowpass = (sections_ - 1) * lanes_ + k;
+    b0_[lowpass] = static_cast<float>(1.0 - t.lowpass_pole);
+    a1_[lowpass] = static_cast<float>(-t.lowpass_pole);
     const double amplitude = std::max(t.level, 0.0) * tap.unit_gain;
     // A silent target fades the tap out where it is, without moving it.
     if (amplitude == 0.0) {
@@ -121,6 +127,7 @@ void ReflectionTapBank::setTargets(const std::vector<TapTarget>& targets) {
       clearFilterState(k);
     }
   }
+  for (std::size_t k = 0; k < taps_.size(); ++k) lowpass_set_ = lowpass_set_ || a1_[(sections_ - 1) * lanes_ + k] != 0.0f;
 }
 
 void ReflectionTapBank::fadeOut() {
@@ -194,8 +201,11 @@ void ReflectionTapBank::process(const float* source, float* const* field) {
     any = true;
   }
   if (!any) return;
-  if (sections_ > 0) {
-    runLaneSections({b0_.data(), b1_.data(), b2_.data(), a1_.data(), a2_.data(), s1_.data(), s2_.data(), sections_, lanes_},
+  // The low-pass section runs while a pole is set and one block after.
+  const std::size_t sections = sections_ - ((lowpass_set_ || lowpass_running_) ? 0 : 1);
+  lowpass_running_ = lowpass_set_;
+  if (sections > 0) {
+    runLaneSections({b0_.data(), b1_.data(), b2_.data(), a1_.data(), a2_.data(), s1_.data(), s2_.data(), sections, lanes_},
                     samples_.data(), lane_scratch_.data(), frames);
   }
   // The heard taps' signals scaled by their gliding amplitudes and their encoding glides,

@@ -103,7 +103,7 @@ std::vector<TapTarget> tapTargetsAt(const ListenerTranslation& translation, cons
   std::vector<TapTarget> targets;
   for (const HeardReflection& h : translation.reflectionsAt(listener_m)) {
     targets.push_back({h.reflection.time_of_arrival_s, h.heard ? h.reflection.level : 0.0,
-                       reflectionDirection(h.reflection)});
+                       reflectionDirection(h.reflection), h.lowpass_pole});
   }
   return targets;
 }
@@ -121,6 +121,7 @@ void tapTargetsBetween(const std::vector<TapTarget>& from, const std::vector<Tap
     TapTarget& t = out[k];
     t.delay_s = a.delay_s + u * (b.delay_s - a.delay_s);
     t.level = a.level + u * (b.level - a.level);
+    t.lowpass_pole = a.lowpass_pole + u * (b.lowpass_pole - a.lowpass_pole);
     const Eigen::Vector3d blend = (1.0 - u) * a.direction + u * b.direction;
     const double length = blend.norm();
     t.direction = length > 1e-6 ? Eigen::Vector3d(blend / length) : b.direction;

@@ -1,6 +1,8 @@
 #include "room_reverb/rsao/listener_translation.h"
 
 #include <algorithm>
+#include <limits>
+#include <array>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -9,12 +11,17 @@
 #include "room_reverb/acoustics/edge_diffraction.h"
 #include "room_reverb/acoustics/image_sources.h"
 #include "room_reverb/acoustics/room_shape.h"
+#include "room_reverb/audio/audio_buffer.h"
+#include "room_reverb/audio/frequency_bands.h"
 #include "room_reverb/common/error.h"
+#include "room_reverb/rsao/lpc.h"
 #include "room_reverb/rsao/onset_ramp_fit.h"
 #include "room_reverb/rsao/reflection_tap.h"
 
 namespace room_reverb::core {
 namespace {
+
+constexpr double kPi = 3.14159265358979323846;
 
 // Below this an unmatched reflection is left out (-60 dB).
 constexpr double kInaudibleGain = 1e-3;
@@ -26,12 +33,49 @@ std::string formatPoint(const Eigen::Vector3d& p) {
   return os.str();
 }
 
-// One gain for the octave gains an edge adds to the direct sound: their power mean over
-// 125 Hz-4 kHz (bands 1-6), the bands whose levels the RSAO's taps are checked in.
-double broadbandGain(const OctaveBandValues& gains) {
-  double power = 0.0;
-  for (int b = 1; b <= 6; ++b) power += gains[static_cast<std::size_t>(b)] * gains[static_cast<std::size_t>(b)];
-  return std::sqrt(power / 6.0);
+// The edge's octave gains over 125 Hz-4 kHz (bands 1-6) as a gain and a one-pole low-pass
+// y[n] = (1 - p) x[n] + p y[n-1] (the tap's filters are its reflection's, so the loss is
+// added after them): the pole whose response, in dB, fits theirs best in least squares
+// with the gain free (on a grid of p; the fit's residual is flat in p near its minimum),
+// and the gain that then keeps their power over those bands.
+struct EdgeLossFit {
+  double gain = 1.0;
+  double pole = 0.0;
+};
+EdgeLossFit fitEdgeLoss(const OctaveBandValues& gains) {
+  static const std::vector<FrequencyBand> bands = standardBands(BandResolution::kOctave);
+  constexpr int kFirst = 1, kLast = 6, kCount = kLast - kFirst + 1;
+  const auto response_db = [&](double p, int b) {
+    const double w = 2.0 * kPi * bands[static_cast<std::size_t>(b)].center_hz / kInternalSampleRateHz;
+    return 10.0 * std::log10((1.0 - p) * (1.0 - p) / (1.0 - 2.0 * p * std::cos(w) + p * p));
+  };
+  double target_power = 0.0;
+  std::array<double, kCount> target_db{};
+  for (int b = kFirst; b <= kLast; ++b) {
+    const double g = gains[static_cast<std::size_t>(b)];
+    target_power += g * g;
+    target_db[static_cast<std::size_t>(b - kFirst)] = 20.0 * std::log10(std::max(g, 1e-6));
+  }
+  EdgeLossFit best;
+  double best_residual = std::numeric_limits<double>::infinity();
+  for (int step = 0; step <= 98; ++step) {
+    const double p = 0.01 * step;
+    double mean = 0.0;
+    for (int b = kFirst; b <= kLast; ++b) mean += target_db[static_cast<std::size_t>(b - kFirst)] - response_db(p, b);
+    mean /= kCount;
+    double residual = 0.0;
+    for (int b = kFirst; b <= kLast; ++b) {
+      residual += std::pow(target_db[static_cast<std::size_t>(b - kFirst)] - response_db(p, b) - mean, 2);
+    }
+    if (residual < best_residual - 1e-9) {
+      best_residual = residual;
+      best.pole = p;
+    }
+  }
+  double response_power = 0.0;
+  for (int b = kFirst; b <= kLast; ++b) response_power += std::pow(10.0, response_db(best.pole, b) / 10.0);
+  best.gain = std::sqrt(target_power / response_power);
+  return best;
 }
 
 void setDirection(EarlyReflection& r, const Eigen::Vector3d& direction) {
@@ -325,8 +369,9 @@ ListenerTranslation::DirectSoundAt ListenerTranslation::directSoundAt(const Eige
   });
   const std::optional<DirectSoundPast> past =
       directSoundPastObjects(objects, source_m_, listener_m, in_view, options_.speed_of_sound_m_s);
-  if (!past) return {false, 0.0, std::nullopt};
-  return {true, broadbandGain(past->gains), past->bent ? past->detour : std::nullopt};
+  if (!past) return {false, 0.0, 0.0, std::nullopt};
+  const EdgeLossFit fit = fitEdgeLoss(past->gains);
+  return {true, fit.gain, fit.pole, past->bent ? past->detour : std::nullopt};
 }
 
 std::vector<HeardReflection> ListenerTranslation::reflectionsAt(const Eigen::Vector3d& listener_m) const {
@@ -364,6 +409,7 @@ std::vector<HeardReflection> ListenerTranslation::reflectionsAt(const Eigen::Vec
       }
       h.heard = direct.heard;
       h.reflection.level *= direct.heard ? direct.gain / rig_direct_gain_ : 0.0;
+      h.lowpass_pole = direct.heard ? direct.lowpass_pole : 0.0;
     }
     if (a.anchor == ReflectionAnchor::kSurface || a.anchor == ReflectionAnchor::kModelled) {
       // Heard while the model has a valid path to its image: each reflection point on a
@@ -421,6 +467,12 @@ Rsao ListenerTranslation::at(const Eigen::Vector3d& listener_m) const {
   out.late = late_;
   out.reflections.clear();
   for (HeardReflection& h : reflectionsAt(listener_m)) {
+    if (h.lowpass_pole > 0.0) {
+      // The low-pass joins the reflection's own sections, as the taps run it after them.
+      EarlyReflection& r = h.reflection;
+      if (r.sos.empty() && r.lpc.size() > 1) r.sos = allPoleToSections(r.lpc, r.lpc_gain);
+      r.sos.push_back(BiquadSection{1.0 - h.lowpass_pole, 0.0, 0.0, -h.lowpass_pole, 0.0});
+    }
     if (h.heard || out.reflections.empty()) out.reflections.push_back(std::move(h.reflection));
   }
   std::sort(out.reflections.begin() + 1, out.reflections.end(),
