@@ -42,6 +42,15 @@ std::vector<TapTarget> targetsOf(const std::vector<EarlyReflection>& reflections
   return targets;
 }
 
+// A bank of one tap with no spectral shape, of `level`, at the tests' block size.
+ReflectionTapBank unshapedTap(double level) {
+  EarlyReflection r;
+  r.level = level;
+  ReflectionTapBankOptions options;
+  options.block_size = kBlock;
+  return ReflectionTapBank({r}, options);
+}
+
 // Runs `blocks` blocks of `source` (padded with zeros) through the bank; the field's
 // channels, concatenated.
 std::vector<std::vector<float>> run(ReflectionTapBank& bank, const std::vector<float>& source, std::size_t blocks,
@@ -94,11 +103,7 @@ TEST(ReflectionTapBank, AGlidingTapIsAsSmoothAsItsSource) {
   // One tap walking away at 1.4 m/s (a brisk step: 0.004 ms more delay per ms) while it
   // turns, fed a 2 kHz sine: the output's largest sample-to-sample step stays that of a
   // sine of the same amplitude (Doppler: 2 kHz x 0.996), no click at block edges.
-  EarlyReflection r;
-  r.level = 0.5;
-  ReflectionTapBankOptions options;
-  options.block_size = kBlock;
-  ReflectionTapBank bank({r}, options);
+  ReflectionTapBank bank = unshapedTap(0.5);
   std::vector<float> sine(200 * kBlock);
   for (std::size_t n = 0; n < sine.size(); ++n) sine[n] = static_cast<float>(std::sin(2.0 * kPi * 2000.0 * n / kFs));
   const double speed_m_s = 1.4;
@@ -122,11 +127,7 @@ TEST(ReflectionTapBank, AMovingTapReadsTheSourceAtItsDelay) {
   // running at Mach 0.5) and jumps (a pose 300 samples away: faster than sound within one
   // block): at every sample the output is the sine at n - delay(n), the delay moving
   // linearly across each block from the last target to the new one.
-  EarlyReflection r;
-  r.level = 1.0;
-  ReflectionTapBankOptions options;
-  options.block_size = kBlock;
-  ReflectionTapBank bank({r}, options);
+  ReflectionTapBank bank = unshapedTap(1.0);
   const double w0 = 2.0 * kPi * 500.0 / kFs;
   std::vector<float> sine(120 * kBlock);
   for (std::size_t n = 0; n < sine.size(); ++n) sine[n] = static_cast<float>(std::sin(w0 * n));
@@ -163,11 +164,7 @@ TEST(ReflectionTapBank, ATapsLowPassFollowsItsPoleAndLeavesNoState) {
   // tap's gain (the state a pole leaves feeds the next block's first sample); with none
   // the tap is the delayed source again from the block after. A pole outside [0, 1)
   // keeps the previous target.
-  EarlyReflection r;
-  r.level = 1.0;
-  ReflectionTapBankOptions options;
-  options.block_size = kBlock;
-  ReflectionTapBank bank({r}, options);
+  ReflectionTapBank bank = unshapedTap(1.0);
   std::mt19937 rng(3);
   std::normal_distribution<double> normal;
   std::vector<float> source(80 * kBlock);
