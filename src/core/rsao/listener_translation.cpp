@@ -36,46 +36,67 @@ std::string formatPoint(const Eigen::Vector3d& p) {
 // The edge's octave gains over 125 Hz-4 kHz (bands 1-6) as a gain and a one-pole low-pass
 // y[n] = (1 - p) x[n] + p y[n-1] (the tap's filters are its reflection's, so the loss is
 // added after them): the pole whose response, in dB, fits theirs best in least squares
-// with the gain free (on a grid of p; the fit's residual is flat in p near its minimum),
-// and the gain that then keeps their power over those bands.
+// with the gain free, and the gain that then keeps their power over those bands. Gains
+// alike in every band (no object near, or one far on the lit side) need no pole.
 struct EdgeLossFit {
   double gain = 1.0;
   double pole = 0.0;
 };
 EdgeLossFit fitEdgeLoss(const OctaveBandValues& gains) {
-  static const std::vector<FrequencyBand> bands = standardBands(BandResolution::kOctave);
   constexpr int kFirst = 1, kLast = 6, kCount = kLast - kFirst + 1;
-  const auto response_db = [&](double p, int b) {
-    const double w = 2.0 * kPi * bands[static_cast<std::size_t>(b)].center_hz / kInternalSampleRateHz;
-    return 10.0 * std::log10((1.0 - p) * (1.0 - p) / (1.0 - 2.0 * p * std::cos(w) + p * p));
-  };
-  double target_power = 0.0;
+  static const std::array<double, kCount> cosines = [] {
+    const std::vector<FrequencyBand> bands = standardBands(BandResolution::kOctave);
+    std::array<double, kCount> c{};
+    for (int b = kFirst; b <= kLast; ++b) {
+      c[static_cast<std::size_t>(b - kFirst)] =
+          std::cos(2.0 * kPi * bands[static_cast<std::size_t>(b)].center_hz / kInternalSampleRateHz);
+    }
+    return c;
+  }();
+  // The one-pole's power response in band b, and in dB.
+  const auto response = [&](double p, std::size_t b) { return (1.0 - p) * (1.0 - p) / (1.0 - 2.0 * p * cosines[b] + p * p); };
+  double target_power = 0.0, lowest_db = 0.0, highest_db = -1e9;
   std::array<double, kCount> target_db{};
   for (int b = kFirst; b <= kLast; ++b) {
     const double g = gains[static_cast<std::size_t>(b)];
     target_power += g * g;
-    target_db[static_cast<std::size_t>(b - kFirst)] = 20.0 * std::log10(std::max(g, 1e-6));
+    const double db = 20.0 * std::log10(std::max(g, 1e-6));
+    target_db[static_cast<std::size_t>(b - kFirst)] = db;
+    lowest_db = b == kFirst ? db : std::min(lowest_db, db);
+    highest_db = std::max(highest_db, db);
   }
-  EdgeLossFit best;
-  double best_residual = std::numeric_limits<double>::infinity();
-  for (int step = 0; step <= 98; ++step) {
-    const double p = 0.01 * step;
-    double mean = 0.0;
-    for (int b = kFirst; b <= kLast; ++b) mean += target_db[static_cast<std::size_t>(b - kFirst)] - response_db(p, b);
-    mean /= kCount;
-    double residual = 0.0;
-    for (int b = kFirst; b <= kLast; ++b) {
-      residual += std::pow(target_db[static_cast<std::size_t>(b - kFirst)] - response_db(p, b) - mean, 2);
+  EdgeLossFit fit;
+  if (highest_db - lowest_db > 0.01) {
+    const auto residual = [&](double p) {
+      std::array<double, kCount> error{};
+      double mean = 0.0;
+      for (std::size_t b = 0; b < kCount; ++b) {
+        error[b] = target_db[b] - 10.0 * std::log10(response(p, b));
+        mean += error[b] / kCount;
+      }
+      double sum = 0.0;
+      for (double e : error) sum += (e - mean) * (e - mean);
+      return sum;
+    };
+    // Golden-section search over [0, 0.98]: the residual has one minimum there (each
+    // band's response falls monotonically with p, the high bands' faster).
+    const double ratio = 0.5 * (std::sqrt(5.0) - 1.0);
+    double lo = 0.0, hi = 0.98;
+    double x1 = hi - ratio * (hi - lo), x2 = lo + ratio * (hi - lo);
+    double f1 = residual(x1), f2 = residual(x2);
+    for (int k = 0; k < 24; ++k) {
+      if (f1 < f2) {
+        hi = x2, x2 = x1, f2 = f1, x1 = hi - ratio * (hi - lo), f1 = residual(x1);
+      } else {
+        lo = x1, x1 = x2, f1 = f2, x2 = lo + ratio * (hi - lo), f2 = residual(x2);
+      }
     }
-    if (residual < best_residual - 1e-9) {
-      best_residual = residual;
-      best.pole = p;
-    }
+    fit.pole = residual(0.0) <= std::min(f1, f2) ? 0.0 : 0.5 * (lo + hi);
   }
   double response_power = 0.0;
-  for (int b = kFirst; b <= kLast; ++b) response_power += std::pow(10.0, response_db(best.pole, b) / 10.0);
-  best.gain = std::sqrt(target_power / response_power);
-  return best;
+  for (std::size_t b = 0; b < kCount; ++b) response_power += response(fit.pole, b);
+  fit.gain = std::sqrt(target_power / response_power);
+  return fit;
 }
 
 void setDirection(EarlyReflection& r, const Eigen::Vector3d& direction) {
