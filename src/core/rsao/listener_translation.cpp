@@ -1,7 +1,6 @@
 #include "room_reverb/rsao/listener_translation.h"
 
 #include <algorithm>
-#include <limits>
 #include <array>
 #include <cmath>
 #include <map>
@@ -55,14 +54,14 @@ EdgeLossFit fitEdgeLoss(const OctaveBandValues& gains) {
   }();
   // The one-pole's power response in band b, and in dB.
   const auto response = [&](double p, std::size_t b) { return (1.0 - p) * (1.0 - p) / (1.0 - 2.0 * p * cosines[b] + p * p); };
-  double target_power = 0.0, lowest_db = 0.0, highest_db = -1e9;
+  double target_power = 0.0, lowest_db = 1e9, highest_db = -1e9;
   std::array<double, kCount> target_db{};
   for (int b = kFirst; b <= kLast; ++b) {
     const double g = gains[static_cast<std::size_t>(b)];
     target_power += g * g;
     const double db = 20.0 * std::log10(std::max(g, 1e-6));
     target_db[static_cast<std::size_t>(b - kFirst)] = db;
-    lowest_db = b == kFirst ? db : std::min(lowest_db, db);
+    lowest_db = std::min(lowest_db, db);
     highest_db = std::max(highest_db, db);
   }
   EdgeLossFit fit;
