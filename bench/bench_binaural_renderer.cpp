@@ -7,7 +7,7 @@
 // (test/ros/test_binaural_renderer.cpp records render_cpu_share and process_cpu_share).
 // BM_WalkingRendererChunk is the same with the listener walking (docs/six_dof.md): a
 // room's direct sound and 24 early reflections as taps, their targets found once a chunk
-// (ListenerTranslation::reflectionsAt in a room model, at the chunk's end) and blended
+// (tapTargetsAt: ListenerTranslation::arrivalsAt in a room model, at the chunk's end) and blended
 // for each block, as the node does; its late part as the 2 s room response. BM_MovingTapsBlock is the taps alone for one block,
 // BM_ReflectionsAtPose one pose's move alone.
 // Run: scripts/bench (all benchmarks) or .ws/devel/lib/room_reverb/bench_binaural_renderer
@@ -228,7 +228,7 @@ void BM_ReflectionsAtPose(benchmark::State& state) {
   double t = 0.0;
   for (auto _ : state) {
     t += 0.01;
-    benchmark::DoNotOptimize(translation.reflectionsAt(walking(t)).data());
+    benchmark::DoNotOptimize(tapTargetsAt(translation, walking(t)).data());
   }
 }
 BENCHMARK(BM_ReflectionsAtPose)->Unit(benchmark::kMicrosecond)->Repetitions(3)->ReportAggregatesOnly(true);

@@ -131,7 +131,7 @@ void BinauralRendererServer::renderChunk() {
   if (early && early->walk == early_walk_ && early_walk_) stream_->setEarlyResponse(early->early);
 
   // A walking listener: the taps' targets where the listener is at the end of this chunk
-  // (one ListenerTranslation::reflectionsAt a chunk), blended per block from where the
+  // (one tapTargetsAt a chunk), blended per block from where the
   // last chunk left them.
   core::ReflectionTapBank* taps = stream_->earlyTaps();
   bool walking = false;

@@ -490,8 +490,8 @@ TEST(ListenerTranslation, TheDirectSoundBendsAroundAnObjectAsTheSimulatedRouteHe
   ImageSourceOptions search;
   search.max_order = 0;
   int behind = 0;
-  for (const Eigen::Vector3d listener : {Eigen::Vector3d(5.5, 2.5, 1.2), Eigen::Vector3d(5.0, 2.0, 1.0),
-                                          Eigen::Vector3d(5.5, 3.2, 1.5), Eigen::Vector3d(5.5, 1.0, 1.4)}) {
+  for (const Eigen::Vector3d& listener : {Eigen::Vector3d(5.5, 2.5, 1.2), Eigen::Vector3d(5.0, 2.0, 1.0),
+                                           Eigen::Vector3d(5.5, 3.2, 1.5), Eigen::Vector3d(5.5, 1.0, 1.4)}) {
     SCOPED_TRACE(listener.transpose());
     const std::vector<SpecularPath> paths = computeImageSources(scene, room.source, listener, free_field, search);
     ASSERT_EQ(paths.size(), 1u);
@@ -602,6 +602,17 @@ TEST(ListenerTranslation, EveryReflectionKeepsItsPlaceHeardOrNot) {
     }
     EXPECT_TRUE(all.front().heard);
     EXPECT_EQ(translation.at(listener).reflections.size(), heard);
+    // The renderer's moves alone (arrivalsAt) are the same moves.
+    std::vector<MovedArrival> arrivals;
+    translation.arrivalsAt(listener, arrivals);
+    ASSERT_EQ(arrivals.size(), all.size());
+    for (std::size_t k = 0; k < all.size(); ++k) {
+      EXPECT_EQ(arrivals[k].heard, all[k].heard) << k;
+      EXPECT_EQ(arrivals[k].time_of_arrival_s, all[k].reflection.time_of_arrival_s) << k;
+      EXPECT_EQ(arrivals[k].level, all[k].reflection.level) << k;
+      EXPECT_NEAR(arrivals[k].direction.norm(), 1.0, 1e-12) << k;
+      EXPECT_LT(angleDeg(arrivals[k].direction, directionOf(all[k].reflection)), 1e-6) << k;
+    }
   }
 }
 

@@ -105,6 +105,18 @@ struct HeardReflection {
   double lowpass_pole = 0.0;
 };
 
+// What moves of one reflection at a listener position: HeardReflection without the
+// reflection's own filter, for a renderer that asks every chunk (no allocation per
+// reflection). `direction` is a unit vector in the rig's axes.
+struct MovedArrival {
+  double time_of_arrival_s = 0.0;
+  double level = 0.0;  // 0 where not heard
+  double distance_m = 0.0;
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitX();
+  bool heard = false;
+  double lowpass_pole = 0.0;  // as HeardReflection::lowpass_pole
+};
+
 // A reflection heard at a listener position, drawn: `points` run from where the sound
 // leaves to the listener (room frame): the source, each reflection point and the listener
 // for the direct sound and for reflections on the room model's planes; the image source
@@ -138,6 +150,8 @@ class ListenerTranslation {
   // Every reflection of anchors() at `listener_m`, in the same order, heard or not (a
   // renderer keeps one tap per reflection and fades those that go); the same checks.
   std::vector<HeardReflection> reflectionsAt(const Eigen::Vector3d& listener_m) const;
+  // The same moves alone, into `out` (resized to anchors().size()); the same checks.
+  void arrivalsAt(const Eigen::Vector3d& listener_m, std::vector<MovedArrival>& out) const;
   // The paths of the reflections heard at `listener_m` (those reflectionsAt marks heard), for
   // a viewer; the same checks.
   std::vector<ReflectionPath> heardPathsAt(const Eigen::Vector3d& listener_m) const;

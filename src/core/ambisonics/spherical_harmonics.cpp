@@ -14,21 +14,33 @@ double factorial(int n) {
   return f;
 }
 
-// Associated Legendre function P_l^m(x) without the Condon-Shortley phase.
-double legendre(int l, int m, double x) {
-  double pmm = 1.0;
-  const double somx2 = std::sqrt(std::max(0.0, 1.0 - x * x));
-  for (int i = 1; i <= m; ++i) pmm *= (2.0 * i - 1.0) * somx2;
-  if (l == m) return pmm;
-  double pmmp1 = x * (2.0 * m + 1.0) * pmm;
-  if (l == m + 1) return pmmp1;
-  double pll = 0.0;
-  for (int ll = m + 2; ll <= l; ++ll) {
-    pll = ((2.0 * ll - 1.0) * x * pmmp1 - (ll + m - 1.0) * pmm) / (ll - m);
-    pmm = pmmp1;
-    pmmp1 = pll;
+constexpr int kOrders = kMaxAmbisonicOrder + 1;
+
+// SN3D normalisation sqrt((2 - delta_m) (l - |m|)! / (l + |m|)!), at [l][|m|]: computed
+// once, since the renderer's moving taps ask for every tap's harmonics every block.
+struct Sn3dNorms {
+  double value[kOrders][kOrders] = {};
+  Sn3dNorms() {
+    for (int l = 0; l < kOrders; ++l) {
+      for (int m = 0; m <= l; ++m) value[l][m] = std::sqrt((m == 0 ? 1.0 : 2.0) * factorial(l - m) / factorial(l + m));
+    }
   }
-  return pll;
+};
+
+// Associated Legendre functions P_l^m(x), m <= l <= order, without the Condon-Shortley
+// phase, at [l][m]: the sectoral P_m^m = (2m - 1)!! (1 - x^2)^(m/2), then upwards in l by
+// (l - m) P_l^m = (2l - 1) x P_(l-1)^m - (l + m - 1) P_(l-2)^m.
+void legendreTable(int order, double x, double p[kOrders][kOrders]) {
+  const double somx2 = std::sqrt(std::max(0.0, 1.0 - x * x));
+  double pmm = 1.0;
+  for (int m = 0; m <= order; ++m) {
+    if (m > 0) pmm *= (2.0 * m - 1.0) * somx2;
+    p[m][m] = pmm;
+    if (m + 1 <= order) p[m + 1][m] = x * (2.0 * m + 1.0) * pmm;
+    for (int l = m + 2; l <= order; ++l) {
+      p[l][m] = ((2.0 * l - 1.0) * x * p[l - 1][m] - (l + m - 1.0) * p[l - 2][m]) / (l - m);
+    }
+  }
 }
 
 }  // namespace
@@ -54,13 +66,15 @@ void sn3dHarmonicsInto(int order, const Eigen::Vector3d& direction, std::vector<
     cos_m[m] = cos_m[m - 1] * cos_azimuth - sin_m[m - 1] * sin_azimuth;
     sin_m[m] = sin_m[m - 1] * cos_azimuth + cos_m[m - 1] * sin_azimuth;
   }
+  static const Sn3dNorms norms;
+  double legendre[kOrders][kOrders];
+  legendreTable(order, sin_elevation, legendre);
   y.resize(static_cast<std::size_t>(ambisonicChannelCount(order)));
   for (int l = 0; l <= order; ++l) {
     for (int m = -l; m <= l; ++m) {
       const int am = std::abs(m);
-      const double norm = std::sqrt((m == 0 ? 1.0 : 2.0) * factorial(l - am) / factorial(l + am));
       const double angular = m >= 0 ? cos_m[am] : sin_m[am];
-      y[static_cast<std::size_t>(l * l + l + m)] = norm * legendre(l, am, sin_elevation) * angular;
+      y[static_cast<std::size_t>(l * l + l + m)] = norms.value[l][am] * legendre[l][am] * angular;
     }
   }
 }

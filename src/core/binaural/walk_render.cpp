@@ -100,11 +100,11 @@ ListenerPose poseAt(const std::vector<ListenerPose>& poses, double t_s) {
 }
 
 std::vector<TapTarget> tapTargetsAt(const ListenerTranslation& translation, const Eigen::Vector3d& listener_m) {
+  std::vector<MovedArrival> arrivals;
+  translation.arrivalsAt(listener_m, arrivals);
   std::vector<TapTarget> targets;
-  for (const HeardReflection& h : translation.reflectionsAt(listener_m)) {
-    targets.push_back({h.reflection.time_of_arrival_s, h.heard ? h.reflection.level : 0.0,
-                       reflectionDirection(h.reflection), h.lowpass_pole});
-  }
+  targets.reserve(arrivals.size());
+  for (const MovedArrival& a : arrivals) targets.push_back({a.time_of_arrival_s, a.heard ? a.level : 0.0, a.direction, a.lowpass_pole});
   return targets;
 }
 

@@ -394,41 +394,46 @@ ListenerTranslation::DirectSoundAt ListenerTranslation::directSoundAt(const Eige
   return {true, fit.gain, fit.pole, past->bent ? past->detour : std::nullopt};
 }
 
-std::vector<HeardReflection> ListenerTranslation::reflectionsAt(const Eigen::Vector3d& listener_m) const {
+void ListenerTranslation::arrivalsAt(const Eigen::Vector3d& listener_m, std::vector<MovedArrival>& out) const {
   if (!listener_m.allFinite()) throw InputError("the listener position is not finite");
   if (scene_) requireFreeAir(*scene_, listener_m, "the listener", scene_->roomShape()->objects);
   const double c = options_.speed_of_sound_m_s;
   const Eigen::Quaterniond to_rig = rig_rotation_.conjugate();
   const double moved_m = (listener_m - rig_m_).norm();
-  std::vector<HeardReflection> out(anchors_.size());
+  out.resize(anchors_.size());
   for (std::size_t k = 0; k < anchors_.size(); ++k) {
     const AnchoredReflection& a = anchors_[k];
-    HeardReflection& h = out[k];
-    h.reflection = reflections_[k];
+    const EarlyReflection& r = reflections_[k];
+    MovedArrival& h = out[k];
+    h.time_of_arrival_s = r.time_of_arrival_s;
+    h.level = r.level;
+    h.distance_m = r.distance_m;
+    h.direction = reflectionDirection(r);
+    h.lowpass_pole = 0.0;
     if (a.anchor == ReflectionAnchor::kUnmatched) {
       const double gain = std::exp(-std::pow(moved_m / options_.unmatched_fade_m, 2));
       h.heard = gain >= kInaudibleGain;
-      h.reflection.level *= h.heard ? gain : 0.0;
+      h.level *= h.heard ? gain : 0.0;
       continue;
     }
     const Eigen::Vector3d path = a.image_source_m - listener_m;
     const double distance = std::max(path.norm(), 0.01);
-    h.reflection.time_of_arrival_s = time_offset_s_ + distance / c;
-    h.reflection.level *= a.rig_distance_m / distance;
-    h.reflection.distance_m = distance;
-    setDirection(h.reflection, to_rig * path);
+    h.time_of_arrival_s = time_offset_s_ + distance / c;
+    h.level *= a.rig_distance_m / distance;
+    h.distance_m = distance;
+    h.direction = (to_rig * path).normalized();
     h.heard = true;
     if (a.anchor == ReflectionAnchor::kSource) {
       const DirectSoundAt direct = directSoundAt(listener_m);
       if (direct.bent) {
         // Around the edge: the detour's length, from the edge's last turn.
-        h.reflection.time_of_arrival_s = time_offset_s_ + direct.bent->length_m / c;
-        h.reflection.level = reflections_[k].level * a.rig_distance_m / direct.bent->length_m;
-        h.reflection.distance_m = direct.bent->length_m;
-        setDirection(h.reflection, to_rig * (direct.bent->turns.back() - listener_m));
+        h.time_of_arrival_s = time_offset_s_ + direct.bent->length_m / c;
+        h.level = r.level * a.rig_distance_m / direct.bent->length_m;
+        h.distance_m = direct.bent->length_m;
+        h.direction = (to_rig * (direct.bent->turns.back() - listener_m)).normalized();
       }
       h.heard = direct.heard;
-      h.reflection.level *= direct.heard ? direct.gain / rig_direct_gain_ : 0.0;
+      h.level *= direct.heard ? direct.gain / rig_direct_gain_ : 0.0;
       h.lowpass_pole = direct.heard ? direct.lowpass_pole : 0.0;
     }
     if (a.anchor == ReflectionAnchor::kSurface || a.anchor == ReflectionAnchor::kModelled) {
@@ -437,17 +442,35 @@ std::vector<HeardReflection> ListenerTranslation::reflectionsAt(const Eigen::Vec
       h.heard = std::any_of(plane_orders_[k].begin(), plane_orders_[k].end(), [&](const std::vector<std::size_t>& planes) {
         return specularPathValid(*scene_, source_m_, listener_m, planes);
       });
-      if (!h.heard) h.reflection.level = 0.0;
+      if (!h.heard) h.level = 0.0;
     }
   }
   // An unmatched reflection keeps its time: where the listener has moved away from the
   // source, one that would now arrive with or before the direct sound is not heard.
-  const double direct_s = out.front().reflection.time_of_arrival_s;
+  const double direct_s = out.front().time_of_arrival_s;
   for (std::size_t k = 1; k < out.size(); ++k) {
-    if (out[k].heard && out[k].reflection.time_of_arrival_s <= direct_s) {
+    if (out[k].heard && out[k].time_of_arrival_s <= direct_s) {
       out[k].heard = false;
-      out[k].reflection.level = 0.0;
+      out[k].level = 0.0;
     }
+  }
+}
+
+std::vector<HeardReflection> ListenerTranslation::reflectionsAt(const Eigen::Vector3d& listener_m) const {
+  std::vector<MovedArrival> arrivals;
+  arrivalsAt(listener_m, arrivals);
+  std::vector<HeardReflection> out(arrivals.size());
+  for (std::size_t k = 0; k < arrivals.size(); ++k) {
+    const MovedArrival& m = arrivals[k];
+    HeardReflection& h = out[k];
+    h.reflection = reflections_[k];
+    h.reflection.time_of_arrival_s = m.time_of_arrival_s;
+    h.reflection.level = m.level;
+    h.reflection.distance_m = m.distance_m;
+    // An unmatched reflection keeps its measured angles exactly.
+    if (anchors_[k].anchor != ReflectionAnchor::kUnmatched) setDirection(h.reflection, m.direction);
+    h.heard = m.heard;
+    h.lowpass_pole = m.lowpass_pole;
   }
   return out;
 }
