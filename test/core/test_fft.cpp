@@ -1,8 +1,14 @@
+#include <fftw3.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <complex>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <stdexcept>
+#include <string>
 #include <thread>
 
 #include "room_reverb/audio/convolution.h"
@@ -73,6 +79,49 @@ TEST(Fft, PlansAreSharedAcrossThreads) {
   }
   for (auto& thread : threads) thread.join();
   for (int m : mismatches) EXPECT_EQ(m, 0);
+}
+
+// Measured plans (FftPlanning::kMeasured): each test plans a size no other test uses, so
+// that it is planned here and not taken from this process's cache.
+std::string readAll(const std::string& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+TEST(Fft, AMeasuredPlanTransformsAsTheEstimatedOneAndIsKept) {
+  const std::string wisdom = ::testing::TempDir() + "room_reverb_fft_test/wisdom";
+  std::filesystem::remove_all(::testing::TempDir() + "room_reverb_fft_test");
+  setenv("ROOM_REVERB_FFTW_WISDOM", wisdom.c_str(), 1);
+  const std::size_t n = 96;
+  const std::vector<float> x = room_reverb::test::whiteNoise(n, 5);
+  RealFft estimated(n), measured(n, FftPlanning::kMeasured);
+  const auto a = estimated.forward(x), b = measured.forward(x);
+  for (std::size_t k = 0; k < a.size(); ++k) EXPECT_LT(std::abs(a[k] - b[k]), 1e-4f) << k;
+  const auto back = measured.inverse(b);
+  for (std::size_t t = 0; t < n; ++t) EXPECT_NEAR(back[t], x[t], 1e-5f) << t;
+  // Kept for the next process, in FFTW's own wisdom format.
+  EXPECT_EQ(readAll(wisdom).rfind("(fftw-", 0), 0u);
+  // Forgotten in this process, so that an estimated plan made later is the one any
+  // process makes: FFTW holds no wisdom (its export names no codelet).
+  char* held = fftwf_export_wisdom_to_string();
+  ASSERT_NE(held, nullptr);
+  EXPECT_EQ(std::string(held).find("codelet"), std::string::npos) << held;
+  fftwf_free(held);
+  unsetenv("ROOM_REVERB_FFTW_WISDOM");
+}
+
+TEST(Fft, NowhereToKeepWisdomStillPlans) {
+  // Empty: nothing kept; a directory that cannot be made: nothing kept, no error.
+  for (const char* path : {"", "/proc/room_reverb_no_such_dir/wisdom"}) {
+    setenv("ROOM_REVERB_FFTW_WISDOM", path, 1);
+    const std::size_t n = std::string(path).empty() ? 192 : 224;
+    RealFft fft(n, FftPlanning::kMeasured);
+    const std::vector<float> x = room_reverb::test::whiteNoise(n, 7);
+    const auto back = fft.inverse(fft.forward(x));
+    for (std::size_t t = 0; t < n; ++t) EXPECT_NEAR(back[t], x[t], 1e-5f) << path << " " << t;
+    EXPECT_FALSE(std::filesystem::exists("/proc/room_reverb_no_such_dir"));
+  }
+  unsetenv("ROOM_REVERB_FFTW_WISDOM");
 }
 
 TEST(Convolution, MatchesDirectConvolution) {

@@ -1,6 +1,6 @@
 #pragma once
 // Real FFT and complex inverse FFT over FFTW3 (single precision). Plans are made once per
-// size and shared by every transform of that kind and size (FFTW's planner is not
+// size (and planning) and shared by every transform of that kind and size (FFTW's planner is not
 // thread-safe, its execution is), so constructing one after the first of its size costs
 // only its buffer allocations.
 #include <complex>
@@ -13,9 +13,20 @@ namespace room_reverb::core {
 // Smallest n' >= n of the form 2^a 3^b 5^c 7^d, the sizes FFTW handles fastest.
 std::size_t nextFastFftSize(std::size_t n);
 
+// How a plan is chosen. kEstimate: by FFTW's heuristics, at once, the same on every
+// machine. kMeasured: the fastest of FFTW's candidates timed on this machine
+// (FFTW_MEASURE), for the streaming convolver's transforms, run every block: at 512-4096
+// points it takes 7 % off a walking binaural stream (bench_binaural_renderer) and costs
+// 0.15-0.4 s of planning per size. The measured choice is kept as FFTW wisdom in
+// $ROOM_REVERB_FFTW_WISDOM (default $XDG_CACHE_HOME/room_reverb/fftwf.wisdom, or
+// ~/.cache/room_reverb/fftwf.wisdom; an empty value keeps nothing), so a size is measured
+// once per machine; the wisdom is forgotten again after each measured plan, so estimated
+// plans never pick it up and stay the same in every process.
+enum class FftPlanning { kEstimate, kMeasured };
+
 class RealFft {
  public:
-  explicit RealFft(std::size_t size);
+  explicit RealFft(std::size_t size, FftPlanning planning = FftPlanning::kEstimate);
   ~RealFft();
   RealFft(const RealFft&) = delete;
   RealFft& operator=(const RealFft&) = delete;

