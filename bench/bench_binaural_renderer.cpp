@@ -8,7 +8,8 @@
 // BM_WalkingRendererChunk is the same with the listener walking (docs/six_dof.md): a
 // room's direct sound and 24 early reflections as taps, their targets found once a chunk
 // (tapTargetsAt: ListenerTranslation::arrivalsAt in a room model, at the chunk's end) and blended
-// for each block, as the node does; its late part as the 2 s room response. BM_MovingTapsBlock is the taps alone for one block,
+// for each block, as the node does; its late part as the 2 s room response, silent before
+// the first reflection as an RSAO's late part is. BM_MovingTapsBlock is the taps alone for one block,
 // BM_ReflectionsAtPose one pose's move alone.
 // Run: scripts/bench (all benchmarks) or .ws/devel/lib/room_reverb/bench_binaural_renderer
 //   cpu_share  thread CPU time per chunk / chunk duration: the share of one core.
@@ -165,8 +166,13 @@ void BM_WalkingRendererChunk(benchmark::State& state) {
   BinauralStreamOptions stream_options;
   stream_options.mixed_order_late = state.range(1) != 0;
   BinauralStream stream(makeBinauralDecoder(hrtf, 3), stream_options);
-  stream.setRoom(decayingNoise(static_cast<std::size_t>(state.range(0)), 2.0, 1));
   const ListenerTranslation translation = walkableRoom();
+  // The late part as an RSAO's is (rsao_resynthesis.h): zero before its onset, the first
+  // reflection (here 11 ms after the emission).
+  AudioBuffer late = decayingNoise(static_cast<std::size_t>(state.range(0)), 2.0, 1);
+  const auto onset = static_cast<std::size_t>(translation.reflectionsAtRig()[1].time_of_arrival_s * kInternalSampleRateHz);
+  for (auto& channel : late.channels) std::fill_n(channel.begin(), onset, 0.0f);
+  stream.setRoom(late);
   ReflectionTapBankOptions options;
   options.order = 3;
   options.block_size = kBlock;

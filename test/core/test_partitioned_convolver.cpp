@@ -382,6 +382,37 @@ TEST(PartitionedConvolver, ZeroFiltersAndZeroTailsAreSkippedExactly) {
   EXPECT_LT(errorDb(stream(swapped, inputs), offline(filters, inputs), 512, inputs.front().size()), -100.0);
 }
 
+TEST(PartitionedConvolver, LeadingZerosAreSkippedExactly) {
+  // Late parts that start at their onset: each output of a 1 x 16 matrix zero before its
+  // own first tap, from none to past the first level (a partition boundary, one sample on
+  // either side of it, deep into the last level); in one output group the onsets differ
+  // so the group runs partly together. Then 2 x 3 with onsets per input, and swaps both
+  // ways between the matrices with and without them.
+  const std::vector<std::size_t> onsets = {0,   1,    255,  256,  300,   811,   1880,  2047,
+                                           2048, 2049, 2500, 5000, 20480, 30000, 39000, 39999};
+  const auto full = randomFilters(1, 16, 40000, 40000, 33);
+  auto late = full;
+  for (std::size_t o = 0; o < 16; ++o) std::fill_n(late[0][o].begin(), onsets[o], 0.0f);
+  const auto inputs = noiseInputs(1, 100, 256, 160);
+  PartitionedConvolver convolver(late, 256, 1, 16384);
+  EXPECT_LT(errorDb(stream(convolver, inputs), offline(late, inputs), 0, inputs.front().size()), -100.0);
+  PartitionedConvolver to_full(late, 256, 1, 16384);
+  to_full.setFilters(full);
+  EXPECT_LT(errorDb(stream(to_full, inputs), offline(full, inputs), 512, inputs.front().size()), -100.0);
+  PartitionedConvolver to_late(full, 256, 1, 16384);
+  to_late.setFilters(late);
+  EXPECT_LT(errorDb(stream(to_late, inputs), offline(late, inputs), 512, inputs.front().size()), -100.0);
+
+  auto matrix = randomFilters(2, 3, 20000, 20000, 34);
+  const std::size_t starts[2][3] = {{0, 700, 5000}, {1500, 0, 19000}};
+  for (std::size_t i = 0; i < 2; ++i) {
+    for (std::size_t o = 0; o < 3; ++o) std::fill_n(matrix[i][o].begin(), starts[i][o], 0.0f);
+  }
+  const auto pair = noiseInputs(2, 60, 64, 320);
+  PartitionedConvolver small(matrix, 64, 1, 16384);
+  EXPECT_LT(errorDb(stream(small, pair), offline(matrix, pair), 0, pair.front().size()), -100.0);
+}
+
 TEST(PartitionedConvolver, NonUniformImpulseComesOutAsTheFilterWithNoAddedDelay) {
   // Two impulses at frames that fall mid-block and mid-period of every level: the output
   // is the filter from exactly those frames on, so no level adds or loses a sample.

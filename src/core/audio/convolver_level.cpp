@@ -7,15 +7,6 @@
 
 namespace room_reverb::core {
 
-namespace {
-
-// The streaming transforms FFTW measures (fft.h): up to 4096 points the measured plans
-// take 7 % off a walking stream; at 16 384 they gain nothing measurable and cost a second
-// of planning.
-constexpr std::size_t kMaxMeasuredFftSize = 4096;
-
-}  // namespace
-
 ConvolverLevel::ConvolverLevel(const PartitionLevel& plan, bool open_ended, std::size_t block_size,
                                std::size_t inputs, std::size_t outputs)
     : plan_(plan),
@@ -27,8 +18,10 @@ ConvolverLevel::ConvolverLevel(const PartitionLevel& plan, bool open_ended, std:
       outputs_(outputs),
       bins_(plan.partition_size + 1),
       stride_(rowStride(bins_)),
-      fft_(2 * plan.partition_size,
-           2 * plan.partition_size <= kMaxMeasuredFftSize ? FftPlanning::kMeasured : FftPlanning::kEstimate),
+      // Measured plans (fft.h) take 4-7 % off a walking stream, whose transforms run from
+      // 512 to 32 768 points; measuring them costs about 1.5 s at a stream's first start
+      // and nothing after, as the wisdom is kept.
+      fft_(2 * plan.partition_size, FftPlanning::kMeasured),
       groups_((outputs + kOutputGroup - 1) / kOutputGroup),
       units_(inputs + groups_ * (inputs + 1)),
       next_unit_(units_),
@@ -52,6 +45,7 @@ LevelSpectra ConvolverLevel::transform(const PartitionLevel& plan, bool open_end
   // window the last P samples of the circular convolution are then the linear convolution.
   spectra.used.assign(outputs * inputs, 0);
   spectra.output_used.assign(outputs, 0);
+  spectra.leading.assign(outputs * inputs, 0);
   float* row = spectra.rows.data();
   for (std::size_t o = 0; o < outputs; ++o) {
     for (std::size_t i = 0; i < inputs; ++i) {
@@ -60,6 +54,10 @@ LevelSpectra ConvolverLevel::transform(const PartitionLevel& plan, bool open_end
       while (length > 0 && taps[length - 1] == 0.0f) --length;
       const std::size_t used = length > plan.first_tap ? (length - plan.first_tap + p - 1) / p : 0;
       spectra.used[o * inputs + i] = std::min(used, spectra.partitions);
+      std::size_t first_non_zero = 0;
+      while (first_non_zero < length && taps[first_non_zero] == 0.0f) ++first_non_zero;
+      const std::size_t leading = first_non_zero > plan.first_tap ? (first_non_zero - plan.first_tap) / p : 0;
+      spectra.leading[o * inputs + i] = std::min(leading, spectra.used[o * inputs + i]);
       spectra.output_used[o] = std::max(spectra.output_used[o], spectra.used[o * inputs + i]);
       for (std::size_t q = 0; q < spectra.partitions; ++q, row += 2 * stride) {
         const std::size_t begin = std::min(taps.size(), plan.first_tap + q * p);
@@ -199,32 +197,38 @@ void ConvolverLevel::multiplyAdd(std::int64_t block, std::size_t group, std::siz
   float* y = target.accumulator;
   if (input == 0) std::fill_n(y, count * 2 * stride_, 0.0f);
   // Partition q of the filter meets the input block q blocks older. The group's outputs
-  // run together over the partitions they all use (outputs whose filter from this input
-  // is zero here drop out); each then finishes its own alone.
+  // run together over the partitions they all use, from the first that is not zero in
+  // all of them (outputs whose filter from this input is zero here drop out); each then
+  // finishes its own alone.
   const float* h[kOutputGroup];
   float* acc[kOutputGroup];
   std::size_t used[kOutputGroup];
-  std::size_t active = 0, common = partitions;
+  std::size_t active = 0, common = partitions, leading = partitions;
   for (std::size_t j = 0; j < count; ++j) {
-    const std::size_t o = first + j;
-    const std::size_t u = target.spectra->used[o * inputs_ + input];
+    const std::size_t filter = (first + j) * inputs_ + input;
+    const std::size_t u = target.spectra->used[filter];
     if (u == 0) continue;
-    h[active] = &target.spectra->rows[(o * inputs_ + input) * partitions * 2 * stride_];
+    h[active] = &target.spectra->rows[filter * partitions * 2 * stride_];
     acc[active] = y + j * 2 * stride_;
     used[active] = u;
     common = std::min(common, u);
+    leading = std::min(leading, target.spectra->leading[filter]);
     ++active;
   }
   if (active == 0) return;
   const std::size_t slot_step = inputs_ * 2 * stride_;
-  const DelayLineRows rows{delay_line_.data() + input * 2 * stride_, capacity_, slot_step, slotOf(block)};
-  multiplyAccumulateOutputs(rows, common, h, 2 * stride_, active, acc, stride_);
-  for (std::size_t j = 0; j < active; ++j) {
-    if (used[j] == common) continue;
-    const float* rest = h[j] + common * 2 * stride_;
-    const DelayLineRows older{rows.ring, capacity_, slot_step, slotOf(block - static_cast<std::int64_t>(common))};
-    multiplyAccumulateOutputs(older, used[j] - common, &rest, 2 * stride_, 1, &acc[j], stride_);
-  }
+  const float* ring = delay_line_.data() + input * 2 * stride_;
+  // Partitions [from, to) of the given outputs' filters.
+  const auto accumulate = [&](std::size_t from, std::size_t to, const float* const* filters, std::size_t n,
+                              float* const* sums) {
+    if (to <= from) return;
+    const float* starts[kOutputGroup];
+    for (std::size_t j = 0; j < n; ++j) starts[j] = filters[j] + from * 2 * stride_;
+    const DelayLineRows rows{ring, capacity_, slot_step, slotOf(block - static_cast<std::int64_t>(from))};
+    multiplyAccumulateOutputs(rows, to - from, starts, 2 * stride_, n, sums, stride_);
+  };
+  accumulate(leading, common, h, active, acc);
+  for (std::size_t j = 0; j < active; ++j) accumulate(std::max(common, leading), used[j], &h[j], 1, &acc[j]);
 }
 
 void ConvolverLevel::finishOutputs(std::int64_t block, std::size_t group, const LevelTarget& target,

@@ -39,6 +39,10 @@ struct LevelSpectra {
   // room in a third-order stream has twelve all-zero filters: they cost nothing.
   std::vector<std::size_t> used;
   std::vector<std::size_t> output_used;
+  // Per output o and input i: the partitions before the filter's first non-zero tap, also
+  // skipped (at most `used`). An RSAO's late part is zero before its onset, the first
+  // reflection 10-40 ms after the RIR's start, which is up to all of the first level.
+  std::vector<std::size_t> leading;
 };
 
 // Where a level's work for one filter set goes.
