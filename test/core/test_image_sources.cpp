@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <limits>
+#include <random>
 
 #include "room_reverb/acoustics/acoustic_scene.h"
 #include "room_reverb/acoustics/edge_diffraction.h"
@@ -233,6 +235,82 @@ TEST(EdgeDiffraction, TheDetourGoesOverTheNearestEdgeOrAcrossTheTop) {
   EXPECT_FALSE(lit->shadowed);
   EXPECT_LT(lit->path_difference_m, 0.01);
   EXPECT_FALSE(shortestEdgeDetour(screen, Eigen::Vector3d(3.0, 2.0, 0.5), listener).has_value());  // inside it
+}
+
+TEST(EdgeDiffraction, TheDetourIsTheShortestWayOverOneEdgeOrTwo) {
+  // A turned box and source-listener pairs around it, lit and shadowed: the detour's
+  // length against a search of every way over one edge (2001 points along it) and over
+  // two parallel edges (201 x 201), each leg clear of the box.
+  CuboidObject box;
+  box.center_m = {0.0, 0.0, 0.5};
+  box.size_m = {1.2, 0.7, 1.0};
+  box.yaw_rad = 0.5;
+  const Eigen::Vector3d half = 0.5 * box.size_m;
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> edges;  // cuboid frame
+  for (int axis = 0; axis < 3; ++axis) {
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    for (const double su : {-1.0, 1.0}) {
+      for (const double sv : {-1.0, 1.0}) {
+        Eigen::Vector3d a = Eigen::Vector3d::Zero();
+        a[u] = su * half[u];
+        a[v] = sv * half[v];
+        Eigen::Vector3d b = a;
+        a[axis] = -half[axis];
+        b[axis] = half[axis];
+        edges.emplace_back(fromCuboidFrame(box, a), fromCuboidFrame(box, b));
+      }
+    }
+  }
+  const auto clear = [&](const std::vector<Eigen::Vector3d>& way) {
+    for (std::size_t k = 0; k + 1 < way.size(); ++k) {
+      if (segmentCrossesCuboid(box, way[k], way[k + 1])) return false;
+    }
+    return true;
+  };
+  const auto length = [](const std::vector<Eigen::Vector3d>& way) {
+    double total = 0.0;
+    for (std::size_t k = 0; k + 1 < way.size(); ++k) total += (way[k + 1] - way[k]).norm();
+    return total;
+  };
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> angle(-M_PI, M_PI), height(0.05, 1.6), radius(0.9, 2.5);
+  std::size_t shadowed = 0, over_two = 0;
+  for (int trial = 0; trial < 24; ++trial) {
+    const auto around = [&] {
+      const double a = angle(rng), r = radius(rng);
+      return Eigen::Vector3d(r * std::cos(a), r * std::sin(a), height(rng));
+    };
+    const Eigen::Vector3d s = around(), l = around();
+    const auto detour = shortestEdgeDetour(box, s, l);
+    ASSERT_TRUE(detour.has_value()) << trial;
+    double best = std::numeric_limits<double>::infinity();
+    bool best_over_two = false;
+    for (const auto& [from, to] : edges) {
+      for (int i = 0; i <= 2000; ++i) {
+        const std::vector<Eigen::Vector3d> way = {s, from + (to - from) * (i / 2000.0), l};
+        if (length(way) < best && clear(way)) best = length(way), best_over_two = false;
+      }
+    }
+    for (const auto& a : edges) {
+      for (const auto& b : edges) {
+        const Eigen::Vector3d da = a.second - a.first, db = b.second - b.first, offset = b.first - a.first;
+        if (&a == &b || da.cross(db).norm() > 1e-9 || std::abs(offset.dot(da.normalized())) > 1e-9) continue;
+        for (int i = 0; i <= 200; ++i) {
+          for (int j = 0; j <= 200; ++j) {
+            const std::vector<Eigen::Vector3d> way = {s, a.first + da * (i / 200.0), b.first + db * (j / 200.0), l};
+            if (length(way) < best && clear(way)) best = length(way), best_over_two = true;
+          }
+        }
+      }
+    }
+    // The grids' points are on the edges, so the search is never shorter than the truth.
+    EXPECT_LT(detour->length_m, best + 1e-6) << trial;
+    EXPECT_GT(detour->length_m, best - 2e-3) << trial;
+    shadowed += detour->shadowed ? 1 : 0;
+    over_two += best_over_two ? 1 : 0;
+  }
+  EXPECT_GE(shadowed, 4u) << "the trials should include shadowed pairs";
+  EXPECT_GE(over_two, 1u) << "the trials should include a way across a face";
 }
 
 TEST(ImageSources, TheDirectSoundBendsAroundAnObjectAndFadesIntoItsShadow) {

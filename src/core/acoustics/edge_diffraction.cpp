@@ -88,6 +88,13 @@ double shortestOnEdge(const Edge& e, const Eigen::Vector3d& x, const Eigen::Vect
   return std::clamp(at / length, 0.0, 1.0);
 }
 
+// The distance from x to the nearest point of the edge.
+double distanceToEdge(const Edge& e, const Eigen::Vector3d& x) {
+  const Eigen::Vector3d axis = e.to - e.from;
+  const double t = std::clamp((x - e.from).dot(axis) / axis.squaredNorm(), 0.0, 1.0);
+  return (x - (e.from + t * axis)).norm();
+}
+
 }  // namespace
 
 std::optional<EdgeDetour> shortestEdgeDetour(const CuboidObject& object, const Eigen::Vector3d& source,
@@ -127,6 +134,10 @@ std::optional<EdgeDetour> shortestEdgeDetour(const CuboidObject& object, const E
       // Parallel and sharing a face: the same direction, apart along one axis only.
       if (i == j || (a.to - a.from).cross(b.to - b.from).norm() > 1e-12) continue;
       if ((offset.array().abs() > 1e-12).count() != 1) continue;
+      // No way over both is shorter than its three straight lower bounds: a way already
+      // found that short makes the search pointless (in view, the way over one edge
+      // nearly always is).
+      if (best && distanceToEdge(a, s) + offset.norm() + distanceToEdge(b, l) >= best->length_m) continue;
       double ta = 0.5, tb = 0.5;
       for (int round = 0; round < 8; ++round) {
         ta = shortestOnEdge(a, s, at(b, tb));
