@@ -124,6 +124,27 @@ TEST(Fft, NowhereToKeepWisdomStillPlans) {
   unsetenv("ROOM_REVERB_FFTW_WISDOM");
 }
 
+TEST(Fft, DamagedWisdomIsMeasuredAgainAndReplaced) {
+  // A wisdom file that is not FFTW's (a truncated copy, another program's file): the size
+  // is measured afresh, transforms right, and the file holds FFTW's wisdom after.
+  const std::string dir = ::testing::TempDir() + "room_reverb_fft_damaged";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string wisdom = dir + "/wisdom";
+  for (const char* damage : {"(fftw-3.3.10 fftwf_wisdom #x9e7d4dee\n  (fftwf_codelet_r2cf_8 2", "not wisdom at all\n"}) {
+    std::ofstream(wisdom) << damage;
+    setenv("ROOM_REVERB_FFTW_WISDOM", wisdom.c_str(), 1);
+    const std::size_t n = std::string(damage).front() == '(' ? 160 : 176;
+    RealFft fft(n, FftPlanning::kMeasured);
+    const std::vector<float> x = room_reverb::test::whiteNoise(n, 9);
+    const auto back = fft.inverse(fft.forward(x));
+    for (std::size_t t = 0; t < n; ++t) EXPECT_NEAR(back[t], x[t], 1e-5f) << damage << " " << t;
+    EXPECT_EQ(readAll(wisdom).rfind("(fftw-", 0), 0u) << damage;
+    EXPECT_NE(readAll(wisdom), damage);
+  }
+  unsetenv("ROOM_REVERB_FFTW_WISDOM");
+}
+
 TEST(Convolution, MatchesDirectConvolution) {
   const std::vector<float> a = room_reverb::test::whiteNoise(300, 6);
   const std::vector<float> b = room_reverb::test::whiteNoise(77, 7);
