@@ -2,7 +2,7 @@
 """Drives a running binaural_renderer for a soak: swaps rooms and turns the head while it
 streams, samples its status and its resident memory, and reports.
 
-    soak.py --pid PID [--ns /soak] [--minutes 60] [--swap-s 20] [--walk] [--out REPORT.md]
+    soak.py --pid PID [--ns /soak] [--minutes 60] [--swap-s 20] [--walk | --walk-rsao] [--out REPORT.md]
 
 Every --swap-s seconds the next measured B-format RIR of data/rirs/bformat goes to
 <ns>/binaural_renderer/impulse_response (FuMa, 2-6 s long); the head turns continuously,
@@ -19,6 +19,12 @@ carpeted floor and a tiled ceiling, fast mode, through the room_simulator) on
 its walls, facing where it goes, around the source in the room's middle, at 50 poses per second on .../listener_pose. The report adds the
 positions refused and the late parts simulated again on the way (room changes).
 
+With --walk-rsao the listener walks the same way (0.9 m inside the walls, at 1.6 m, past
+the source at 0.7 m) in the RSAO room the renderer was started with (scripts/soak
+--walk-rsao: the sample room, 6.4 x 4.8 x 2.9 m, its room model from a file). The report
+adds the largest sample step of the binaural stream over the walk, beside the dry
+signal's own largest step times the stream's peak over the dry signal's peak.
+
 Exit status: 0 when the run completed with no chunk dropped, no room refused and the
 renderer alive; 1 otherwise; 2 for bad arguments.
 """
@@ -33,7 +39,7 @@ import wave
 
 import rospy
 from geometry_msgs.msg import PoseStamped, QuaternionStamped
-from room_reverb.msg import ImpulseResponse, RoomScene, StreamStatus
+from room_reverb.msg import AudioBuffer, ImpulseResponse, RoomScene, StreamStatus
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 RIRS = ["dixon_studio_theatre_r1", "terrys_typing_room", "st_andrews_church", "tyndall_bruce_monument"]
@@ -68,6 +74,8 @@ def rss_mib(pid):
 WALK_ROOM = (6.0, 4.0, 2.8)
 WALK_SOURCE = (3.0, 2.0, 1.2)  # the room's middle: the listener circles it at 1.1-2.1 m
 WALK_SPEED_M_S = 1.0
+RSAO_ROOM = (6.4, 4.8, 2.9)  # data/sample_room: the listener passes its source at 0.7 m
+DRY = os.path.join(REPO, "data", "dry", "speech.wav")  # what scripts/soak plays
 
 
 def walk_scene():
@@ -87,13 +95,13 @@ def walk_scene():
     return scene
 
 
-def walk_position(t_s):
+def walk_position(t_s, room=WALK_ROOM):
     """Position and heading at t_s on an ellipse 0.9 m inside the walls, 1 m/s on average
     (0.7-1.4 m/s: uniform in the ellipse's angle, not its length)."""
-    a, b = WALK_ROOM[0] / 2 - 0.9, WALK_ROOM[1] / 2 - 0.9
+    a, b = room[0] / 2 - 0.9, room[1] / 2 - 0.9
     perimeter = math.pi * (3 * (a + b) - math.sqrt((3 * a + b) * (a + 3 * b)))  # Ramanujan
     phase = 2.0 * math.pi * WALK_SPEED_M_S * t_s / perimeter
-    x, y = WALK_ROOM[0] / 2 + a * math.cos(phase), WALK_ROOM[1] / 2 + b * math.sin(phase)
+    x, y = room[0] / 2 + a * math.cos(phase), room[1] / 2 + b * math.sin(phase)
     heading = math.atan2(b * math.cos(phase), -a * math.sin(phase))
     return x, y, 1.6, heading
 
@@ -116,11 +124,17 @@ def main():
     parser.add_argument("--minutes", type=float, default=60.0)
     parser.add_argument("--swap-s", type=float, default=20.0)
     parser.add_argument("--walk", action="store_true", help="a listener walking in a simulated room")
+    parser.add_argument("--walk-rsao", action="store_true", help="a listener walking in the RSAO room given")
     parser.add_argument("--out", default="", help="write the report (Markdown) here too")
     args = parser.parse_args()
     if args.minutes <= 0 or args.swap_s <= 0:
         print("soak.py: --minutes and --swap-s must be positive", file=sys.stderr)
         return 2
+    if args.walk and args.walk_rsao:
+        print("soak.py: --walk and --walk-rsao exclude each other", file=sys.stderr)
+        return 2
+    walking = args.walk or args.walk_rsao
+    walk_room = RSAO_ROOM if args.walk_rsao else WALK_ROOM
     if not os.path.exists(f"/proc/{args.pid}"):
         print(f"soak.py: no process {args.pid}", file=sys.stderr)
         return 2
@@ -139,6 +153,25 @@ def main():
         status["worst_chunk"] = max(status["worst_chunk"], message.worst_chunk_render_s)
 
     rospy.Subscriber(base + "status", StreamStatus, on_status)
+    # The stream's largest step between consecutive samples of one ear while it is walked
+    # (the first chunks, before the walk, are left out) and its peak.
+    stream = {"walking": False, "step": 0.0, "peak": 0.0, "last": [None, None]}
+
+    def on_binaural(message):
+        if not stream["walking"] or message.channel_count != 2:
+            return
+        samples = message.samples
+        for ear in (0, 1):
+            x = samples[ear::2]
+            previous = stream["last"][ear]
+            if previous is not None and x:
+                stream["step"] = max(stream["step"], abs(x[0] - previous))
+            stream["step"] = max(stream["step"], max((abs(b - a) for a, b in zip(x, x[1:])), default=0.0))
+            stream["peak"] = max(stream["peak"], max((abs(v) for v in x), default=0.0))
+            stream["last"][ear] = x[-1] if x else previous
+
+    if args.walk_rsao:
+        rospy.Subscriber(base + "binaural", AudioBuffer, on_binaural, queue_size=200)
 
     rooms = []
     for name in RIRS:
@@ -150,8 +183,9 @@ def main():
         message.audio.samples = samples
         rooms.append((name, message))
 
-    if args.walk:
-        scene_pub.publish(walk_scene())
+    if walking:
+        if args.walk:
+            scene_pub.publish(walk_scene())
         deadline = time.monotonic() + 60.0
         while not rospy.is_shutdown() and time.monotonic() < deadline:
             if status["last"] is not None and status["last"].walkable:
@@ -159,9 +193,10 @@ def main():
             time.sleep(0.1)
         if status["last"] is None or not status["last"].walkable:
             last = status["last"]
-            print("soak.py: the simulated room did not become walkable in 60 s" +
+            print(f"soak.py: the {'simulated' if args.walk else 'RSAO'} room did not become walkable in 60 s" +
                   (f" ({last.last_message})" if last is not None else ""))
             return 1
+        stream["walking"] = True
     start = time.monotonic()
     end = start + 60.0 * args.minutes
     next_swap, next_sample, swaps = start, start, 0
@@ -172,7 +207,7 @@ def main():
         if not os.path.exists(f"/proc/{args.pid}"):
             print(f"soak.py: the renderer (pid {args.pid}) died after {now - start:.0f} s")
             return 1
-        if not args.walk and now >= next_swap:
+        if not walking and now >= next_swap:
             name, message = rooms[swaps % len(rooms)]
             message.audio.header.stamp = rospy.Time.now()
             rir_pub.publish(message)
@@ -182,8 +217,8 @@ def main():
             memory.append((now - start, rss_mib(args.pid)))
             load.append(os.getloadavg()[0])
             next_sample += 10.0
-        if args.walk:
-            x, y, z, heading = walk_position(now - start)
+        if walking:
+            x, y, z, heading = walk_position(now - start, walk_room)
             pose = PoseStamped()
             pose.header.stamp = rospy.Time.now()
             pose.header.frame_id = "room"
@@ -205,9 +240,19 @@ def main():
         return 1
     after_warm_up = [(t, v) for t, v in memory if t >= WARM_UP_S] or memory
     cpu = sorted(status["cpu"])
-    what = (f"a listener walking at {WALK_SPEED_M_S:g} m/s in a simulated {WALK_ROOM[0]:g} x {WALK_ROOM[1]:g} x "
-            f"{WALK_ROOM[2]:g} m room, 50 poses per second" if args.walk else
+    kind = "a simulated" if args.walk else "an RSAO"
+    what = (f"a listener walking at {WALK_SPEED_M_S:g} m/s in {kind} {walk_room[0]:g} x {walk_room[1]:g} x "
+            f"{walk_room[2]:g} m room, 50 poses per second" if walking else
             f"a room swap every {args.swap_s:g} s ({swaps} swaps over {len(rooms)} RIRs), head turning at 50 Hz")
+    step_lines = []
+    if args.walk_rsao:
+        dry, channels, _ = read_wav_float(DRY)
+        dry = dry[::channels]
+        dry_step = max(abs(b - a) for a, b in zip(dry, dry[1:]))
+        dry_peak = max(abs(v) for v in dry)
+        scaled = dry_step * stream["peak"] / dry_peak if dry_peak > 0 else float("nan")
+        step_lines = [f"| largest sample step while walking / the dry signal's own / the dry's scaled to the stream's peak | "
+                      f"{stream['step']:.4f} / {dry_step:.4f} / {scaled:.4f} (peaks {stream['peak']:.4f}, dry {dry_peak:.4f}) |"]
     lines = [
         f"| run | {args.minutes:g} min, {what} |",
         "| --- | --- |",
@@ -215,7 +260,8 @@ def main():
         f"| rooms accepted / refused | {last.room_changes} / {last.rooms_rejected} |",
         f"| orientations refused | {last.orientations_rejected} |",
         *([f"| walkable at the end / positions outside the room | {last.walkable} / {last.listener_positions_clamped} |"]
-          if args.walk else []),
+          if walking else []),
+        *step_lines,
         f"| process CPU share, median / worst status period | {statistics.median(cpu):.3f} / {cpu[-1]:.3f} |",
         f"| longest chunk render | {1000.0 * status['worst_chunk']:.1f} ms |",
         f"| audio thread scheduling | {last.audio_scheduling} |",
