@@ -145,11 +145,13 @@ def main():
     head_pub = rospy.Publisher(base + "head_orientation", QuaternionStamped, queue_size=10)
     scene_pub = rospy.Publisher(base + "room_scene", RoomScene, queue_size=1, latch=True)
     pose_pub = rospy.Publisher(base + "listener_pose", PoseStamped, queue_size=10)
-    status = {"last": None, "cpu": [], "worst_chunk": 0.0}
+    status = {"last": None, "cpu": [], "worst_chunk": 0.0, "pose_to_ear": []}
 
     def on_status(message):
         status["last"] = message
         status["cpu"].append(message.process_cpu_share)
+        if message.pose_to_ear_s > 0.0:
+            status["pose_to_ear"].append(message.pose_to_ear_s)
         status["worst_chunk"] = max(status["worst_chunk"], message.worst_chunk_render_s)
 
     rospy.Subscriber(base + "status", StreamStatus, on_status)
@@ -262,6 +264,9 @@ def main():
         *([f"| walkable at the end / positions outside the room | {last.walkable} / {last.listener_positions_clamped} |"]
           if walking else []),
         *step_lines,
+        *([f"| pose to ear, the status periods' longest: median / max | "
+           f"{1000.0 * statistics.median(status['pose_to_ear']):.1f} / {1000.0 * max(status['pose_to_ear']):.1f} ms |"]
+          if walking and status["pose_to_ear"] else []),
         f"| process CPU share, median / worst status period | {statistics.median(cpu):.3f} / {cpu[-1]:.3f} |",
         f"| longest chunk render | {1000.0 * status['worst_chunk']:.1f} ms |",
         f"| audio thread scheduling | {last.audio_scheduling} |",

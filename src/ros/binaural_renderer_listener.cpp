@@ -71,17 +71,24 @@ void BinauralRendererServer::onRoomModel(const room_reverb::RoomModel::ConstPtr&
 void BinauralRendererServer::onListenerPose(const geometry_msgs::PoseStamped::ConstPtr& message) {
   const auto& p = message->pose.position;
   const auto& q = message->pose.orientation;
-  acceptListenerPose(Eigen::Vector3d(p.x, p.y, p.z), Eigen::Quaterniond(q.w, q.x, q.y, q.z), "~listener_pose");
+  acceptListenerPose(Eigen::Vector3d(p.x, p.y, p.z), Eigen::Quaterniond(q.w, q.x, q.y, q.z), "~listener_pose",
+                     message->header.stamp);
 }
 
 void BinauralRendererServer::acceptListenerPose(const Eigen::Vector3d& position, const Eigen::Quaterniond& orientation,
-                                                const char* from) {
+                                                const char* from, const ::ros::Time& stamp) {
   try {
     if (!position.allFinite()) throw core::InputError("the position is not finite");
     const Eigen::Quaterniond head = core::validatedRotation(orientation);
+    // When the pose was taken: its stamp, unless it has none or one ahead of this clock
+    // (another clock's), then now.
+    const double now_s = ::ros::Time::now().toSec();
+    const double pose_s = !stamp.isZero() && stamp.toSec() <= now_s ? stamp.toSec() : now_s;
     std::lock_guard<std::mutex> lock(mutex_);
     pending_head_ = head;
     pending_position_ = position;
+    // The oldest movement not yet heard: a newer pose supersedes it, but is heard no sooner.
+    if (!pending_pose_s_) pending_pose_s_ = pose_s;
     last_listener_position_ = position;
     last_head_ = head;
     early_wake_.notify_one();
@@ -108,7 +115,7 @@ void BinauralRendererServer::followListenerFrame() {
   last_listener_tf_stamp_ = head.header.stamp;
   const auto& t = head.transform.translation;
   const auto& r = head.transform.rotation;
-  acceptListenerPose(Eigen::Vector3d(t.x, t.y, t.z), Eigen::Quaterniond(r.w, r.x, r.y, r.z), "TF");
+  acceptListenerPose(Eigen::Vector3d(t.x, t.y, t.z), Eigen::Quaterniond(r.w, r.x, r.y, r.z), "TF", head.header.stamp);
 }
 
 void BinauralRendererServer::publishMarkers() {

@@ -71,6 +71,11 @@ void BinauralRendererServer::audioLoop() {
     const std::uint64_t index = pacer_->chunkIndex();
     const ::ros::Time stream_start(pacer_->startTime());
     chunk_message_.header.stamp = stream_start + ::ros::Duration(static_cast<double>(index) * chunk_period_s);
+    if (taken_pose_s_) {
+      // Its first sample reaches the listener at its due time (StreamPacer).
+      const double due_s = stream_start.toSec() + static_cast<double>(index) * chunk_period_s;
+      worst_pose_to_ear_s_ = std::max(worst_pose_to_ear_s_, due_s - *taken_pose_s_);
+    }
     if (jack_) jack_->write(left_.data(), right_.data(), left_.size());
     binaural_publisher_.publish(chunk_message_);
     const std::uint64_t late_before = pacer_->counters().late;
@@ -95,6 +100,8 @@ void BinauralRendererServer::renderChunk() {
     room.swap(pending_room_);
     head.swap(pending_head_);
     position.swap(pending_position_);
+    taken_pose_s_.reset();
+    taken_pose_s_.swap(pending_pose_s_);
     early.swap(pending_early_);
   }
   if (position) {
@@ -218,10 +225,12 @@ void BinauralRendererServer::publishStatus() {
     status.process_cpu_share = (process_cpu - cpu_process_mark_) / stream_s;
   }
   status.worst_chunk_render_s = worst_chunk_s_;
+  status.pose_to_ear_s = worst_pose_to_ear_s_;
   cpu_thread_mark_ = thread_cpu;
   cpu_process_mark_ = process_cpu;
   chunks_at_mark_ = pacing.published;
   worst_chunk_s_ = 0.0;
+  worst_pose_to_ear_s_ = 0.0;
   status_publisher_.publish(status);
 }
 

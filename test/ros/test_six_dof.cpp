@@ -44,6 +44,18 @@ const std::string kNs = "/walking/binaural_renderer/";
 struct Ears {
   explicit Ears(ros::NodeHandle& nh) : status(nh, kNs + "status") {
     audio_sub = nh.subscribe(kNs + "binaural", 2000, &Ears::onAudio, this);
+    status_sub = nh.subscribe(kNs + "status", 100, &Ears::onStatus, this);
+  }
+  void onStatus(const room_reverb::StreamStatus::ConstPtr& s) {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (s->pose_to_ear_s > 0.0) pose_to_ear_s.push_back(s->pose_to_ear_s);
+  }
+  // The status periods' longest pose-to-ear times since the last call.
+  std::vector<double> takePoseToEar() {
+    std::lock_guard<std::mutex> lock(mutex);
+    std::vector<double> taken;
+    taken.swap(pose_to_ear_s);
+    return taken;
   }
   void onAudio(const room_reverb::AudioBuffer::ConstPtr& m) {
     std::lock_guard<std::mutex> lock(mutex);
@@ -65,7 +77,8 @@ struct Ears {
   double energy = 0.0;
   std::size_t samples = 0;
   room_reverb::test::StreamStatusWatch status;
-  ros::Subscriber audio_sub;
+  ros::Subscriber audio_sub, status_sub;
+  std::vector<double> pose_to_ear_s;
 };
 
 // Publishes white noise on ~source at the real-time rate and the listener's pose, in
@@ -141,6 +154,7 @@ TEST(SixDof, AListenerWalkingTowardsTheSourceHearsItLouderWithoutAGap) {
   walker.walk(1.0, [&](double) { return rig; });
   const double at_rig = ears.takeMeanSquare();
   const room_reverb::StreamStatus before = ears.latest();
+  ears.takePoseToEar();
 
   // Walk at 1 m/s to 0.7 m from the source, and stay there.
   const Eigen::Vector3d towards = (source - rig).normalized();
@@ -153,6 +167,21 @@ TEST(SixDof, AListenerWalkingTowardsTheSourceHearsItLouderWithoutAGap) {
     return s.chunks_published > before.chunks_published + 20;
   }, 5.0));
   const room_reverb::StreamStatus after = ears.latest();
+
+  // A pose reaches the ears with the next chunk: each status period's longest time from a
+  // pose's stamp to the chunk that moves to it is about one chunk period (the walker's
+  // publish and ROS's delivery on top); a renderer that took poses only now and then
+  // would be several periods behind.
+  std::vector<double> pose_to_ear = ears.takePoseToEar();
+  ASSERT_GE(pose_to_ear.size(), 10u);
+  std::sort(pose_to_ear.begin(), pose_to_ear.end());
+  const double chunk_s = static_cast<double>(after.chunk_frames) / after.sample_rate_hz;
+  const double median_s = pose_to_ear[pose_to_ear.size() / 2];
+  std::printf("[ measured ] pose to ear, longest per status period: median %.1f ms, max %.1f ms (chunk %.1f ms)\n",
+              1000.0 * median_s, 1000.0 * pose_to_ear.back(), 1000.0 * chunk_s);
+  RecordProperty("pose_to_ear_median_ms", std::to_string(1000.0 * median_s));
+  EXPECT_LE(median_s, chunk_s + 0.005);
+  EXPECT_LE(pose_to_ear.back(), 5.0 * chunk_s);
 
   ASSERT_GT(at_rig, 0.0);
   const double gain_db = 10.0 * std::log10(near_source / at_rig);

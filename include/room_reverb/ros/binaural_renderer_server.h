@@ -95,8 +95,10 @@ class BinauralRendererServer {
   void offerRsao(const core::Rsao& rsao, const std::string& what);
   // Audio thread: a new room's taps, and the taps' targets for a listener position.
   void takeRoomTaps(const StreamRoom& room);
-  // A listener pose from ~listener_pose or TF (`from` names which, for the log).
-  void acceptListenerPose(const Eigen::Vector3d& position, const Eigen::Quaterniond& orientation, const char* from);
+  // A listener pose from ~listener_pose or TF (`from` names which, for the log), stamped
+  // `stamp` (zero: not stamped).
+  void acceptListenerPose(const Eigen::Vector3d& position, const Eigen::Quaterniond& orientation, const char* from,
+                          const ::ros::Time& stamp);
   // Timer: the newest TF room_frame -> listener_frame, when ~listener_frame is set.
   void followListenerFrame();
   // Timer: ~markers of the walkable room playing (listener, image sources, paths heard).
@@ -144,6 +146,10 @@ class BinauralRendererServer {
   room_reverb::AudioBuffer chunk_message_;
   // At the last status: processor times and chunks published; the longest chunk since.
   double cpu_thread_mark_ = 0.0, cpu_process_mark_ = 0.0, worst_chunk_s_ = 0.0;
+  // The oldest pose time (StreamStatus::pose_to_ear_s) the chunk being rendered took, and
+  // the longest pose-to-ear time since the last status.
+  std::optional<double> taken_pose_s_;
+  double worst_pose_to_ear_s_ = 0.0;
   std::uint64_t chunks_at_mark_ = 0;
   std::string audio_scheduling_;
   std::shared_ptr<const core::ListenerTranslation> translation_;  // of the room playing
@@ -166,6 +172,7 @@ class BinauralRendererServer {
   std::shared_ptr<const StreamRoom> current_room_;
   std::optional<Eigen::Quaterniond> pending_head_;
   std::optional<Eigen::Vector3d> pending_position_;
+  std::optional<double> pending_pose_s_;  // the oldest pending pose's time (ROS seconds)
   std::optional<Eigen::Vector3d> last_listener_position_;  // for ~render_to_file and ~markers
   Eigen::Quaterniond last_head_ = Eigen::Quaterniond::Identity();  // for ~markers
   bool markers_shown_ = false;  // ~markers holds a listener (cleared when the room stops being walkable)
