@@ -246,21 +246,19 @@ TEST(EdgeDiffraction, TheDetourIsTheShortestWayOverOneEdgeOrTwo) {
   box.size_m = {1.2, 0.7, 1.0};
   box.yaw_rad = 0.5;
   const Eigen::Vector3d half = 0.5 * box.size_m;
-  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> edges;  // cuboid frame
-  for (int axis = 0; axis < 3; ++axis) {
-    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-    for (const double su : {-1.0, 1.0}) {
-      for (const double sv : {-1.0, 1.0}) {
-        Eigen::Vector3d a = Eigen::Vector3d::Zero();
-        a[u] = su * half[u];
-        a[v] = sv * half[v];
-        Eigen::Vector3d b = a;
-        a[axis] = -half[axis];
-        b[axis] = half[axis];
-        edges.emplace_back(fromCuboidFrame(box, a), fromCuboidFrame(box, b));
-      }
+  // The twelve edges: pairs of the eight corners that differ in one coordinate's sign.
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> edges;  // room frame
+  for (int i = 0; i < 8; ++i) {
+    for (int j = i + 1; j < 8; ++j) {
+      if (__builtin_popcount(i ^ j) != 1) continue;
+      const auto corner = [&](int bits) {
+        return Eigen::Vector3d((bits & 1 ? 1 : -1) * half.x(), (bits & 2 ? 1 : -1) * half.y(),
+                               (bits & 4 ? 1 : -1) * half.z());
+      };
+      edges.emplace_back(fromCuboidFrame(box, corner(i)), fromCuboidFrame(box, corner(j)));
     }
   }
+  ASSERT_EQ(edges.size(), 12u);
   const auto clear = [&](const std::vector<Eigen::Vector3d>& way) {
     for (std::size_t k = 0; k + 1 < way.size(); ++k) {
       if (segmentCrossesCuboid(box, way[k], way[k + 1])) return false;
