@@ -15,13 +15,14 @@ std::size_t nextFastFftSize(std::size_t n);
 
 // How a plan is chosen. kEstimate: by FFTW's heuristics, at once, the same on every
 // machine. kMeasured: the fastest of FFTW's candidates timed on this machine
-// (FFTW_MEASURE), for the streaming convolver's transforms, run every block: at 512-32 768
-// points it takes 9-12 % off a walking binaural stream (bench_binaural_renderer) and costs
-// 0.15-1 s of planning per size. The measured choice is kept as FFTW wisdom in
-// $ROOM_REVERB_FFTW_WISDOM (default $XDG_CACHE_HOME/room_reverb/fftwf.wisdom, or
-// ~/.cache/room_reverb/fftwf.wisdom; an empty value keeps nothing), so a size is measured
-// once per machine; the wisdom is forgotten again after each measured plan, so estimated
-// plans never pick it up and stay the same in every process.
+// (FFTW_MEASURE), for the streaming convolver's transforms, run every block: they take 7 %
+// (512-4096 points, a Xeon) and 2-5 % more (32 768, an AMD EPYC) off a walking binaural
+// stream (bench_binaural_renderer) and cost 0.15-1 s of planning per size. The measured
+// choice is kept as FFTW wisdom in $ROOM_REVERB_FFTW_WISDOM (default
+// $XDG_CACHE_HOME/room_reverb/fftwf.wisdom, or ~/.cache/room_reverb/fftwf.wisdom; an empty
+// value keeps nothing), so a size is measured once per machine; the wisdom is forgotten
+// again after each measured plan, so estimated plans never pick it up and stay the same
+// in every process.
 enum class FftPlanning { kEstimate, kMeasured };
 
 class RealFft {
