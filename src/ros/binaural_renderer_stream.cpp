@@ -4,8 +4,9 @@
 #include <time.h>
 
 #include <algorithm>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
+#include <utility>
 
 #include "room_reverb/ambisonics/rotation.h"
 #include "room_reverb/audio/audio_file.h"
@@ -72,9 +73,8 @@ void BinauralRendererServer::audioLoop() {
     const ::ros::Time stream_start(pacer_->startTime());
     chunk_message_.header.stamp = stream_start + ::ros::Duration(static_cast<double>(index) * chunk_period_s);
     if (taken_pose_s_) {
-      // Its first sample reaches the listener at its due time (StreamPacer).
-      const double due_s = stream_start.toSec() + static_cast<double>(index) * chunk_period_s;
-      worst_pose_to_ear_s_ = std::max(worst_pose_to_ear_s_, due_s - *taken_pose_s_);
+      // Its first sample reaches the listener at its due time, the chunk's stamp (StreamPacer).
+      worst_pose_to_ear_s_ = std::max(worst_pose_to_ear_s_, chunk_message_.header.stamp.toSec() - *taken_pose_s_);
     }
     if (jack_) jack_->write(left_.data(), right_.data(), left_.size());
     binaural_publisher_.publish(chunk_message_);
@@ -100,8 +100,7 @@ void BinauralRendererServer::renderChunk() {
     room.swap(pending_room_);
     head.swap(pending_head_);
     position.swap(pending_position_);
-    taken_pose_s_.reset();
-    taken_pose_s_.swap(pending_pose_s_);
+    taken_pose_s_ = std::exchange(pending_pose_s_, std::nullopt);
     early.swap(pending_early_);
   }
   if (position) {
