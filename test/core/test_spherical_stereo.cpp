@@ -162,3 +162,37 @@ TEST(SphericalStereo, CamerasExposedOnTheirOwnRangeAsOneExposedAlike) {
   // Without it the matcher loses a sixth of the room.
   EXPECT_LE(unmatched.valid_fraction, reference.valid_fraction - 0.1);
 }
+
+// The matcher works only on the polar angles between the caps (and the margins its search
+// and paths need): the rows right next to each cap are ranged like the rest, whatever the
+// cap's size.
+TEST(SphericalStereo, RowsNextToThePolarCapsAreRanged) {
+  const StereoCapture capture = render("mr", 1024);
+  for (const double cap_deg : {15.0, 30.0}) {
+    SphericalStereoOptions options;
+    options.polar_cap_deg = cap_deg;
+    const SphericalDepth depth = computeSphericalDepth(capture.top.color, capture.bottom.color, 0.2, options);
+    for (const bool zenith_side : {true, false}) {
+      long pixels = 0;
+      std::vector<double> errors;
+      for (int v = 0; v < depth.range_m.rows; ++v) {
+        const double polar_deg = (v + 0.5) * 180.0 / depth.range_m.rows;
+        const double from_cap_deg = zenith_side ? polar_deg - cap_deg : 180.0 - cap_deg - polar_deg;
+        if (from_cap_deg < 0.0 || from_cap_deg >= 3.0) continue;
+        for (int u = 0; u < depth.range_m.cols; ++u, ++pixels) {
+          if (depth.valid.at<std::uint8_t>(v, u) == 0) continue;
+          const double truth = capture.top.range_m.at<float>(v, u);
+          errors.push_back(std::abs(depth.range_m.at<float>(v, u) - truth) / truth);
+        }
+      }
+      ASSERT_GT(pixels, 0);
+      std::sort(errors.begin(), errors.end());
+      const std::string where = std::to_string(int(cap_deg)) + " deg cap, " + (zenith_side ? "zenith" : "nadir") + " side";
+      EXPECT_GE(static_cast<double>(errors.size()) / static_cast<double>(pixels), 0.95) << where;
+      ASSERT_FALSE(errors.empty()) << where;
+      EXPECT_LE(errors[errors.size() / 2], 0.03) << where;
+    }
+    // Inside the caps there is no range.
+    EXPECT_EQ(cv::countNonZero(depth.valid.rowRange(0, static_cast<int>(cap_deg / 180.0 * depth.range_m.rows) - 1)), 0);
+  }
+}

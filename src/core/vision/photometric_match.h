@@ -6,7 +6,8 @@
 // becomes a bias in the disparity. The matcher's own pairs (most of them right even then)
 // say which pixels of the two images show the same surface point; a gain and an offset
 // per channel fitted on them carry the bottom image's grey levels onto the top's, and the
-// pair is matched again. The matcher is sensitive even to small differences: on the
+// pair is matched with them (spherical_stereo.cpp fits the map on a match of the pair at
+// half size, which keeps a gain and an offset, so the full-size match runs once). The matcher is sensitive even to small differences: on the
 // meeting room at 2048 x 1024 a shift of 2-4 grey levels loses 13 % of the ranges nearer
 // than 1.5 m, which is why a map from the two images' histograms is no substitute (the
 // two views, 0.2 m apart, see the floor and ceiling in different proportions, and such a

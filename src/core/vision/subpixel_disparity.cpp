@@ -10,6 +10,9 @@ constexpr int kIterations = 3;
 // Below this mean squared gradient [grey levels^2 per pixel^2] the window is too plain for
 // the step to mean anything (sensor noise alone gives a few).
 constexpr double kMinGradientEnergy = 4.0;
+// A step below this [px] ends the iterations: the next would move the disparity by less
+// than a thousandth of a pixel, 0.01 % of the range of a wall 8 m away at 2048 x 1024.
+constexpr double kConverged = 0.005;
 
 }  // namespace
 
@@ -60,8 +63,10 @@ double refineDisparity(const EpipolarImage& left, const EpipolarImage& right, in
     const double samples = (2.0 * half_rows + 1.0) * (2.0 * half_cols + 1.0);
     if (den < kMinGradientEnergy * samples) return d0;
     // r(d) = L - R(c - d); dr/dd = R'(c - d); step = -sum(r r') / sum(r'^2).
-    d -= num / den;
+    const double step = num / den;
+    d -= step;
     if (std::abs(d - d0) > 0.5) return d0;
+    if (std::abs(step) < kConverged) break;
   }
   return d;
 }
