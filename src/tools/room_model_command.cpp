@@ -85,6 +85,7 @@ std::string materialNote(const SurfaceMaterialDecision& d, double confidence) {
   } else {
     if (!d.runner_up.empty()) out << "; runner-up " << d.runner_up << " " << d.runner_up_confidence;
     if (d.fell_back) out << "; fallback: " << d.fallback_reason;
+    if (d.joint_grid) out << "; tiles: " << d.joint_grid_reason;
     if (!d.seen && d.family != TextureFamily::kOpening) out << "; not seen";
   }
   out << ")";

@@ -43,6 +43,9 @@ struct SurfaceMaterialOptions {
   double min_patch_coverage = 0.25;
   double min_source_pixels = 6.0;
   int threads = 0;  // 0: all cores
+  // A box face whose joints repeat along both its axes is tiles, whatever its patches'
+  // vote (vision/tile_joints.h).
+  bool tile_joints = true;
   // A materials override file (format: material_overrides.h); "" for none. Read on each
   // call, so that a user can correct the file and build again.
   std::string override_file;
@@ -70,6 +73,12 @@ struct SurfaceMaterialDecision {
   // The vote was below the table's min_confidence and the placement's fallback rule chose.
   bool fell_back = false;
   std::string fallback_reason;
+  // A box face whose joints repeat along both its axes is tiles whatever its patches
+  // looked like (a patch shows one or two joints of large tiles; vision/tile_joints.h):
+  // the family is tiles, its confidence the weaker axis's strength, the vote's winner the
+  // runner-up, and this says what was seen.
+  bool joint_grid = false;
+  std::string joint_grid_reason;
   // The override file named this face or object: material and confidence are the user's;
   // found_material and found_confidence what the route had found.
   bool overridden = false;

@@ -36,6 +36,7 @@ std::vector<SurfaceRect> modelSurfaceRects(const RoomModel& model);
 
 struct SurfacePatch {
   int target = 0;
+  double s_m = 0.0, t_m = 0.0;  // the patch's centre on its rectangle (SurfaceRect's s and t)
   cv::Mat bgr;                // pixels x pixels CV_8UC3; black outside the mask
   cv::Mat mask;               // CV_8UC1, 255 where the surface is seen
   double area_m2 = 0.0;       // area of the surface under the mask

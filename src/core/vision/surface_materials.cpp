@@ -1,5 +1,6 @@
 #include "room_reverb/vision/surface_materials.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -7,6 +8,7 @@
 #include "room_reverb/common/error.h"
 #include "room_reverb/vision/material_overrides.h"
 #include "room_reverb/vision/surface_patches.h"
+#include "room_reverb/vision/tile_joints.h"
 
 namespace room_reverb::core {
 namespace {
@@ -74,6 +76,26 @@ void fallBack(SurfaceMaterialDecision& decision, const std::array<double, kTextu
   }
   decision.fell_back = true;
   decision.fallback_reason = reason;
+}
+
+// Tiles for a face whose joints repeat along both its axes: the vote's choice becomes the
+// runner-up.
+void applyJointGrid(SurfaceMaterialDecision& decision, const JointGrid& grid, SurfacePlacement placement,
+                    const MaterialFamilyTable& families) {
+  char reason[160];
+  std::snprintf(reason, sizeof reason, "joints repeat every %.2f x %.2f m (strength %.2f, %.2f); the patches' vote was %s (%.2f)",
+                grid.period_s_m, grid.period_t_m, grid.strength_s, grid.strength_t, toString(decision.family).c_str(),
+                decision.confidence);
+  decision.runner_up_family = decision.family;
+  decision.runner_up = decision.material;
+  decision.runner_up_confidence = decision.confidence;
+  decision.family = TextureFamily::kTiles;
+  decision.material = families.materialFor(TextureFamily::kTiles, placement);
+  decision.confidence = std::min(1.0, std::min(grid.strength_s, grid.strength_t));
+  decision.fell_back = false;
+  decision.fallback_reason.clear();
+  decision.joint_grid = true;
+  decision.joint_grid_reason = reason;
 }
 
 // The unseen default, or the material the model already had (someone put it there for a
@@ -189,6 +211,10 @@ std::vector<SurfaceMaterialDecision> assignSurfaceMaterials(RoomLayout& layout, 
     }
   }
 
+  std::array<std::vector<const SurfacePatch*>, 6> face_patches;
+  for (const SurfacePatch& patch : patches) {
+    if (patch.target < 6) face_patches[static_cast<std::size_t>(patch.target)].push_back(&patch);
+  }
   std::vector<SurfaceMaterialDecision> decisions;
   for (int f = 0; f < 6; ++f) {
     if (f == 1 && !model.has_ceiling) continue;
@@ -202,6 +228,8 @@ std::vector<SurfaceMaterialDecision> assignSurfaceMaterials(RoomLayout& layout, 
       decision.family = TextureFamily::kOpening;
     } else if (isSeen(tallies[face], options)) {
       decision = decideFromVote(tallies[face], placementOf(f), families);
+      const JointGrid grid = jointGridOfFace(face_patches[face], sampling.geometry.size_m);
+      if (options.tile_joints && grid.grid && decision.family != TextureFamily::kTiles) applyJointGrid(decision, grid, placementOf(f), families);
     } else {
       decision = unseen(tallies[face], placementOf(f), surface.material, surface.confidence, families, options);
     }

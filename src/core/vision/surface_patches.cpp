@@ -113,6 +113,8 @@ class PatchCutter {
     const double slant = slant_sum / seen;
     SurfacePatch patch;
     patch.target = rect.target;
+    patch.s_m = s_centre;
+    patch.t_m = t_centre;
     // Across the slanted direction an image pixel covers footprint * slant of the surface.
     patch.source_pixels = sampling_.geometry.size_m / (footprint * slant);
     if (patch.source_pixels < sampling_.min_source_pixels) return std::nullopt;
