@@ -126,3 +126,21 @@ TEST(TileJoints, TooLittleOfAFaceSaysNothing) {
   EXPECT_FALSE(grid.grid);
   EXPECT_EQ(grid.strength_s, 0.0);
 }
+
+// A brick bond's head joints, staggered by half a brick from course to course, fall every
+// half brick in the mean over the courses: it repeats along both axes as tiles do. That is
+// why the material step asks only floors and ceilings (test_material_classifier checks
+// that a brick wall stays brick).
+TEST(TileJoints, ABrickBondRepeatsAlongBothAxes) {
+  const auto bond = [](double s, double t) {
+    const double course = 0.075, brick = 0.225;
+    const int row = static_cast<int>(std::floor(t / course));
+    const double along = s + (row % 2 != 0 ? 0.5 * brick : 0.0);
+    const bool joint = t / course - std::floor(t / course) < 0.13 || along / brick - std::floor(along / brick) < 0.045;
+    return joint ? 200.0 : 110.0;
+  };
+  const auto patches = face(7, 5, bond);
+  const JointGrid grid = jointGridOfFace(pointers(patches), kPatchM);
+  EXPECT_TRUE(grid.grid) << grid.strength_s << ", " << grid.strength_t;
+  EXPECT_NEAR(grid.period_s_m, 0.1125, 0.015);
+}

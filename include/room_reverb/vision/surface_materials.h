@@ -43,8 +43,8 @@ struct SurfaceMaterialOptions {
   double min_patch_coverage = 0.25;
   double min_source_pixels = 6.0;
   int threads = 0;  // 0: all cores
-  // A box face whose joints repeat along both its axes is tiles, whatever its patches'
-  // vote (vision/tile_joints.h).
+  // A floor or ceiling whose joints repeat along both its axes is tiles, whatever its
+  // patches' vote (vision/tile_joints.h). Not walls: a brick bond repeats so too.
   bool tile_joints = true;
   // A materials override file (format: material_overrides.h); "" for none. Read on each
   // call, so that a user can correct the file and build again.
@@ -73,7 +73,7 @@ struct SurfaceMaterialDecision {
   // The vote was below the table's min_confidence and the placement's fallback rule chose.
   bool fell_back = false;
   std::string fallback_reason;
-  // A box face whose joints repeat along both its axes is tiles whatever its patches
+  // A floor or ceiling whose joints repeat along both its axes is tiles whatever its patches
   // looked like (a patch shows one or two joints of large tiles; vision/tile_joints.h):
   // the family is tiles, its confidence the weaker axis's strength, the vote's winner the
   // runner-up, and this says what was seen.

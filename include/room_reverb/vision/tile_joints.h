@@ -7,7 +7,9 @@
 // patches laid side by side (they tile the face) show lines of gradient at a fixed
 // period along both of the face's axes, which planks (one axis: their butt joints are
 // staggered), carpet, concrete and plaster do not. Parquet laid in herringbone repeats
-// along both axes as well and is taken for tiles.
+// along both axes as well, and so does a brick bond (its head joints, staggered from
+// course to course, fall every half brick): the material step asks floors and ceilings
+// only.
 #include <vector>
 
 #include "room_reverb/vision/surface_patches.h"

@@ -228,8 +228,12 @@ std::vector<SurfaceMaterialDecision> assignSurfaceMaterials(RoomLayout& layout, 
       decision.family = TextureFamily::kOpening;
     } else if (isSeen(tallies[face], options)) {
       decision = decideFromVote(tallies[face], placementOf(f), families);
-      const JointGrid grid = jointGridOfFace(face_patches[face], sampling.geometry.size_m);
-      if (options.tile_joints && grid.grid && decision.family != TextureFamily::kTiles) applyJointGrid(decision, grid, placementOf(f), families);
+      // Floors and ceilings only: a brick bond's joints repeat along both axes too (its
+      // staggered head joints every half brick), and brick is a common wall.
+      if (options.tile_joints && f < 2 && decision.family != TextureFamily::kTiles) {
+        const JointGrid grid = jointGridOfFace(face_patches[face], sampling.geometry.size_m);
+        if (grid.grid) applyJointGrid(decision, grid, placementOf(f), families);
+      }
     } else {
       decision = unseen(tallies[face], placementOf(f), surface.material, surface.confidence, families, options);
     }
