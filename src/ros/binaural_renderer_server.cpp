@@ -9,6 +9,8 @@
 
 #include "room_reverb/ambisonics/rotation.h"
 #include "room_reverb/audio/audio_file.h"
+#include "room_reverb/audio/fft.h"
+#include "room_reverb/audio/partitioned_convolver.h"
 #include "room_reverb/binaural/hrtf_set.h"
 #include "room_reverb/binaural/offline_render.h"
 #include "room_reverb/common/error.h"
@@ -120,6 +122,10 @@ BinauralRendererServer::BinauralRendererServer(::ros::NodeHandle& nh, ::ros::Nod
   simulator_ = nh_.serviceClient<room_reverb::SimulateRoom>(simulator_service_);
   setUpJack(private_nh);
   setUpSimulatedWalk(private_nh);
+  // Every transform size the streaming convolvers can use, measured before the audio
+  // thread starts (fft.h): a room that arrives later is prepared without the audio thread
+  // waiting on FFTW's planner.
+  core::prepareMeasuredFftPlans(2 * block_frames_, 2 * core::PartitionedConvolver::kDefaultMaxPartitionSize);
 }
 
 BinauralRendererServer::~BinauralRendererServer() { stop(); }

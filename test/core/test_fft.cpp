@@ -110,6 +110,23 @@ TEST(Fft, AMeasuredPlanTransformsAsTheEstimatedOneAndIsKept) {
   unsetenv("ROOM_REVERB_FFTW_WISDOM");
 }
 
+// A stream measures its plans before its audio thread starts: the range's powers of two
+// are measured (sizes no other test here uses) and kept on disk for the next process.
+TEST(Fft, PreparedMeasuredPlansAreMeasuredAndKept) {
+  const std::string wisdom = ::testing::TempDir() + "room_reverb_fft_prepare/wisdom";
+  std::filesystem::remove_all(::testing::TempDir() + "room_reverb_fft_prepare");
+  setenv("ROOM_REVERB_FFTW_WISDOM", wisdom.c_str(), 1);
+  prepareMeasuredFftPlans(52, 208);  // 52, 104, 208
+  EXPECT_EQ(readAll(wisdom).rfind("(fftw-", 0), 0u);
+  // Made again, a prepared size comes from the shared cache and transforms as the
+  // estimated plan does.
+  const std::vector<float> x = room_reverb::test::whiteNoise(208, 3);
+  RealFft estimated(208), measured(208, FftPlanning::kMeasured);
+  const auto a = estimated.forward(x), b = measured.forward(x);
+  for (std::size_t k = 0; k < a.size(); ++k) EXPECT_LT(std::abs(a[k] - b[k]), 1e-4f) << k;
+  unsetenv("ROOM_REVERB_FFTW_WISDOM");
+}
+
 TEST(Fft, NowhereToKeepWisdomStillPlans) {
   // Empty: nothing kept; a directory that cannot be made: nothing kept, no error.
   for (const char* path : {"", "/proc/room_reverb_no_such_dir/wisdom"}) {

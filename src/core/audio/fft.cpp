@@ -190,4 +190,10 @@ void ComplexInverseFft::inverse(const std::complex<float>* spectrum, std::comple
   std::memcpy(static_cast<void*>(time), out_, size_ * sizeof(fftwf_complex));
 }
 
+void prepareMeasuredFftPlans(std::size_t smallest, std::size_t largest) {
+  for (std::size_t size = std::max<std::size_t>(smallest, 1); size <= largest; size *= 2) {
+    const RealFft plans(size, FftPlanning::kMeasured);  // kept in the shared plan cache
+  }
+}
+
 }  // namespace room_reverb::core
