@@ -87,8 +87,8 @@ class ComplexInverseFft {
 // `largest` points now (from the kept wisdom, or measured: about 1.5 s for 512-32 768 at a
 // machine's first start). A real-time stream calls it before its audio thread starts: a
 // plan is made under FFTW's one planner lock, and an audio thread that needs any plan
-// while another thread measures one waits for it (a renderer without this dropped about
-// 90 chunks, 1 s of sound, the first time a room arrived on a machine without wisdom).
+// while another thread measures one waits for it (without this, a renderer drops about 90
+// chunks, 1 s of sound, when its first room arrives on a machine without kept wisdom).
 void prepareMeasuredFftPlans(std::size_t smallest, std::size_t largest);
 
 }  // namespace room_reverb::core
