@@ -66,8 +66,8 @@ std::vector<const SurfacePatch*> pointers(const std::vector<SurfacePatch>& patch
 // Square tiles of `size` with 1 cm joints darker than the tiles, and a mottled face.
 std::function<double(double, double)> tiles(double size, unsigned seed = 7) {
   auto noise = std::make_shared<cv::Mat>(512, 512, CV_32FC1);
-  cv::randn(*noise, 0.0, 12.0);
   cv::setRNGSeed(static_cast<int>(seed));
+  cv::randn(*noise, 0.0, 12.0);
   // Laid from a corner that is no patch's: where joints meet the patches' edges is chance.
   return [size, noise](double s, double t) {
     s += 0.037, t += 0.052;

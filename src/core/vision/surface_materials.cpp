@@ -211,9 +211,10 @@ std::vector<SurfaceMaterialDecision> assignSurfaceMaterials(RoomLayout& layout, 
     }
   }
 
-  std::array<std::vector<const SurfacePatch*>, 6> face_patches;
+  // The floor's and the ceiling's patches, for their joints.
+  std::array<std::vector<const SurfacePatch*>, 2> face_patches;
   for (const SurfacePatch& patch : patches) {
-    if (patch.target < 6) face_patches[static_cast<std::size_t>(patch.target)].push_back(&patch);
+    if (patch.target < 2) face_patches[static_cast<std::size_t>(patch.target)].push_back(&patch);
   }
   std::vector<SurfaceMaterialDecision> decisions;
   for (int f = 0; f < 6; ++f) {
