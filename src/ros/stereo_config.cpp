@@ -18,6 +18,8 @@ core::SphericalStereoOptions stereoOptionsFromConfig(const room_reverb::Spherica
   options.fill_holes = config.fill_holes;
   options.max_hole_px = config.max_hole_px;
   options.subpixel_refinement = config.subpixel_refinement;
+  options.planar_refinement = config.planar_refinement;
+  options.planar_max_range_m = config.planar_max_range_m;
   options.match_exposure = config.match_exposure;
   return options;
 }

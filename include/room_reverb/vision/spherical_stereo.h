@@ -59,6 +59,15 @@ struct SphericalStereoOptions {
   // 20 with it (docs/visual-route.md).
   bool subpixel_refinement = true;
   int refinement_half_window_px = 3;  // n
+  // After it, tiles of planar_tile_px^2 pixels that one plane explains (walls, floors,
+  // table tops) take the plane fitted to all of the tile's grey levels
+  // (src/core/vision/planar_disparity.h): a plain wall too smooth for the small window is
+  // still ranged without the pull towards whole pixels. Walls face-on 5-8 m away
+  // (test_stereo_range_accuracy): median error 0.66 % against 1.50 % without; 3-5 m 0.10
+  // against 0.54 %. Needs subpixel_refinement.
+  bool planar_refinement = true;
+  int planar_tile_px = 32;            // 8..256
+  double planar_max_range_m = 8.0;    // farther tiles keep the per-pixel disparities
   int threads = 0;                    // rows of the refinement and conversion (0: all cores)
   // Where the pixels the matcher pairs in the pair at half size show the two cameras
   // exposed differently, carry the bottom image's grey levels onto the top's (per channel,

@@ -10,6 +10,7 @@
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/parallel_rows.h"
 #include "photometric_match.h"
+#include "planar_disparity.h"
 #include "subpixel_disparity.h"
 
 namespace room_reverb::core {
@@ -47,10 +48,10 @@ void validate(const cv::Mat& top, const cv::Mat& bottom, double baseline_m, cons
   if (!(o.min_range_m > baseline_m) || !(o.max_range_m > o.min_range_m) || !(o.polar_cap_deg >= 0.0 && o.polar_cap_deg < 90.0) ||
       o.seam_padding_px < 0 || o.block_size < 1 || o.block_size % 2 == 0 || o.p1_per_channel <= 0 ||
       o.p2_per_channel <= o.p1_per_channel || o.max_hole_px < 0 || o.refinement_half_window_px < 1 ||
-      o.refinement_half_window_px > 16 || o.threads < 0) {
+      o.refinement_half_window_px > 16 || o.planar_tile_px < 8 || o.planar_tile_px > 256 || !(o.planar_max_range_m > 0.0) || o.threads < 0) {
     throw InputError("spherical stereo: options out of range (need baseline < min_range_m < max_range_m, 0 <= "
                      "polar_cap_deg < 90, odd block_size, 0 < p1 < p2, non-negative paddings, "
-                     "refinement_half_window_px 1..16, threads >= 0)");
+                     "refinement_half_window_px 1..16, planar_tile_px 8..256, planar_max_range_m > 0, threads >= 0)");
   }
   requireUsable(top, "top");
   requireUsable(bottom, "bottom");
@@ -254,16 +255,35 @@ SphericalDepth computeSphericalDepth(const cv::Mat& top, const cv::Mat& bottom, 
     right_epipolar = stereo_detail::epipolarImage(right);
   }
   // Rows are independent: each writes only its own row of the outputs.
+  cv::Mat disparity_px = matched.clone();
+  if (o.subpixel_refinement) {
+    forEachRow(h, o.threads, [&](int v) {
+      float* row = disparity_px.ptr<float>(v);
+      for (int u = 0; u < w; ++u) {
+        if (!std::isfinite(row[u])) continue;
+        row[u] = static_cast<float>(stereo_detail::refineDisparity(left_epipolar, right_epipolar, u + o.seam_padding_px,
+                                                                   v + search, row[u], o.refinement_half_window_px,
+                                                                   o.refinement_half_window_px));
+      }
+    });
+    if (o.planar_refinement) {
+      stereo_detail::PlanarRefinementGrid grid;
+      grid.baseline_m = baseline_m;
+      grid.seam_padding_px = o.seam_padding_px;
+      grid.pole_padding_px = search;
+      grid.tile_px = o.planar_tile_px;
+      grid.max_range_m = o.planar_max_range_m;
+      grid.threads = o.threads;
+      stereo_detail::refineDisparityByPlanes(left_epipolar, right_epipolar, disparity_px, grid);
+    }
+  }
   forEachRow(h, o.threads, [&](int v) {
     const double theta = (v + 0.5) * pixel_rad;
     if (cap_mask.at<std::uint8_t>(v, 0)) return;
+    const float* row = disparity_px.ptr<float>(v);
     for (int u = 0; u < w; ++u) {
-      double d = matched.at<float>(v, u);
+      const double d = row[u];
       if (!std::isfinite(d)) continue;
-      if (o.subpixel_refinement) {
-        d = stereo_detail::refineDisparity(left_epipolar, right_epipolar, u + o.seam_padding_px, v + search, d,
-                                           o.refinement_half_window_px, o.refinement_half_window_px);
-      }
       const double gamma = d * pixel_rad;
       const double range = rangeFromDisparity(theta, gamma, baseline_m);
       depth.disparity_rad.at<float>(v, u) = static_cast<float>(gamma);
