@@ -8,7 +8,8 @@
 //   p90_pct        90th percentile of it [%]
 //   points         points in the cloud
 // BM_PairToPointCloudExposedApart does the same with the bottom camera exposed apart from
-// the top one, as every real pair is. BM_PointCloudToRoomModel times the second half, the
+// the top one, as every real pair is; BM_PairToPointCloudWithoutPlanes without the tiles'
+// planes (SphericalStereoOptions::planar_refinement), for their cost in the same run. BM_PointCloudToRoomModel times the second half, the
 // point cloud to a room model with materials (roomLayoutFromCloud: layout fit plus
 // material step), with its accuracy as counters:
 //   size_err_cm    largest error of the room's three dimensions [cm] (ceiling-less: two)
@@ -95,11 +96,12 @@ double faceArea(const Eigen::Vector3d& size, int k) {
   return (k < 4 ? size.y() : size.x()) * size.z();
 }
 
-void pairToPointCloud(benchmark::State& state, bool exposed_apart) {
+void pairToPointCloud(benchmark::State& state, bool exposed_apart, bool planes = true) {
   const std::string name = kScenes[static_cast<std::size_t>(state.range(0))];
   const StereoCapture& c = capture(name, exposed_apart);
   state.SetLabel(name);
-  const SphericalStereoOptions options;
+  SphericalStereoOptions options;
+  options.planar_refinement = planes;
   SphericalDepth depth;
   PointCloud cloud;
   for (auto _ : state) {
@@ -132,6 +134,12 @@ void pairToPointCloud(benchmark::State& state, bool exposed_apart) {
 void BM_PairToPointCloud(benchmark::State& state) { pairToPointCloud(state, false); }
 BENCHMARK(BM_PairToPointCloud)->DenseRange(0, static_cast<int>(kScenes.size()) - 1)->Unit(benchmark::kMillisecond)
     ->Iterations(3)->UseRealTime();
+
+// The same without the tiles' planes (SphericalStereoOptions::planar_refinement): what
+// they cost, measured in the same run.
+void BM_PairToPointCloudWithoutPlanes(benchmark::State& state) { pairToPointCloud(state, false, false); }
+BENCHMARK(BM_PairToPointCloudWithoutPlanes)->DenseRange(0, static_cast<int>(kScenes.size()) - 1)
+    ->Unit(benchmark::kMillisecond)->Iterations(3)->UseRealTime();
 
 void BM_PairToPointCloudExposedApart(benchmark::State& state) { pairToPointCloud(state, true); }
 BENCHMARK(BM_PairToPointCloudExposedApart)->DenseRange(0, static_cast<int>(kScenes.size()) - 1)

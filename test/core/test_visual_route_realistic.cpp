@@ -15,7 +15,7 @@
 //   [ROOM_REVERB_SAVE_PAIRS=DIR] (each room's two images as DIR/roomN_top.png, _bottom.png)
 //   [ROOM_REVERB_STEREO_STATS=1] (the stereo's range error by surface)
 //   [ROOM_REVERB_PRINT_FACES=1] (where each face of the box lies against the truth)
-//   [ROOM_REVERB_ROUTE_WITHOUT=exposure,noise,subpixel,joints] (routeOptions)
+//   [ROOM_REVERB_ROUTE_WITHOUT=exposure,noise,subpixel,planes,joints] (routeOptions)
 //   .ws/devel/lib/room_reverb/test_visual_route_realistic --gtest_filter='*Report*'
 #include <gtest/gtest.h>
 
@@ -128,14 +128,16 @@ const VisualRouteOptions& routeOptions() {
   static const VisualRouteOptions options = [] {
     VisualRouteOptions o;
     loadDefaultMaterialModels(o);
-    // ROOM_REVERB_ROUTE_WITHOUT=exposure,noise,subpixel,joints: the stereo without matching
-    // the cameras' exposures or without its sub-pixel refinement, the layout without its
-    // noisier retries, the materials without the tiles' joints, to measure what each gives.
+    // ROOM_REVERB_ROUTE_WITHOUT=exposure,noise,subpixel,planes,joints: the stereo without
+    // matching the cameras' exposures, without its sub-pixel refinement or without the
+    // tiles' planes, the layout without its noisier retries, the materials without the
+    // tiles' joints, to measure what each gives.
     const char* without_env = std::getenv("ROOM_REVERB_ROUTE_WITHOUT");
     const std::string without = without_env != nullptr ? without_env : "";
     if (without.find("exposure") != std::string::npos) o.stereo.match_exposure = false;
     if (without.find("noise") != std::string::npos) o.layout.noise_fraction_retries.clear();
     if (without.find("subpixel") != std::string::npos) o.stereo.subpixel_refinement = false;
+    if (without.find("planes") != std::string::npos) o.stereo.planar_refinement = false;
     if (without.find("joints") != std::string::npos) o.materials.tile_joints = false;
     const char* threshold = std::getenv("ROOM_REVERB_MIN_CONFIDENCE");
     if (threshold != nullptr && *threshold != '\0') {

@@ -283,9 +283,23 @@ void fitTile(const EpipolarImage& left, const EpipolarImage& right, const cv::Ma
   }
 }
 
-// The planes of every tile of a grid whose tiles start at (offset, offset).
+// Whether any pixel of the rectangle has a plane's disparity in `planes`.
+bool anyPlane(const cv::Mat& planes, int v0, int u0, int v1, int u1) {
+  for (int v = v0; v < v1; ++v) {
+    const float* p = planes.ptr<float>(v);
+    for (int u = u0; u < u1; ++u) {
+      if (std::isfinite(p[u])) return true;
+    }
+  }
+  return false;
+}
+
+// The planes of every tile of a grid whose tiles start at (offset, offset). With `other`
+// (the other grid's planes), a tile none of whose pixels has a plane there is skipped: no
+// pixel of it could take the planes' disparity.
 cv::Mat fitTiles(const EpipolarImage& left, const EpipolarImage& right, const cv::Mat& disparity,
-                 const ImageGeometry& geometry, const PlanarRefinementGrid& grid, int offset) {
+                 const ImageGeometry& geometry, const PlanarRefinementGrid& grid, int offset,
+                 const cv::Mat* other = nullptr) {
   cv::Mat planes(disparity.size(), CV_32FC1, cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
   const int tile = grid.tile_px;
   const int first = offset > 0 ? offset - tile : 0;
@@ -295,8 +309,10 @@ cv::Mat fitTiles(const EpipolarImage& left, const EpipolarImage& right, const cv
   forEachRow(tile_rows, grid.threads, [&](int tr) {
     for (int tc = 0; tc < tile_cols; ++tc) {
       const int v0 = first + tr * tile, u0 = first + tc * tile;
-      fitTile(left, right, disparity, geometry, grid, std::max(0, v0), std::max(0, u0), std::min(disparity.rows, v0 + tile),
-              std::min(disparity.cols, u0 + tile), planes);
+      const int from_v = std::max(0, v0), from_u = std::max(0, u0);
+      const int to_v = std::min(disparity.rows, v0 + tile), to_u = std::min(disparity.cols, u0 + tile);
+      if (other != nullptr && !anyPlane(*other, from_v, from_u, to_v, to_u)) continue;
+      fitTile(left, right, disparity, geometry, grid, from_v, from_u, to_v, to_u, planes);
     }
   });
   return planes;
@@ -329,7 +345,7 @@ long refineDisparityByPlanes(const EpipolarImage& left, const EpipolarImage& rig
   // fits agree to their own uncertainty.
   const ImageGeometry geometry = imageGeometry(disparity_px, grid);
   const cv::Mat a = fitTiles(left, right, disparity_px, geometry, grid, 0);
-  const cv::Mat b = fitTiles(left, right, disparity_px, geometry, grid, grid.tile_px / 2);
+  const cv::Mat b = fitTiles(left, right, disparity_px, geometry, grid, grid.tile_px / 2, &a);
   long changed = 0;
   for (int v = 0; v < disparity_px.rows; ++v) {
     const float* pa = a.ptr<float>(v);
