@@ -27,7 +27,8 @@ constexpr double kMinOnPlaneShare = 0.8;
 // [px, one standard deviation, from the grey residuals]: a twentieth of a pixel is 0.6 %
 // of the range at 8 m. A tile with less texture keeps the matcher's disparities.
 constexpr double kMaxDisparityStdPx = 0.05;
-// Two tiles' planes agree at a pixel within this [px]: three of their standard deviations.
+// Two tiles' planes agree at a pixel within this [px]: three times the standard deviation
+// a kept plane's disparity may have at its tile's centre.
 constexpr double kPlanesAgreePx = 0.15;
 
 // A ranged pixel of the tile, with its inverse range rho and the first two derivatives
@@ -37,7 +38,6 @@ constexpr double kPlanesAgreePx = 0.15;
 // usually holds, and it spares an arctangent per pixel per step.
 struct Sample {
   int v, u;
-  double theta;
   Eigen::Vector3d ray;
   double d_px;
   double rho, slope, curvature;
@@ -76,7 +76,7 @@ double planeDisparityPx(const Sample& s, const Eigen::Vector3d& m) { return s.di
 // The directions of the image's rows and columns, and each ranged pixel's inverse range,
 // computed once for both grids of tiles.
 struct ImageGeometry {
-  std::vector<double> theta, sin_theta, cos_theta, cos_phi, sin_phi;
+  std::vector<double> sin_theta, cos_theta, cos_phi, sin_phi;
   cv::Mat rho;  // CV_32FC1 [1/m], NaN where there is no disparity
 };
 
@@ -85,9 +85,9 @@ ImageGeometry imageGeometry(const cv::Mat& disparity, const PlanarRefinementGrid
   const int h = disparity.rows, w = disparity.cols;
   const double pixel_rad = kPi / h;
   for (int v = 0; v < h; ++v) {
-    g.theta.push_back((v + 0.5) * pixel_rad);
-    g.sin_theta.push_back(std::sin(g.theta.back()));
-    g.cos_theta.push_back(std::cos(g.theta.back()));
+    const double theta = (v + 0.5) * pixel_rad;
+    g.sin_theta.push_back(std::sin(theta));
+    g.cos_theta.push_back(std::cos(theta));
   }
   for (int u = 0; u < w; ++u) {
     const double phi = kPi - (u + 0.5) * 2.0 * kPi / w;
@@ -116,7 +116,7 @@ Sample sampleOf(const ImageGeometry& g, int v, int u, double d_px, double rho, d
   // gamma(rho) = theta - atan2(sin, cos + b rho): gamma' = b sin / (sin^2 + C^2) and
   // gamma'' = -2 b^2 sin C / (sin^2 + C^2)^2 with C = cos + b rho.
   const double b = baseline_m, c = cos_t + b * rho, q = sin_t * sin_t + c * c;
-  return {v, u, g.theta[static_cast<std::size_t>(v)],
+  return {v, u,
           Eigen::Vector3d(sin_t * g.cos_phi[static_cast<std::size_t>(u)], sin_t * g.sin_phi[static_cast<std::size_t>(u)], cos_t),
           d_px, rho, b * sin_t / q / pixel_rad, -2.0 * b * b * sin_t * c / (q * q) / pixel_rad};
 }
@@ -319,15 +319,6 @@ cv::Mat fitTiles(const EpipolarImage& left, const EpipolarImage& right, const cv
 }
 
 }  // namespace
-
-double disparityOfInverseRange(double theta_rad, double rho_per_m, double baseline_m) {
-  return theta_rad - std::atan2(std::sin(theta_rad), std::cos(theta_rad) + baseline_m * rho_per_m);
-}
-
-double inverseRangeOfDisparity(double theta_rad, double gamma_rad, double baseline_m) {
-  // tan(theta_b) = sin(theta) / (cos(theta) + b rho), theta_b = theta - gamma.
-  return (std::sin(theta_rad) / std::tan(theta_rad - gamma_rad) - std::cos(theta_rad)) / baseline_m;
-}
 
 double disparitySlopeInInverseRange(double theta_rad, double rho_per_m, double baseline_m) {
   const double s = std::sin(theta_rad), c = std::cos(theta_rad) + baseline_m * rho_per_m;

@@ -39,10 +39,8 @@ struct PlanarRefinementGrid {
 long refineDisparityByPlanes(const EpipolarImage& left, const EpipolarImage& right, cv::Mat& disparity_px,
                              const PlanarRefinementGrid& grid);
 
-// The disparity gamma [rad] of inverse range rho [1/m] at the top camera's polar angle
-// theta [rad], and its inverse; and d gamma / d rho.
-double disparityOfInverseRange(double theta_rad, double rho_per_m, double baseline_m);
-double inverseRangeOfDisparity(double theta_rad, double gamma_rad, double baseline_m);
+// d gamma / d rho: how fast the disparity gamma [rad] at the top camera's polar angle
+// theta [rad] changes with inverse range rho [1/m].
 double disparitySlopeInInverseRange(double theta_rad, double rho_per_m, double baseline_m);
 
 }  // namespace room_reverb::core::stereo_detail

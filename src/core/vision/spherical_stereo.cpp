@@ -254,7 +254,6 @@ SphericalDepth computeSphericalDepth(const cv::Mat& top, const cv::Mat& bottom, 
     left_epipolar = stereo_detail::epipolarImage(left);
     right_epipolar = stereo_detail::epipolarImage(right);
   }
-  // Rows are independent: each writes only its own row of the outputs.
   cv::Mat disparity_px = matched.clone();
   if (o.subpixel_refinement) {
     forEachRow(h, o.threads, [&](int v) {
@@ -277,6 +276,7 @@ SphericalDepth computeSphericalDepth(const cv::Mat& top, const cv::Mat& bottom, 
       stereo_detail::refineDisparityByPlanes(left_epipolar, right_epipolar, disparity_px, grid);
     }
   }
+  // Rows are independent: each writes only its own row of the outputs.
   forEachRow(h, o.threads, [&](int v) {
     const double theta = (v + 0.5) * pixel_rad;
     if (cap_mask.at<std::uint8_t>(v, 0)) return;
