@@ -13,6 +13,7 @@
 // Continuous coordinates (u, v) use the same formulas without the 0.5, for pixel edges:
 // u in [0, W), v in [0, H); pixel (i, j) covers [i, i+1) x [j, j+1).
 #include <Eigen/Core>
+#include <vector>
 
 namespace room_reverb::core {
 
@@ -26,6 +27,17 @@ Eigen::Vector3d equirectPixelDirection(const EquirectGeometry& g, double u, doub
 // Azimuth and elevation [rad] of a pixel centre.
 double equirectAzimuth(const EquirectGeometry& g, double u);
 double equirectElevation(const EquirectGeometry& g, double v);
+// equirectPixelDirection's cosines and sines once per column and row, for work over every
+// pixel of an image: the same directions to the bit, without two sines and cosines per pixel.
+struct EquirectDirections {
+  std::vector<double> cos_azimuth, sin_azimuth;      // per column u
+  std::vector<double> cos_elevation, sin_elevation;  // per row v
+  Eigen::Vector3d at(int u, int v) const {
+    const auto cu = static_cast<std::size_t>(u), cv = static_cast<std::size_t>(v);
+    return {cos_elevation[cv] * cos_azimuth[cu], cos_elevation[cv] * sin_azimuth[cu], sin_elevation[cv]};
+  }
+};
+EquirectDirections equirectDirections(const EquirectGeometry& g);
 // Continuous pixel coordinates (u in [0, W), v in [0, H)) of a direction (need not be unit);
 // pixel centres are at integer + 0.5 of these, i.e. floor(u) is the column.
 Eigen::Vector2d equirectCoordinates(const EquirectGeometry& g, const Eigen::Vector3d& direction);

@@ -28,26 +28,17 @@ PointCloud depthToPointCloud(const SphericalDepth& depth, const cv::Mat& top_col
   PointCloud cloud;
   cloud.frame = "rig";
   cloud.has_color = true;
-  // equirectPixelDirection's cosines and sines once per column and row instead of once per
-  // pixel (a third of the conversion's time at 2048 x 1024; the same values to the bit).
-  std::vector<double> cos_phi(static_cast<std::size_t>(g.width)), sin_phi(cos_phi.size());
-  for (int u = 0; u < g.width; ++u) {
-    const double phi = equirectAzimuth(g, u);
-    cos_phi[static_cast<std::size_t>(u)] = std::cos(phi);
-    sin_phi[static_cast<std::size_t>(u)] = std::sin(phi);
-  }
+  // Per column and row instead of per pixel: a third of the conversion's time at 2048 x 1024.
+  const EquirectDirections directions = equirectDirections(g);
   if (options.stride == 1) cloud.points.reserve(static_cast<std::size_t>(cv::countNonZero(depth.valid)));
   for (int v = 0; v < g.height; v += options.stride) {
-    const double theta = equirectElevation(g, v);
-    const double cos_theta = std::cos(theta), sin_theta = std::sin(theta);
     for (int u = 0; u < g.width; u += options.stride) {
       if (depth.valid.at<std::uint8_t>(v, u) == 0) continue;
       if (!options.include_filled && !depth.filled.empty() && depth.filled.at<std::uint8_t>(v, u) != 0) continue;
       const float range = depth.range_m.at<float>(v, u);
       if (!std::isfinite(range)) continue;
       CloudPoint point;
-      const Eigen::Vector3d direction(cos_theta * cos_phi[static_cast<std::size_t>(u)],
-                                      cos_theta * sin_phi[static_cast<std::size_t>(u)], sin_theta);
+      const Eigen::Vector3d direction = directions.at(u, v);
       point.p = (camera + static_cast<double>(range) * direction).cast<float>();
       if (top_color.channels() == 3) {
         const cv::Vec3b bgr = top_color.at<cv::Vec3b>(v, u);

@@ -21,6 +21,21 @@ Eigen::Vector3d equirectPixelDirection(const EquirectGeometry& g, double u, doub
   return {std::cos(theta) * std::cos(phi), std::cos(theta) * std::sin(phi), std::sin(theta)};
 }
 
+EquirectDirections equirectDirections(const EquirectGeometry& g) {
+  EquirectDirections d;
+  for (int u = 0; u < g.width; ++u) {
+    const double phi = equirectAzimuth(g, u);
+    d.cos_azimuth.push_back(std::cos(phi));
+    d.sin_azimuth.push_back(std::sin(phi));
+  }
+  for (int v = 0; v < g.height; ++v) {
+    const double theta = equirectElevation(g, v);
+    d.cos_elevation.push_back(std::cos(theta));
+    d.sin_elevation.push_back(std::sin(theta));
+  }
+  return d;
+}
+
 Eigen::Vector2d equirectCoordinates(const EquirectGeometry& g, const Eigen::Vector3d& direction) {
   const double phi = std::atan2(direction.y(), direction.x());
   const double theta = std::atan2(direction.z(), std::hypot(direction.x(), direction.y()));

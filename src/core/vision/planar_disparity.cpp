@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "room_reverb/common/parallel_rows.h"
+#include "room_reverb/vision/equirect.h"
 
 namespace room_reverb::core::stereo_detail {
 namespace {
@@ -73,10 +74,23 @@ bool fitInverseRangePlane(const std::vector<Sample>& samples, const std::vector<
 
 double planeDisparityPx(const Sample& s, const Eigen::Vector3d& m) { return s.disparityAt(m.dot(s.ray)); }
 
-// The directions of the image's rows and columns, and each ranged pixel's inverse range,
-// computed once for both grids of tiles.
+// Whether plane m explains the samples: kMinOnPlaneShare of them within kOnPlanePx of it.
+// `on`, when given, marks those samples.
+bool explains(const std::vector<Sample>& samples, const Eigen::Vector3d& m, std::vector<char>* on = nullptr) {
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const bool near = std::abs(samples[i].d_px - planeDisparityPx(samples[i], m)) <= kOnPlanePx;
+    if (on != nullptr) (*on)[i] = near;
+    count += near;
+  }
+  return static_cast<double>(count) >= kMinOnPlaneShare * static_cast<double>(samples.size());
+}
+
+// The directions of the image's pixels (vision/equirect.h; a pixel's polar angle theta
+// from the zenith is 90 degrees less its elevation: sin theta = cos elevation), and each
+// ranged pixel's inverse range, computed once for both grids of tiles.
 struct ImageGeometry {
-  std::vector<double> sin_theta, cos_theta, cos_phi, sin_phi;
+  EquirectDirections directions;
   cv::Mat rho;  // CV_32FC1 [1/m], NaN where there is no disparity
 };
 
@@ -84,16 +98,9 @@ ImageGeometry imageGeometry(const cv::Mat& disparity, const PlanarRefinementGrid
   ImageGeometry g;
   const int h = disparity.rows, w = disparity.cols;
   const double pixel_rad = kPi / h;
-  for (int v = 0; v < h; ++v) {
-    const double theta = (v + 0.5) * pixel_rad;
-    g.sin_theta.push_back(std::sin(theta));
-    g.cos_theta.push_back(std::cos(theta));
-  }
-  for (int u = 0; u < w; ++u) {
-    const double phi = kPi - (u + 0.5) * 2.0 * kPi / w;
-    g.cos_phi.push_back(std::cos(phi));
-    g.sin_phi.push_back(std::sin(phi));
-  }
+  g.directions = equirectDirections(EquirectGeometry{w, h});
+  const std::vector<double>& sin_theta = g.directions.cos_elevation;
+  const std::vector<double>& cos_theta = g.directions.sin_elevation;
   g.rho = cv::Mat(disparity.size(), CV_32FC1, cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
   forEachRow(h, grid.threads, [&](int v) {
     const float* d = disparity.ptr<float>(v);
@@ -104,7 +111,8 @@ ImageGeometry imageGeometry(const cv::Mat& disparity, const PlanarRefinementGrid
       // from the row's sine and cosine: one sine and cosine per pixel.
       const double gamma = d[u] * pixel_rad;
       const double sin_g = std::sin(gamma), cos_g = std::cos(gamma);
-      rho[u] = static_cast<float>(sin_g / (grid.baseline_m * (g.sin_theta[v] * cos_g - g.cos_theta[v] * sin_g)));
+      const auto row = static_cast<std::size_t>(v);
+      rho[u] = static_cast<float>(sin_g / (grid.baseline_m * (sin_theta[row] * cos_g - cos_theta[row] * sin_g)));
     }
   });
   return g;
@@ -112,13 +120,12 @@ ImageGeometry imageGeometry(const cv::Mat& disparity, const PlanarRefinementGrid
 
 // The sample of pixel (v, u) with disparity d_px [px] and inverse range rho.
 Sample sampleOf(const ImageGeometry& g, int v, int u, double d_px, double rho, double baseline_m, double pixel_rad) {
-  const double sin_t = g.sin_theta[static_cast<std::size_t>(v)], cos_t = g.cos_theta[static_cast<std::size_t>(v)];
+  const double sin_t = g.directions.cos_elevation[static_cast<std::size_t>(v)];
+  const double cos_t = g.directions.sin_elevation[static_cast<std::size_t>(v)];
   // gamma(rho) = theta - atan2(sin, cos + b rho): gamma' = b sin / (sin^2 + C^2) and
   // gamma'' = -2 b^2 sin C / (sin^2 + C^2)^2 with C = cos + b rho.
   const double b = baseline_m, c = cos_t + b * rho, q = sin_t * sin_t + c * c;
-  return {v, u,
-          Eigen::Vector3d(sin_t * g.cos_phi[static_cast<std::size_t>(u)], sin_t * g.sin_phi[static_cast<std::size_t>(u)], cos_t),
-          d_px, rho, b * sin_t / q / pixel_rad, -2.0 * b * b * sin_t * c / (q * q) / pixel_rad};
+  return {v, u, g.directions.at(u, v), d_px, rho, b * sin_t / q / pixel_rad, -2.0 * b * b * sin_t * c / (q * q) / pixel_rad};
 }
 
 // Grey level and its derivative at fractional column x of a row; false outside the row.
@@ -228,9 +235,7 @@ bool photometricPlane(const EpipolarImage& left, const EpipolarImage& right, con
   if (!(centre_std <= kMaxDisparityStdPx)) return false;
   // The moved plane must still explain the tile's disparities as the matcher's plane did:
   // a step to another minimum of the grey levels leaves them.
-  std::size_t kept = 0;
-  for (const Sample& s : samples) kept += std::abs(s.d_px - planeDisparityPx(s, m)) <= kOnPlanePx;
-  return static_cast<double>(kept) >= kMinOnPlaneShare * static_cast<double>(samples.size());
+  return explains(samples, m);
 }
 
 // The plane's disparities of one tile written into `planes` (NaN stays where the tile's
@@ -260,16 +265,9 @@ void fitTile(const EpipolarImage& left, const EpipolarImage& right, const cv::Ma
     }
   }
   if (!fitInverseRangePlane(samples, use, m)) return;
-  long on = 0;
-  for (std::size_t i = 0; i < samples.size(); ++i) {
-    use[i] = std::abs(samples[i].d_px - planeDisparityPx(samples[i], m)) <= kOnPlanePx;
-    on += use[i];
-  }
-  if (static_cast<double>(on) < kMinOnPlaneShare * static_cast<double>(samples.size())) return;
+  if (!explains(samples, m, &use)) return;
   const double centre_theta = 0.5 * (v0 + v1) * pixel_rad;
-  const double centre_phi = kPi - 0.5 * (u0 + u1) * 2.0 * kPi / w;
-  const Eigen::Vector3d centre_ray(std::sin(centre_theta) * std::cos(centre_phi),
-                                   std::sin(centre_theta) * std::sin(centre_phi), std::cos(centre_theta));
+  const Eigen::Vector3d centre_ray = equirectPixelDirection(EquirectGeometry{w, h}, 0.5 * (u0 + u1) - 0.5, 0.5 * (v0 + v1) - 0.5);
   // Beyond max_range_m a tile's membership tolerance is over a tenth of its range at
   // 2048 x 1024 (0.75 of 8 px at 8 m): one wrong plane there moves a whole tile's points by
   // decimetres, where the per-pixel errors scatter (measured on the courtyard's facades
