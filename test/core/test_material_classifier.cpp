@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <opencv2/imgproc.hpp>
@@ -17,6 +18,7 @@
 #include "room_reverb/vision/material_features.h"
 #include "room_reverb/synthetic_capture/material_training.h"
 #include "room_reverb/vision/surface_materials.h"
+#include "room_reverb/vision/surface_patches.h"
 #include "room_reverb/vision/texture_family.h"
 #include "shipped_materials.h"
 #include "test_files.h"
@@ -221,6 +223,54 @@ TEST(SurfaceMaterials, AnUnseenFaceGetsTheDefaultWithLowConfidence) {
   EXPECT_EQ(layout.model.surfaces.at("floor").material, "plaster_smooth");
 }
 
+// A face larger than the patch limit is classified from the patches nearest the camera:
+// the courtyard's floor and walls (10 x 19 m, 9 m high) hold 250-550 patch positions each.
+TEST(SurfaceMaterials, ALargeFaceTakesItsNearestPatches) {
+  CaptureScene scene = loadCaptureScene(sourcePath("data/captures/courtyard.yaml"));
+  scene.options.width = 1024;
+  const StereoCapture capture = renderCapture(scene.room, library(), scene.options);
+  RoomLayout layout = trueLayout(scene.room);
+  const Eigen::Isometry3d room_from_camera =
+      layout.room_from_rig * Eigen::Translation3d(0.0, 0.0, 0.5 * scene.options.baseline_m);
+  material_detail::PatchSampling sampling;
+  sampling.geometry = shippedClassifier().patchGeometry();
+  const auto all = material_detail::sampleSurfacePatches(capture.top.color, layout.model, room_from_camera, sampling);
+  sampling.max_patches_per_rect = 100;
+  const auto nearest = material_detail::sampleSurfacePatches(capture.top.color, layout.model, room_from_camera, sampling);
+  const auto rects = material_detail::modelSurfaceRects(layout.model);
+  const auto range = [&](const material_detail::SurfacePatch& p) {
+    // One rectangle per box face (none for the open top).
+    const auto& rect = *std::find_if(rects.begin(), rects.end(), [&](const auto& r) { return r.target == p.target; });
+    return (rect.center_m + p.s_m * rect.u + p.t_m * rect.v - room_from_camera.translation()).norm();
+  };
+  int limited_faces = 0;
+  for (int face = 0; face < 6; ++face) {
+    if (face == 1) continue;  // open to the sky
+    std::vector<double> kept, every;
+    for (const auto& p : nearest) if (p.target == face) kept.push_back(range(p));
+    for (const auto& p : all) if (p.target == face) every.push_back(range(p));
+    EXPECT_LE(kept.size(), 100u) << kRoomSurfaceNames[static_cast<std::size_t>(face)];
+    if (every.size() <= 100) continue;
+    ++limited_faces;
+    ASSERT_GE(kept.size(), 50u) << kRoomSurfaceNames[static_cast<std::size_t>(face)];
+    // Every patch nearer than the farthest one kept is kept.
+    const double farthest = *std::max_element(kept.begin(), kept.end());
+    const auto nearer = std::count_if(every.begin(), every.end(), [&](double r) { return r < farthest - 1e-9; });
+    EXPECT_GE(static_cast<long>(kept.size()), nearer) << kRoomSurfaceNames[static_cast<std::size_t>(face)];
+  }
+  EXPECT_GE(limited_faces, 3);
+  // With the default limit the faces get the materials they get from every patch.
+  RoomLayout limited = layout;
+  assignSurfaceMaterials(limited, capture.top.color, scene.options.baseline_m, shippedClassifier(), shippedFamilies());
+  SurfaceMaterialOptions unlimited_options;
+  unlimited_options.max_patches_per_face = 0;
+  assignSurfaceMaterials(layout, capture.top.color, scene.options.baseline_m, shippedClassifier(), shippedFamilies(),
+                         unlimited_options);
+  for (const auto& [face, surface] : layout.model.surfaces) {
+    EXPECT_EQ(limited.model.surfaces.at(face).material, surface.material) << face;
+  }
+}
+
 TEST(MaterialClassifier, BadInputsAreInputErrors) {
   expectInputError([] { MaterialClassifier::load(sourcePath("config/no_such_classifier.yml.gz")); }, {"no_such_classifier", "no such file"});
   const std::string corrupt = writeFile("corrupt.yml", "%YAML:1.0\nformat: [room_reverb_material_classifier\nmodel: {");
@@ -249,6 +299,11 @@ TEST(MaterialClassifier, BadInputsAreInputErrors) {
   expectInputError([&] { assign(cv::Mat(64, 128, CV_8UC3, cv::Scalar::all(0)), -1.0); }, {"baseline"});
   expectInputError([&] { assignSurfaceMaterials(layout, cv::Mat(64, 128, CV_8UC3), 0.2, MaterialClassifier(), shippedFamilies()); },
                    {"not trained"});
+  SurfaceMaterialOptions negative_limit;
+  negative_limit.max_patches_per_face = -1;
+  expectInputError([&] { assignSurfaceMaterials(layout, cv::Mat(64, 128, CV_8UC3, cv::Scalar::all(0)), 0.2, shippedClassifier(),
+                                                shippedFamilies(), negative_limit); },
+                   {"max_patches_per_face"});
 }
 
 TEST(MaterialFamilyTable, ShippedTableCoversEveryFamilyWithItsOwnLook) {

@@ -15,6 +15,7 @@
 //   [ROOM_REVERB_SAVE_PAIRS=DIR] (each room's two images as DIR/roomN_top.png, _bottom.png)
 //   [ROOM_REVERB_STEREO_STATS=1] (the stereo's range error by surface)
 //   [ROOM_REVERB_PRINT_FACES=1] (where each face of the box lies against the truth)
+//   [ROOM_REVERB_PRINT_OBJECTS=1] (the fitted objects: label, centre, size, yaw, material)
 //   [ROOM_REVERB_ROUTE_WITHOUT=exposure,noise,subpixel,planes,joints] (routeOptions)
 //   .ws/devel/lib/room_reverb/test_visual_route_realistic --gtest_filter='*Report*'
 #include <gtest/gtest.h>
@@ -55,6 +56,7 @@ struct RouteScore {
   std::string confusions;                                // "truth->fitted" of wrong faces
   std::vector<std::string> warnings;                     // the levelling's and the layout's
   std::string stereo;                                    // ROOM_REVERB_STEREO_STATS=1: the stereo's figures by surface
+  std::vector<CuboidObject> objects;                     // as fitted, room frame
 };
 
 // The stereo alone on the pair as rendered (no levelling): per floor, ceiling and walls,
@@ -254,6 +256,7 @@ RouteScore scoreRoom(const ClutteredRoom& room, int index, const std::string& ph
     return score;
   }
   const RoomModel& fitted = route.layout.model;
+  score.objects = fitted.objects;
   score.warnings.insert(score.warnings.end(), route.layout.warnings.begin(), route.layout.warnings.end());
   // The fit's rig frame is the camera's turned by the levelling's image rotation.
   const Eigen::Matrix3d truth_from_fit = room.truth.rig_rotation.toRotationMatrix() * image_rotation.transpose() *
@@ -311,6 +314,13 @@ void print(const ClutteredRoom& room, const RouteScore& s) {
     std::printf("             faces outwards [cm]:");
     for (std::size_t k = 0; k < 6; ++k) std::printf(" %s %+.1f", kRoomSurfaceNames[k], 100.0 * s.face_error_m[k]);
     std::printf("\n");
+  }
+  if (const char* objects = std::getenv("ROOM_REVERB_PRINT_OBJECTS"); objects != nullptr && *objects == '1') {
+    for (const CuboidObject& o : s.objects) {
+      std::printf("             object %-10s centre %.4f %.4f %.4f size %.4f %.4f %.4f yaw %+.5f %s\n", o.label.c_str(),
+                  o.center_m.x(), o.center_m.y(), o.center_m.z(), o.size_m.x(), o.size_m.y(), o.size_m.z(), o.yaw_rad,
+                  o.material.c_str());
+    }
   }
   for (const std::string& w : s.warnings) std::printf("             warning: %s\n", w.c_str());
 }

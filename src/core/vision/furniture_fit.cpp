@@ -68,6 +68,7 @@ struct Pieces {
   std::vector<std::int32_t> voxel_cluster;           // per voxel: its cluster or -1
   std::vector<std::vector<Eigen::Vector3d>> points;  // raw points, room frame, clear of the faces
   std::vector<CuboidObject> boxes;                   // fitted, hidden sides extended
+  std::vector<std::int32_t> line_owner;              // per line of sight: its voxel's cluster or -1
 };
 
 // Fits a cuboid to each cluster: its raw points (room frame, clear of the room's faces),
@@ -80,9 +81,11 @@ class ClusterFitter {
     room_centroid_.resize(voxels.size());
     for (std::size_t v = 0; v < voxels.size(); ++v) room_centroid_[v] = frame.toRoom(voxels[v].centroid);
     // Points beyond the walls are strays or seen through windows: their rays prove nothing.
+    std::vector<Eigen::Vector3d> seen_points;
     for (std::uint32_t v = 0; v < voxels.size(); ++v) {
-      if (frame.inside(room_centroid_[v])) seen_.push_back(v);
+      if (frame.inside(room_centroid_[v])) seen_.push_back(v), seen_points.push_back(room_centroid_[v]);
     }
+    lines_ = SightLines(seen_points, params.hidden);
   }
 
   const std::vector<Eigen::Vector3d>& roomCentroids() const { return room_centroid_; }
@@ -102,6 +105,8 @@ class ClusterFitter {
       const Eigen::Vector3d point = frame_.toRoom(cloud_.points[i].p.cast<double>());
       if (frame_.clearOfFaces(point)) p.points[p.voxel_cluster[v]].push_back(point);
     }
+    p.line_owner.resize(seen_.size());
+    for (std::size_t i = 0; i < seen_.size(); ++i) p.line_owner[i] = p.voxel_cluster[seen_[i]];
     p.boxes.assign(p.clusters.size(), CuboidObject{});  // a zero box for a cluster without points
     // Each cluster carves against every other voxel seen: the clusters go to the cores.
     forEachRow(static_cast<int>(p.clusters.size()), 0, [&](int row) {
@@ -109,7 +114,7 @@ class ClusterFitter {
       if (p.points[k].empty()) return;
       const auto self = static_cast<std::int32_t>(k);
       const CuboidObject seen_part = fitCuboid(p.points[k], params_.cuboid);
-      p.boxes[k] = normalisedCuboid(extendHiddenSides(seen_part, elsewhere(p, self, self), params_.hidden));
+      p.boxes[k] = normalisedCuboid(extendHiddenSides(seen_part, lines_, OwnLines{&p.line_owner, self, self}, params_.hidden));
     });
     return p;
   }
@@ -130,7 +135,7 @@ class ClusterFitter {
     both.insert(both.end(), p.points[b].begin(), p.points[b].end());
     const CuboidObject joint = fitCuboid(both, params_.cuboid);
     const auto ia = static_cast<std::int32_t>(a), ib = static_cast<std::int32_t>(b);
-    const std::size_t through = raysThroughBox(joint, elsewhere(p, ia, ib), params_.hidden);
+    const std::size_t through = raysThroughBox(joint, lines_, OwnLines{&p.line_owner, ia, ib}, params_.hidden);
     // A few rays through it are strays (a mismatch reported beyond the surface it
     // missed): as many as a small fraction of the voxels seen of the two.
     const auto seen_voxels = static_cast<double>(p.clusters[a].size() + p.clusters[b].size());
@@ -139,22 +144,13 @@ class ClusterFitter {
   }
 
  private:
-  // The voxels seen in the room outside the pieces a and b (room frame).
-  std::vector<Eigen::Vector3d> elsewhere(const Pieces& p, std::int32_t a, std::int32_t b) const {
-    std::vector<Eigen::Vector3d> out;
-    out.reserve(seen_.size());
-    for (std::uint32_t v : seen_) {
-      if (p.voxel_cluster[v] != a && p.voxel_cluster[v] != b) out.push_back(room_centroid_[v]);
-    }
-    return out;
-  }
-
   const PointCloud& cloud_;
   const VoxelGrid& grid_;
   const RoomFrame& frame_;
   const FurnitureParams& params_;
   std::vector<Eigen::Vector3d> room_centroid_;
-  std::vector<std::uint32_t> seen_;
+  std::vector<std::uint32_t> seen_;  // the voxels inside the room, one line of sight each
+  SightLines lines_;
 };
 
 // The clusters with every pair the fitter takes for one object joined (transitively).

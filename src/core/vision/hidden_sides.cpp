@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
+#include <utility>
 
 #include "room_reverb/vision/oriented_box_iou.h"
 
@@ -43,6 +45,28 @@ bool trustedEnd(const Eigen::Vector3d& rig, const Eigen::Vector3d& q, const Hidd
   if (trusted <= 0.0) return false;
   end = rig + ray * (trusted / length);
   return true;
+}
+
+// Azimuth bins of the lines of sight: half a degree, a few centimetres across at the
+// range of furniture.
+constexpr int kAzimuthBins = 720;
+
+int azimuthBin(double azimuth) {
+  azimuth = std::remainder(azimuth, 2.0 * kPi);  // in [-pi, pi]
+  const int bin = static_cast<int>(std::floor((azimuth + kPi) / (2.0 * kPi) * kAzimuthBins));
+  return std::clamp(bin, 0, kAzimuthBins - 1);
+}
+
+// The plan corners (room frame, in order around it) of the local region [lo, hi] of a
+// box whose frame has its origin at `origin` and is turned by `yaw`.
+std::vector<Eigen::Vector2d> footprint(const Eigen::Vector3d& origin, double yaw, const Eigen::Vector3d& lo,
+                                       const Eigen::Vector3d& hi) {
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  std::vector<Eigen::Vector2d> corners;
+  for (const auto& [x, y] : {std::pair{lo.x(), lo.y()}, {hi.x(), lo.y()}, {hi.x(), hi.y()}, {lo.x(), hi.y()}}) {
+    corners.emplace_back(origin.x() + c * x - s * y, origin.y() + s * x + c * y);
+  }
+  return corners;
 }
 
 // How far inside a box's faces its solid core starts: the carving inset, or the depth
@@ -96,7 +120,58 @@ double roomLimit(const CuboidObject& box, int axis, int sign, const Eigen::Vecto
 
 }  // namespace
 
-CuboidObject extendHiddenSides(CuboidObject box, const std::vector<Eigen::Vector3d>& observed,
+SightLines::SightLines(const std::vector<Eigen::Vector3d>& observed, const HiddenSideParams& params)
+    : rig_(params.rig_position) {
+  // One line per point, so that line i is point i; a point whose noise covers its whole
+  // range proves nothing and goes in no bin.
+  std::vector<int> bin_of(observed.size(), -1);
+  ends_.resize(observed.size(), rig_);
+  bin_start_.assign(kAzimuthBins + 1, 0);
+  for (std::size_t i = 0; i < observed.size(); ++i) {
+    if (!trustedEnd(rig_, observed[i], params, ends_[i])) continue;
+    bin_of[i] = azimuthBin(std::atan2(ends_[i].y() - rig_.y(), ends_[i].x() - rig_.x()));
+    ++bin_start_[static_cast<std::size_t>(bin_of[i]) + 1];
+  }
+  std::partial_sum(bin_start_.begin(), bin_start_.end(), bin_start_.begin());
+  by_azimuth_.resize(bin_start_.back());
+  std::vector<std::uint32_t> next(bin_start_.begin(), bin_start_.end() - 1);
+  for (std::uint32_t i = 0; i < bin_of.size(); ++i) {
+    if (bin_of[i] >= 0) by_azimuth_[next[static_cast<std::size_t>(bin_of[i])]++] = i;
+  }
+}
+
+void SightLines::linesOver(const std::vector<Eigen::Vector2d>& corners, std::vector<std::uint32_t>& out) const {
+  out.clear();
+  const Eigen::Vector2d rig = rig_.head<2>();
+  // Over the footprint (on its edge too): lines leave the rig in every direction.
+  bool over = true;
+  for (std::size_t k = 0; k < corners.size(); ++k) {
+    const Eigen::Vector2d edge = corners[(k + 1) % corners.size()] - corners[k], to_rig = rig - corners[k];
+    if (edge.x() * to_rig.y() - edge.y() * to_rig.x() < 1e-9) over = false;
+  }
+  // From outside a convex footprint its corners span its azimuths, less than half a turn;
+  // a line crosses the prism only if its plan does, so only if its azimuth is in that span.
+  double first = 0.0, last = 0.0;
+  const double a0 = std::atan2(corners[0].y() - rig.y(), corners[0].x() - rig.x());
+  for (const auto& c : corners) {
+    const double d = std::remainder(std::atan2(c.y() - rig.y(), c.x() - rig.x()) - a0, 2.0 * kPi);
+    first = std::min(first, d), last = std::max(last, d);
+  }
+  if (!over && last - first < 0.9 * kPi) {
+    // The bins one either side too: rounding at a bin's edge.
+    const int bin_lo = azimuthBin(a0 + first) - 1;
+    int bin_hi = azimuthBin(a0 + last) + 1;
+    if (bin_hi < bin_lo) bin_hi += kAzimuthBins;  // across -pi
+    for (int k = bin_lo; k <= bin_hi; ++k) {
+      const auto bin = static_cast<std::size_t>((k + kAzimuthBins) % kAzimuthBins);
+      out.insert(out.end(), by_azimuth_.begin() + bin_start_[bin], by_azimuth_.begin() + bin_start_[bin + 1]);
+    }
+    return;
+  }
+  out = by_azimuth_;
+}
+
+CuboidObject extendHiddenSides(CuboidObject box, const SightLines& lines, const OwnLines& own,
                                const HiddenSideParams& params) {
   // Work in the box's frame as fitted (centre at the origin, axes along its sides); the
   // box's bounds in it grow, the frame stays.
@@ -120,9 +195,11 @@ CuboidObject extendHiddenSides(CuboidObject box, const std::vector<Eigen::Vector
   const Eigen::Vector3d reach_hi(bmax.x() + params.max_to_wall_m + margin, bmax.y() + params.max_to_wall_m + margin,
                                  bmax.z() + margin);
   std::vector<Eigen::Vector3d> ray_ends;
-  Eigen::Vector3d end;
-  for (const auto& q : observed) {
-    if (!trustedEnd(rig, local(q), params, end)) continue;
+  std::vector<std::uint32_t> candidates;
+  lines.linesOver(footprint(origin, box.yaw_rad, reach_lo, reach_hi), candidates);
+  for (const std::uint32_t i : candidates) {
+    if (own.contains(i)) continue;
+    const Eigen::Vector3d end = local(lines.end(i));
     if (std::isfinite(segmentEntry(rig, end, reach_lo, reach_hi))) ray_ends.push_back(end);
   }
   // Only a box square to the walls can stand flush against one.
@@ -186,17 +263,18 @@ CuboidObject extendHiddenSides(CuboidObject box, const std::vector<Eigen::Vector
   return box;
 }
 
-std::size_t raysThroughBox(const CuboidObject& box, const std::vector<Eigen::Vector3d>& observed,
+std::size_t raysThroughBox(const CuboidObject& box, const SightLines& lines, const OwnLines& own,
                            const HiddenSideParams& params) {
   const Eigen::Matrix3d to_local = Eigen::AngleAxisd(-box.yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   const Eigen::Vector3d rig = to_local * (params.rig_position - box.center_m);
   // The core never turns inside out: a box thinner than twice the inset keeps its mid plane.
   const Eigen::Vector3d half = (0.5 * box.size_m.array() - insetAt(box.center_m, params)).max(0.0).matrix();
+  std::vector<std::uint32_t> candidates;
+  lines.linesOver(footprint(box.center_m, box.yaw_rad, -half, half), candidates);
   std::size_t count = 0;
-  Eigen::Vector3d end;
-  for (const auto& q : observed) {
-    if (!trustedEnd(rig, to_local * (q - box.center_m), params, end)) continue;
-    count += std::isfinite(segmentEntry(rig, end, -half, half));
+  for (const std::uint32_t i : candidates) {
+    if (own.contains(i)) continue;
+    count += std::isfinite(segmentEntry(rig, to_local * (lines.end(i) - box.center_m), -half, half));
   }
   return count;
 }

@@ -12,6 +12,7 @@
 // object thinner than min_depth_m towards a hidden side (one face seen head-on) is
 // deepened to it, as far as the rays allow.
 #include <Eigen/Core>
+#include <cstdint>
 #include <vector>
 
 #include "room_reverb/acoustics/room_model.h"
@@ -30,15 +31,50 @@ struct HiddenSideParams {
   std::size_t free_rays = 5;         // rays that prove a region empty
 };
 
-// `observed`: room-frame points seen by the rig (voxel centroids), excluding the box's own.
-// Moves the hidden sides of `box` (see above) and returns it.
-CuboidObject extendHiddenSides(CuboidObject box, const std::vector<Eigen::Vector3d>& observed,
+// The rig's lines of sight to observed points (room frame, voxel centroids), each ending
+// its point's noise short of the point (only that stretch is known to be empty), sorted
+// by azimuth. A box's tests below visit only the lines whose azimuth falls within the
+// box's (its region's) footprint as seen from the rig: a line outside it cannot cross
+// the region. A room holds hundreds of thousands of lines and a piece of furniture
+// subtends a few degrees, so this skips most of them; the result is that of testing all.
+class SightLines {
+ public:
+  SightLines() = default;
+  // One line per observed point, in their order (line i ends short of point i).
+  SightLines(const std::vector<Eigen::Vector3d>& observed, const HiddenSideParams& params);
+
+  std::size_t size() const { return ends_.size(); }
+  const Eigen::Vector3d& end(std::size_t i) const { return ends_[i]; }
+  // The lines that may cross the vertical prism over a convex footprint (room-frame plan
+  // corners, in order around it): all of them if the rig stands over it.
+  void linesOver(const std::vector<Eigen::Vector2d>& footprint, std::vector<std::uint32_t>& out) const;
+
+ private:
+  Eigen::Vector3d rig_ = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> ends_;
+  std::vector<std::uint32_t> by_azimuth_;   // the lines that prove anything, bin by bin
+  std::vector<std::uint32_t> bin_start_;    // kBins + 1 offsets into by_azimuth_
+};
+
+// Which lines belong to the box being tested (its own points prove nothing about it):
+// those whose owner (one per line, e.g. its voxel's cluster) is `a` or `b`.
+struct OwnLines {
+  const std::vector<std::int32_t>* owner = nullptr;
+  std::int32_t a = -1, b = -1;
+  bool contains(std::size_t i) const {
+    return owner != nullptr && ((*owner)[i] == a || (*owner)[i] == b);
+  }
+};
+
+// Moves the hidden sides of `box` (see above) against the lines of sight other than its
+// own, and returns it.
+CuboidObject extendHiddenSides(CuboidObject box, const SightLines& lines, const OwnLines& own,
                                const HiddenSideParams& params);
 
-// How many of the rig's rays to `observed` points (room frame) pass through the box's
-// solid core (the box shrunk by the inset): each is a sighting through space the box
-// claims is solid. A ray counts only up to its point's noise short of it.
-std::size_t raysThroughBox(const CuboidObject& box, const std::vector<Eigen::Vector3d>& observed,
+// How many lines of sight (other than the box's own) pass through the box's solid core
+// (the box shrunk by the inset): each is a sighting through space the box claims is
+// solid.
+std::size_t raysThroughBox(const CuboidObject& box, const SightLines& lines, const OwnLines& own,
                            const HiddenSideParams& params);
 
 }  // namespace room_reverb::core::layout

@@ -174,6 +174,9 @@ std::vector<SurfaceMaterialDecision> assignSurfaceMaterials(RoomLayout& layout, 
                                                             const MaterialFamilyTable& families,
                                                             const SurfaceMaterialOptions& options) {
   checkInputs(layout, top_color_equirect, baseline_m, classifier);
+  if (options.max_patches_per_face < 0) {
+    throw InputError("surface materials: max_patches_per_face must be 0 (no limit) or positive");
+  }
   RoomModel& model = layout.model;
   // The override file is read and checked against the model first: a mistake in it is
   // reported before the classifier's seconds are spent.
@@ -193,6 +196,7 @@ std::vector<SurfaceMaterialDecision> assignSurfaceMaterials(RoomLayout& layout, 
   sampling.geometry = classifier.patchGeometry();
   sampling.min_coverage = options.min_patch_coverage;
   sampling.min_source_pixels = options.min_source_pixels;
+  sampling.max_patches_per_rect = options.max_patches_per_face;
   sampling.threads = options.threads;
   const std::vector<SurfacePatch> patches = sampleSurfacePatches(top_color_equirect, model, room_from_camera, sampling);
 

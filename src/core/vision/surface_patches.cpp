@@ -4,6 +4,8 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <optional>
+#include <utility>
+#include <vector>
 
 #include "room_reverb/vision/room_raycast.h"
 #include "room_reverb/common/parallel_rows.h"
@@ -181,11 +183,27 @@ std::vector<SurfaceRect> modelSurfaceRects(const RoomModel& model) {
 std::vector<SurfacePatch> sampleSurfacePatches(const cv::Mat& color, const RoomModel& model,
                                                const Eigen::Isometry3d& room_from_camera, const PatchSampling& sampling) {
   const std::vector<SurfaceRect> rects = modelSurfaceRects(model);
+  const Eigen::Vector3d camera = room_from_camera.translation();
   std::vector<PatchJob> jobs;
   for (std::size_t r = 0; r < rects.size(); ++r) {
+    const SurfaceRect& rect = rects[r];
     const double size = sampling.geometry.size_m;
-    for (const double t : centresAlong(rects[r].half_height_m, size)) {
-      for (const double s : centresAlong(rects[r].half_width_m, size)) jobs.push_back({r, s, t});
+    std::vector<PatchJob> on_rect;
+    for (const double t : centresAlong(rect.half_height_m, size)) {
+      for (const double s : centresAlong(rect.half_width_m, size)) on_rect.push_back({r, s, t});
+    }
+    const auto limit = static_cast<std::size_t>(sampling.max_patches_per_rect);
+    if (limit > 0 && on_rect.size() > limit) {
+      const auto range = [&](const PatchJob& job) { return (rect.center_m + job.s_m * rect.u + job.t_m * rect.v - camera).norm(); };
+      std::vector<std::pair<double, std::size_t>> by_range;
+      for (std::size_t i = 0; i < on_rect.size(); ++i) by_range.emplace_back(range(on_rect[i]), i);
+      std::nth_element(by_range.begin(), by_range.begin() + static_cast<std::ptrdiff_t>(limit), by_range.end());
+      std::vector<std::size_t> kept;
+      for (std::size_t i = 0; i < limit; ++i) kept.push_back(by_range[i].second);
+      std::sort(kept.begin(), kept.end());  // along the rectangle, as without the limit
+      for (const std::size_t i : kept) jobs.push_back(on_rect[i]);
+    } else {
+      jobs.insert(jobs.end(), on_rect.begin(), on_rect.end());
     }
   }
   const PatchCutter cutter(color, model, room_from_camera, sampling);

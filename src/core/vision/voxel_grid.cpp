@@ -4,23 +4,10 @@
 
 namespace room_reverb::core::layout {
 
-namespace {
-
-// 21 bits per axis, offset so that negative cells pack too: +-2^20 cells is +-52 km at
-// 5 cm, far beyond any max_range.
-constexpr std::int64_t kCellOffset = 1 << 20;
-
-}  // namespace
-
-std::uint64_t VoxelGrid::key(const Eigen::Vector3i& cell) {
-  const auto pack = [](int c) { return static_cast<std::uint64_t>(c + kCellOffset) & 0x1fffffu; };
-  return pack(cell.x()) | (pack(cell.y()) << 21) | (pack(cell.z()) << 42);
-}
-
 VoxelGrid::VoxelGrid(const PointCloud& cloud, double voxel_size_m, double max_range_m) : size_(voxel_size_m) {
   const std::size_t n = cloud.points.size();
   point_voxel_.assign(n, kNoVoxel);
-  index_.reserve(n / 8 + 16);
+  index_ = CellIndex(n / 8 + 16);
   std::vector<std::uint32_t> structure_votes, object_votes;
   const double inv = 1.0 / voxel_size_m;
   const double max_range2 = max_range_m * max_range_m;
@@ -29,13 +16,12 @@ VoxelGrid::VoxelGrid(const PointCloud& cloud, double voxel_size_m, double max_ra
     const Eigen::Vector3d p = point.p.cast<double>();
     if (p.squaredNorm() > max_range2) continue;
     const Eigen::Vector3i cell((p * inv).array().floor().cast<int>());
-    const auto [it, inserted] = index_.try_emplace(key(cell), static_cast<std::uint32_t>(voxels_.size()));
+    const auto [v, inserted] = index_.insert(cell, static_cast<std::uint32_t>(voxels_.size()));
     if (inserted) {
       voxels_.push_back({cell, Eigen::Vector3d::Zero(), 0, VoxelHint::unknown});
       structure_votes.push_back(0);
       object_votes.push_back(0);
     }
-    const std::uint32_t v = it->second;
     point_voxel_[i] = v;
     voxels_[v].centroid += p;  // a sum until the loop ends
     ++voxels_[v].count;
@@ -51,9 +37,6 @@ VoxelGrid::VoxelGrid(const PointCloud& cloud, double voxel_size_m, double max_ra
   }
 }
 
-std::uint32_t VoxelGrid::find(const Eigen::Vector3i& cell) const {
-  const auto it = index_.find(key(cell));
-  return it == index_.end() ? kNoVoxel : it->second;
-}
+std::uint32_t VoxelGrid::find(const Eigen::Vector3i& cell) const { return index_.find(cell); }
 
 }  // namespace room_reverb::core::layout

@@ -6,9 +6,9 @@
 // cuts a million points down to tens of thousands.
 #include <Eigen/Core>
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
+#include "cell_index.h"
 #include "room_reverb/vision/point_cloud.h"
 
 namespace room_reverb::core::layout {
@@ -25,7 +25,7 @@ struct Voxel {
 
 class VoxelGrid {
  public:
-  static constexpr std::uint32_t kNoVoxel = 0xffffffffu;
+  static constexpr std::uint32_t kNoVoxel = CellIndex::kNone;
 
   // Points farther than max_range_m from the origin (the rig) are left out: a stereo
   // matcher reports the sky and textureless glass at arbitrary, huge depths.
@@ -39,12 +39,10 @@ class VoxelGrid {
   std::uint32_t find(const Eigen::Vector3i& cell) const;
 
  private:
-  static std::uint64_t key(const Eigen::Vector3i& cell);
-
   double size_;
   std::vector<Voxel> voxels_;
   std::vector<std::uint32_t> point_voxel_;
-  std::unordered_map<std::uint64_t, std::uint32_t> index_;
+  CellIndex index_;
 };
 
 }  // namespace room_reverb::core::layout
