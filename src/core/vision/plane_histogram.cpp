@@ -29,8 +29,8 @@ double PlaneHistogram::count(double from, double to) const {
   return prefix_[clampBin(to)] - prefix_[clampBin(from)];
 }
 
-std::vector<PlanePeak> PlaneHistogram::peaks(const PlaneSpread& spread, double min_support, double min_contrast,
-                                             double min_outer_contrast) const {
+std::vector<PlanePeak> PlaneHistogram::peaks(const PlaneSpread& spread, double min_support,
+                                             double min_contrast) const {
   std::vector<PlanePeak> found;
   if (counts_.empty()) return found;
   // Smooth with a Gaussian of half the narrowest window, so that a plane gives one
@@ -52,16 +52,12 @@ std::vector<PlanePeak> PlaneHistogram::peaks(const PlaneSpread& spread, double m
     const double x = origin_ + (i + 0.5) * bin_;
     const double half = spread.halfWidth(x);
     const int reach = std::max(1, static_cast<int>(std::lround(half / bin_)));
-    const auto isMax = [&](int r) {
-      for (int j = std::max(0, i - r); j <= std::min(n - 1, i + r); ++j) {
-        // Ties go to the lower index so a flat top yields one peak.
-        if (smooth[j] > smooth[i] || (smooth[j] == smooth[i] && j < i)) return false;
-      }
-      return true;
-    };
-    const bool is_max = isMax(reach);
-    const bool narrow_max = !is_max && isMax(std::max(1, reach / 2));
-    if (!is_max && !narrow_max) continue;
+    bool is_max = true;
+    for (int j = std::max(0, i - reach); j <= std::min(n - 1, i + reach) && is_max; ++j) {
+      // Ties go to the lower index so a flat top yields one peak.
+      if (smooth[j] > smooth[i] || (smooth[j] == smooth[i] && j < i)) is_max = false;
+    }
+    if (!is_max) continue;
     PlanePeak peak;
     peak.position_m = x;
     peak.support = count(x - half, x + half);
@@ -69,27 +65,7 @@ std::vector<PlanePeak> PlaneHistogram::peaks(const PlaneSpread& spread, double m
     const double inside_density = peak.support / (2.0 * half);
     const double flank_density = flanks / (4.0 * half);
     peak.contrast = flank_density > 0.0 ? inside_density / flank_density : std::numeric_limits<double>::infinity();
-    const double outer = x >= 0.0 ? count(x + half, x + 3.0 * half) : count(x - 3.0 * half, x - half);
-    const double outer_density = outer / (2.0 * half);
-    peak.outer_contrast = outer_density > 0.0 ? inside_density / outer_density : std::numeric_limits<double>::infinity();
-    // The dip towards the rig: the lowest smoothed bin within the window on that side,
-    // when a bin nearer the rig than it rises above this peak's own level.
-    const int inward = x >= 0.0 ? -1 : 1;
-    int valley = i;
-    bool denser_inside = false;
-    for (int k = 1; k <= reach && i + inward * k >= 0 && i + inward * k < n; ++k) {
-      const int j = i + inward * k;
-      if (smooth[j] < smooth[valley]) valley = j;
-      if (smooth[j] > smooth[i] && valley != i) {
-        denser_inside = true;
-        break;
-      }
-    }
-    if (denser_inside) peak.inner_valley_m = origin_ + (valley + 0.5) * bin_;
-    const bool outer_layer = std::isfinite(min_outer_contrast) && peak.outer_contrast >= min_outer_contrast;
-    if (peak.support >= min_support && ((is_max && peak.contrast >= min_contrast) || outer_layer)) {
-      found.push_back(peak);
-    }
+    if (peak.support >= min_support && peak.contrast >= min_contrast) found.push_back(peak);
   }
   return found;
 }

@@ -3,7 +3,6 @@
 // floor and ceiling, the two wall directions once the room's yaw is known).
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <vector>
 
 namespace room_reverb::core::layout {
@@ -25,15 +24,6 @@ struct PlanePeak {
   double position_m = 0.0;  // along the axis (the plane's distance from the rig, signed)
   double support = 0.0;     // points within the plane's window
   double contrast = 0.0;    // point density in the window over that in the flanks beside it
-  // The same against the outer flank only (the one away from the rig): a wall's layer
-  // with units or shelving standing in front of it has a crowded inner flank, and
-  // nothing beyond it.
-  double outer_contrast = 0.0;
-  // Where the dip lies between this peak and a denser layer within its window on the
-  // rig's side (units or shelving in front of a wall), signed like position_m; NaN if
-  // none. A window centred on the peak reaches into that layer, and a median over it
-  // walks onto it.
-  double inner_valley_m = std::numeric_limits<double>::quiet_NaN();
 };
 
 class PlaneHistogram {
@@ -45,14 +35,7 @@ class PlaneHistogram {
   // the plane's own half width), with support >= min_support and contrast >= min_contrast,
   // sorted by position. Contrast compares the window with the two flanks of twice its
   // width beside it: a plane is a thin dense layer, a blob or a sloped surface is not.
-  // With a finite min_outer_contrast, an outer layer is kept too: a maximum over half
-  // the window whose outer_contrast reaches it, whatever its contrast. A wall 5-6 m away
-  // behind units or shelving 15-35 cm deep is such a layer: at that range its window
-  // reaches into the units' fronts, which hide it from the two-sided contrast and from
-  // the full window's suppression (measured in development rooms 8 and 10 through the
-  // consumer camera: the walls came out 14 and 33 cm short, and 5 and 2 cm with it).
-  std::vector<PlanePeak> peaks(const PlaneSpread& spread, double min_support, double min_contrast,
-                               double min_outer_contrast = std::numeric_limits<double>::infinity()) const;
+  std::vector<PlanePeak> peaks(const PlaneSpread& spread, double min_support, double min_contrast) const;
 
   // Points in [from, to] (to the nearest bin edge).
   double count(double from, double to) const;

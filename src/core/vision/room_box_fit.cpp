@@ -189,7 +189,7 @@ WallChoice wallAtEdge(const std::vector<PlanePeak>& peaks, const WallBand& band,
       }
     }
     const double confidence = chosen->contrast >= params.min_plane_contrast ? 0.9 : 0.75;
-    return {chosen->position_m, WallBasis::kPlaneAtEdge, confidence, chosen->contrast, chosen->inner_valley_m};
+    return {chosen->position_m, WallBasis::kPlaneAtEdge, confidence, chosen->contrast};
   }
   return wallAtSurfaceEnd(below, edge, edge_from_ceiling);
 }
@@ -201,8 +201,7 @@ WallPair findWallPair(const WallBand& band, const std::vector<double>& ray_coord
                       const BoxFitParams& params, const char* axis) {
   const PlaneHistogram histogram(band.coordinate, params.bin_m);
   const auto peaks =
-      histogram.peaks(params.spread, params.min_plane_support, std::min(params.min_layer_contrast, params.min_plane_contrast),
-                      params.min_plane_contrast);
+      histogram.peaks(params.spread, params.min_plane_support, std::min(params.min_layer_contrast, params.min_plane_contrast));
   const PlaneHistogram rays(ray_coordinate, params.bin_m);
   std::optional<std::pair<double, double>> extent;  // computed once, if a side needs it
   WallPair pair;
@@ -329,17 +328,7 @@ AlignedBox fitAlignedBox(const std::vector<Eigen::Vector3d>& voxels, const std::
         const WallBasis basis = box.choice[static_cast<std::size_t>(face)].basis;
         if (basis == WallBasis::kEdge || basis == WallBasis::kOpen) continue;
         double& position = axis == 0 ? (side == 0 ? box.x_lo : box.x_hi) : (side == 0 ? box.y_lo : box.y_hi);
-        const double limit = box.choice[static_cast<std::size_t>(face)].inner_limit_m;
-        if (std::isnan(limit)) {
-          position = refinePlanePosition(values, weights, position, spread.halfWidth(position), &box.support[face]);
-        } else {
-          // Only the points beyond the dip before the layer in front of this wall.
-          std::vector<double> beyond_values, beyond_weights;
-          for (std::size_t i = 0; i < values.size(); ++i) {
-            if (side == 0 ? values[i] < limit : values[i] > limit) beyond_values.push_back(values[i]), beyond_weights.push_back(weights[i]);
-          }
-          position = refinePlanePosition(beyond_values, beyond_weights, position, spread.halfWidth(position), &box.support[face]);
-        }
+        position = refinePlanePosition(values, weights, position, spread.halfWidth(position), &box.support[face]);
       }
     }
   }

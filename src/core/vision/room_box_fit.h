@@ -4,7 +4,6 @@
 // points' coordinates along each face's normal and refined as weighted medians.
 #include <Eigen/Core>
 #include <array>
-#include <limits>
 #include <optional>
 #include <vector>
 
@@ -62,9 +61,6 @@ struct WallChoice {
   WallBasis basis = WallBasis::kPlane;
   double confidence = 0.0;  // 0..1
   double contrast = 0.0;    // of the chosen plane (0 without one)
-  // The plane's inner_valley_m (plane_histogram.h): its refinement takes no points on the
-  // rig's side of it. NaN: none.
-  double inner_limit_m = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Two walls along one axis. `edges[0]` and `edges[1]` are where the ceiling or floor
@@ -72,11 +68,9 @@ struct WallChoice {
 // whether that edge is the ceiling's (a ceiling always ends at a wall; the ground of a
 // courtyard may run on past an open side).
 //
-// With a step at the edge, the candidates are the planes of at least min_layer_contrast,
-// or of min_plane_contrast against their outer flank alone (a wall behind units whose
-// fronts crowd its inner flank; PlaneHistogram::peaks), (and covering at least
-// min_layer_coverage of the room's length along the wall, if below min_plane_contrast)
-// up to edge_tolerance_m beyond it, and those up to hidden_wall_m
+// With a step at the edge, the candidates are the planes of at least min_layer_contrast
+// (and covering at least min_layer_coverage of the room's length along the wall, if below
+// min_plane_contrast) up to edge_tolerance_m beyond it, and those up to hidden_wall_m
 // beyond it that cover at least three quarters of the room's length the edge's own layer
 // covers and hold a quarter of its points (wall units or a wardrobe reaching the ceiling
 // end it in front of the wall, which shows along the run; a recess's back or a facade
