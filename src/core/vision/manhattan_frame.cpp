@@ -72,10 +72,16 @@ double sharpestPlanYaw(const std::vector<Eigen::Vector2d>& plan_points, double b
   const SharpnessScore score(plan_points, bin_m);
   // Coarse: every degree over the quarter turn (the score has the 90-degree period; a
   // wall 10 m long blurs by 17 cm at half a degree off, so the peak is degrees wide).
+  // Every fourth point is enough to place a peak that wide: the fine search below, on all
+  // of them, reaches 1.2 degrees either side of it.
+  constexpr std::size_t kCoarseStride = 4;
+  std::vector<Eigen::Vector2d> sparse;
+  for (std::size_t i = 0; i < plan_points.size(); i += kCoarseStride) sparse.push_back(plan_points[i]);
+  const SharpnessScore sparse_score(sparse, bin_m);
   const double coarse_step = degrees(1.0);
   std::vector<double> coarse_yaws;
   for (double yaw = -0.5 * kQuarter; yaw < 0.5 * kQuarter; yaw += coarse_step) coarse_yaws.push_back(yaw);
-  const std::vector<double> coarse = score.at(coarse_yaws);
+  const std::vector<double> coarse = sparse_score.at(coarse_yaws);
   double best_yaw = -0.5 * kQuarter, best = -1.0;
   for (std::size_t k = 0; k < coarse.size(); ++k) {
     if (coarse[k] > best) best = coarse[k], best_yaw = coarse_yaws[k];
