@@ -44,7 +44,7 @@ struct SurfaceMaterialOptions {
   double min_source_pixels = 6.0;
   // At most this many patches per face or object side, the nearest the camera (0: all;
   // vision/surface_patches.h): the step's time stays bounded on large faces.
-  int max_patches_per_face = 200;
+  int max_patches_per_face = 100;
   int threads = 0;  // 0: all cores
   // A floor or ceiling whose joints repeat along both its axes is tiles, whatever its
   // patches' vote (vision/tile_joints.h). Not walls: a brick bond repeats so too.
