@@ -54,10 +54,12 @@ struct PatchSampling {
   double min_cos_incidence = 0.1;
   // A rectangle with more patch positions than this keeps those whose centres are nearest
   // the camera (0: no limit, as the training takes them). Classifying a fitted room
-  // limits it (SurfaceMaterialOptions::max_patches_per_face): a face's vote settles long
-  // before, and without a limit the step's time grows with the faces' area (a 10 x 19 m
-  // courtyard has five times the patches of a room). The nearest are the best resolved,
-  // and they lie side by side, as the floor's and ceiling's joints need.
+  // limits it (SurfaceMaterialOptions::max_patches_per_face): a face's vote settles
+  // before (at 100, every face of 40 development rooms and of the courtyard scene gets
+  // the material it gets from all its patches), and without a limit the step's time grows
+  // with the faces' area (the courtyard's ground and walls hold 250-550 each). The
+  // nearest are the best resolved, and they lie side by side, as the floor's and
+  // ceiling's joints need.
   int max_patches_per_rect = 0;
   int threads = 0;  // 0: all cores
 };

@@ -57,7 +57,7 @@ int azimuthBin(double azimuth) {
   return std::clamp(bin, 0, kAzimuthBins - 1);
 }
 
-// The plan corners (room frame, in order around it) of the local region [lo, hi] of a
+// The plan corners (room frame, counter-clockwise) of the local region [lo, hi] of a
 // box whose frame has its origin at `origin` and is turned by `yaw`.
 std::vector<Eigen::Vector2d> footprint(const Eigen::Vector3d& origin, double yaw, const Eigen::Vector3d& lo,
                                        const Eigen::Vector3d& hi) {
@@ -151,6 +151,7 @@ void SightLines::linesOver(const std::vector<Eigen::Vector2d>& corners, std::vec
   }
   // From outside a convex footprint its corners span its azimuths, less than half a turn;
   // a line crosses the prism only if its plan does, so only if its azimuth is in that span.
+  // A span near half a turn (the rig next to an edge) takes every line, rounding aside.
   double first = 0.0, last = 0.0;
   const double a0 = std::atan2(corners[0].y() - rig.y(), corners[0].x() - rig.x());
   for (const auto& c : corners) {

@@ -46,14 +46,14 @@ class SightLines {
   std::size_t size() const { return ends_.size(); }
   const Eigen::Vector3d& end(std::size_t i) const { return ends_[i]; }
   // The lines that may cross the vertical prism over a convex footprint (room-frame plan
-  // corners, in order around it): all of them if the rig stands over it.
+  // corners, counter-clockwise): all of them if the rig stands over it or on its edge.
   void linesOver(const std::vector<Eigen::Vector2d>& footprint, std::vector<std::uint32_t>& out) const;
 
  private:
   Eigen::Vector3d rig_ = Eigen::Vector3d::Zero();
   std::vector<Eigen::Vector3d> ends_;
   std::vector<std::uint32_t> by_azimuth_;   // the lines that prove anything, bin by bin
-  std::vector<std::uint32_t> bin_start_;    // kBins + 1 offsets into by_azimuth_
+  std::vector<std::uint32_t> bin_start_;    // where each azimuth bin starts in by_azimuth_, and the end
 };
 
 // Which lines belong to the box being tested (its own points prove nothing about it):
