@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "room_reverb/acoustics/material.h"
@@ -33,9 +34,19 @@ class AirLossTable {
     const double* upper = &upper_[k * kOctaveBandCount];
     const double rest = distance_m - static_cast<double>(k) * bin_m_;
     for (int b = 0; b < kOctaveBandCount; ++b) {
-      const double x = attenuation_per_m_[b] * rest;
-      const double series = 1.0 - x * (1.0 - x * (0.5 - x * (1.0 / 6.0 - x * (1.0 / 24.0))));
-      out[b] = factor * upper[b] * series;
+      out[b] = factor * upper[b] * expSeries(attenuation_per_m_[b] * rest);
+    }
+  }
+
+  // The same for the bands whose bit is set in `bands` only (the others are left as they are).
+  void loss(double distance_m, double factor, OctaveBandValues& out, std::uint32_t bands) const {
+    const std::size_t k = bin(distance_m);
+    const double* upper = &upper_[k * kOctaveBandCount];
+    const double rest = distance_m - static_cast<double>(k) * bin_m_;
+    for (; bands != 0; bands &= bands - 1) {
+      const int b = __builtin_ctz(bands);
+      if (b >= kOctaveBandCount) break;
+      out[b] = factor * upper[b] * expSeries(attenuation_per_m_[b] * rest);
     }
   }
 
@@ -49,6 +60,9 @@ class AirLossTable {
   const OctaveBandValues& attenuationPerM() const { return attenuation_per_m_; }
 
  private:
+  // exp(-x) for 0 <= x <= m L, by its series to the fourth power.
+  static double expSeries(double x) { return 1.0 - x * (1.0 - x * (0.5 - x * (1.0 / 6.0 - x * (1.0 / 24.0)))); }
+
   std::size_t bin(double distance_m) const {
     return std::min(static_cast<std::size_t>(std::max(0.0, distance_m) / bin_m_), upper_.size() / kOctaveBandCount - 2);
   }

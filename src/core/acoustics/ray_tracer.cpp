@@ -115,14 +115,13 @@ struct RayBranch {
 // `parked` for the next slice. The energy in flight goes to `fine` (the result's, when
 // recorded; may be null), and the energy each reflection and roulette takes from the
 // rays to `losses` (per kFlightBinS of time; null without continuation). Bands continued
-// analytically (not in `active`; `live` 0 for them, 1 for the others) reach the receiver
-// no more, but their energies stay on the branches: the roulette and the splits decide as
-// they would with every band traced, so the traced bands follow exactly the paths they
-// would follow alone, and a branch is dropped only when it carries no traced band.
+// analytically (not in `active`) reach the receiver no more, but their energies stay on
+// the branches: the roulette and the splits decide as they would with every band traced,
+// so the traced bands follow exactly the paths they would follow alone, and a branch is
+// dropped only when it carries no traced band.
 struct Slice {
   double boundary_m = std::numeric_limits<double>::infinity();
   BandMask active = kAllBands;
-  OctaveBandValues live;
   std::vector<RayBranch>* parked = nullptr;
   std::vector<OctaveBandValues>* fine = nullptr;
   std::vector<OctaveBandValues>* late = nullptr;  // the same, without the image sources' paths
@@ -195,13 +194,14 @@ struct Tracer {
     seed_key = mixBits(0x7ace5eedull ^ static_cast<std::uint64_t>(options.seed));
   }
 
-  // Arrival of `energy` after `distance_m` scaled by `factor`, with air.
+  // Arrival of `energy` in the bands of `bands` after `distance_m` scaled by `factor`,
+  // with air. The other bands carry nothing here: they left the branch at a split, or
+  // are continued analytically.
   void deposit(EnergyHistogram& histogram, const OctaveBandValues& energy, double distance_m, double factor,
-               const Eigen::Vector3d& direction, const OctaveBandValues& live) const {
+               const Eigen::Vector3d& direction, BandMask bands) const {
     OctaveBandValues weight;
-    air.loss(distance_m, factor, weight);
-    for (int b = 0; b < kOctaveBandCount; ++b) weight[b] *= live[b];
-    histogram.addBands(distance_m / model.speed_of_sound_m_s, energy, weight, direction);
+    air.loss(distance_m, factor, weight, bands);
+    histogram.addBands(distance_m / model.speed_of_sound_m_s, energy, weight, direction, bands);
   }
 
   // The loudest band of `energy` after `travelled` metres of air, when it is below the
@@ -292,7 +292,7 @@ struct Tracer {
   // fluence, as deposit's crossings give), at the time of the chord's middle. The chord
   // lasts at most 2 R / c (12 ms for 2 m); binning it whole costs one deposit per chord
   // instead of one per bin, with T20 and EDT unchanged (docs/simulation.md).
-  void depositTrack(EnergyHistogram& histogram, const RayBranch& ray, double leg_m, const OctaveBandValues& live) const {
+  void depositTrack(EnergyHistogram& histogram, const RayBranch& ray, double leg_m, BandMask bands) const {
     const double radius = options.track_radius_m;
     const Eigen::Vector3d to_listener = listener - ray.position;
     const double along = to_listener.dot(ray.direction);
@@ -303,7 +303,7 @@ struct Tracer {
     const double to_m = std::min(leg_m, along + half_chord);
     if (!(to_m > from_m)) return;
     deposit(histogram, ray.energy, ray.travelled + 0.5 * (from_m + to_m), (to_m - from_m) * track_weight, -ray.direction,
-            live);
+            bands);
   }
 
   // Adds the branch's energy, air included, to every bin it spends travelling between
@@ -350,14 +350,14 @@ struct Tracer {
       const double leg = hit.hit ? hit.distance_m : std::numeric_limits<double>::infinity();
       if (tracking) {
         if (!(ray.specular_only && ray.order <= options.image_source_order)) {
-          depositTrack(histogram, ray, std::min(leg, max_distance - ray.travelled), slice.live);
+          depositTrack(histogram, ray, std::min(leg, max_distance - ray.travelled), ray.bands & slice.active);
         }
       } else if (ray.last_specular && !(ray.specular_only && ray.order <= options.image_source_order)) {
         const Eigen::Vector3d to_listener = listener - ray.position;
         const double along = to_listener.dot(ray.direction);
         if (along > 0.0 && along < leg && (to_listener - along * ray.direction).squaredNorm() < r * r &&
             ray.travelled + along < max_distance) {
-          deposit(histogram, ray.energy, ray.travelled + along, sphere_factor, -ray.direction, slice.live);
+          deposit(histogram, ray.energy, ray.travelled + along, sphere_factor, -ray.direction, ray.bands & slice.active);
           note(slice, LedgerEvent::kSphere, 0, ray.travelled + along, sphere_factor, -ray.direction);
           ++stats.sphere_detections;
         }
@@ -405,7 +405,7 @@ struct Tracer {
                                           model.speed_of_sound_m_s)
               : m.scattering;
       const RainArrival rained = options.diffuse_rain && !tracking
-                                     ? rain(histogram, ray, hit.triangle, scattering, normal, slice.live)
+                                     ? rain(histogram, ray, hit.triangle, scattering, normal, ray.bands & slice.active)
                                      : RainArrival{};
       note(slice, LedgerEvent::kReflect, static_cast<std::uint32_t>(hit.triangle), rained.distance_m, rained.factor,
            rained.direction);
@@ -469,20 +469,21 @@ struct Tracer {
   // the receiver when it sees the wall point (without asking Embree where it sees the
   // whole triangle).
   RainArrival rain(EnergyHistogram& histogram, const RayBranch& ray, std::size_t triangle,
-                   const OctaveBandValues& scattering, const Eigen::Vector3d& normal, const OctaveBandValues& live) const {
+                   const OctaveBandValues& scattering, const Eigen::Vector3d& normal, BandMask bands) const {
     const Eigen::Vector3d to_listener = listener - ray.position;
     const double d = to_listener.norm();
     const double cos_theta = normal.dot(to_listener) / d;
     if (!(cos_theta > 0.0)) return {};
     OctaveBandValues scattered;
     bool any = false;
-    for (int b = 0; b < kOctaveBandCount; ++b) {
-      scattered[b] = ray.energy[b] * scattering[b] * live[b];
+    for (BandMask rest = bands; rest != 0; rest &= rest - 1) {
+      const int b = __builtin_ctz(rest);
+      scattered[b] = ray.energy[b] * scattering[b];
       any = any || scattered[b] > 0.0;
     }
     if (!any || (!seen_whole[triangle] && scene.geometry().occluded(ray.position, listener, 1e-5))) return {};
     const RainArrival arrival{ray.travelled + d, cos_theta / (kPi * d * d), -to_listener / d};
-    deposit(histogram, scattered, arrival.distance_m, arrival.factor, arrival.direction, live);
+    deposit(histogram, scattered, arrival.distance_m, arrival.factor, arrival.direction, bands);
     return arrival;
   }
 };
@@ -565,7 +566,6 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
       Slice slice;
       slice.boundary_m = last ? std::numeric_limits<double>::infinity() : end_s * model.speed_of_sound_m_s;
       slice.active = active;
-      for (int b = 0; b < kOctaveBandCount; ++b) slice.live[b] = (active >> b & 1u) ? 1.0 : 0.0;
       slice.fine = in_flight.empty() ? nullptr : &in_flight[t];
       slice.late = late_in_flight.empty() ? nullptr : &late_in_flight[t];
       slice.losses = losses.empty() ? nullptr : &losses[t];
