@@ -636,11 +636,16 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
     }
     const bool waiting = std::any_of(parked.begin(), parked.end(), [](const auto& p) { return !p.empty(); });
     if (active == 0 || !waiting) break;
-    // Every slice parks and resumes each live branch, so the slices are as few as the
-    // judgement allows: a quarter of the time so far (at least kSliceS), and while no traced
-    // band has fallen far enough to be judged, most of the time until the first will.
-    double wait_s = std::max(kSliceS, 0.25 * end_s);
-    if (!judged && std::isfinite(soonest_s)) wait_s = std::max(wait_s, 0.8 * soonest_s);
+    // A slice ends where the judgement may change: when the first traced band will have
+    // fallen far enough (its fall over the last 25 ms carried on), so that each band stops
+    // within a slice of its own 25 dB; while a band that has fallen that far still bends,
+    // after a quarter of the time so far. Each slice parks and resumes every live branch,
+    // a copy of each: on BRAS CR2 ten slices trace 10 % fewer reflections than eight
+    // slices a quarter of the time apart (bands stopped 0.02-0.19 s after their 25 dB).
+    double wait_s = judged ? 0.25 * end_s : std::numeric_limits<double>::infinity();
+    wait_s = std::min(wait_s, soonest_s);
+    if (!std::isfinite(wait_s)) wait_s = 0.25 * end_s;
+    wait_s = std::max(kSliceS, wait_s);
     next_end_s = kFlightBinS * std::ceil((end_s + wait_s) / kFlightBinS - 1e-9);
   }
 
