@@ -98,6 +98,14 @@ struct MaterialTerms {
 using BandMask = std::uint32_t;
 constexpr BandMask kAllBands = (1u << kOctaveBandCount) - 1u;
 
+// Calls f(b) for every band b whose bit is set. A branch carries 1.7 of the nine bands on
+// average over BRAS CR2's reflections once the bands' scattering has split it, and the
+// others carry no energy: per-band work on them would only add or scale zeros.
+template <typename F>
+inline void forEachBand(BandMask bands, F&& f) {
+  for (; bands != 0; bands &= bands - 1) f(__builtin_ctz(bands));
+}
+
 // One branch of a ray: the bands in `bands` share this path (the others carry no energy).
 struct RayBranch {
   Eigen::Vector3d position;
@@ -207,15 +215,15 @@ struct Tracer {
   // The loudest band of `energy` after `travelled` metres of air, when it is below the
   // roulette level (the tables bound exp(-m travelled) from both sides and settle most
   // cases without an exp); nullopt when it is not.
-  std::optional<double> loudestBelowRoulette(const OctaveBandValues& energy, double travelled) const {
+  std::optional<double> loudestBelowRoulette(const OctaveBandValues& energy, BandMask bands, double travelled) const {
     const double* lower = air.lowerBound(travelled);
     double lo = 0.0;
-    for (int b = 0; b < kOctaveBandCount; ++b) lo = std::max(lo, energy[b] * lower[b]);
+    forEachBand(bands, [&](int b) { lo = std::max(lo, energy[b] * lower[b]); });
     if (lo >= roulette_level) return std::nullopt;
     double loudest = 0.0;
-    for (int b = 0; b < kOctaveBandCount; ++b) {
+    forEachBand(bands, [&](int b) {
       loudest = std::max(loudest, energy[b] * std::exp(-model.air_attenuation_per_m[b] * travelled));
-    }
+    });
     if (loudest >= roulette_level) return std::nullopt;
     return loudest;
   }
@@ -230,21 +238,19 @@ struct Tracer {
   // `gain` gets the survivor's energy factor (1 when the roulette was not played).
   bool rouletteEnds(RayBranch& ray, OctaveBandValues* loss, double& gain) const {
     gain = 1.0;
-    const std::optional<double> loudest = loudestBelowRoulette(ray.energy, ray.travelled);
+    const std::optional<double> loudest = loudestBelowRoulette(ray.energy, ray.bands, ray.travelled);
     if (!loudest) return false;
     const double survival = *loudest / roulette_level;
     if (keyedUniform(ray.key, ray.order, kRoulette) >= survival) {
-      if (loss) {
-        for (int b = 0; b < kOctaveBandCount; ++b) (*loss)[b] += ray.energy[b];
-      }
+      if (loss) forEachBand(ray.bands, [&](int b) { (*loss)[b] += ray.energy[b]; });
       return true;
     }
     gain = 1.0 / survival;
-    for (int b = 0; b < kOctaveBandCount; ++b) {
+    forEachBand(ray.bands, [&](int b) {
       const double before = ray.energy[b];
       ray.energy[b] = before / survival;
       if (loss) (*loss)[b] += before - ray.energy[b];
-    }
+    });
 
     return false;
   }
@@ -371,7 +377,7 @@ struct Tracer {
         ++(scene.closed() ? stats.leaked_rays : stats.escaped_rays);
         if (slice.losses) {  // its energy has left the room
           OctaveBandValues& loss = lossAt(slice, ray.travelled);
-          for (int b = 0; b < kOctaveBandCount; ++b) loss[b] += ray.energy[b];
+          forEachBand(ray.bands, [&](int b) { loss[b] += ray.energy[b]; });
         }
         note(slice, LedgerEvent::kEnd);
         return;
@@ -395,9 +401,9 @@ struct Tracer {
       OctaveBandValues* loss = nullptr;
       if (slice.losses) {
         loss = &lossAt(slice, ray.travelled);
-        for (int b = 0; b < kOctaveBandCount; ++b) (*loss)[b] += ray.energy[b] * (1.0 - m.reflectance[b]);
+        forEachBand(ray.bands, [&](int b) { (*loss)[b] += ray.energy[b] * (1.0 - m.reflectance[b]); });
       }
-      for (int b = 0; b < kOctaveBandCount; ++b) ray.energy[b] *= m.reflectance[b];
+      forEachBand(ray.bands, [&](int b) { ray.energy[b] *= m.reflectance[b]; });
       const OctaveBandValues scattering =
           options.diffraction_scattering
               ? withDiffractionScattering(m.scattering, scene.surfaceExtent(hit.triangle), ray.direction,
@@ -421,9 +427,9 @@ struct Tracer {
       if (survivor_gain != 1.0) note(slice, LedgerEvent::kRoulette, 0, 0.0, survivor_gain);
       const double draw = keyedUniform(ray.key, ray.order, kScatter);
       BandMask diffuse = 0;
-      for (int b = 0; b < kOctaveBandCount; ++b) {
-        if ((ray.bands >> b & 1u) && draw < scattering[b]) diffuse |= 1u << b;
-      }
+      forEachBand(ray.bands, [&](int b) {
+        if (draw < scattering[b]) diffuse |= 1u << b;
+      });
       const Eigen::Vector3d mirrored = ray.direction - 2.0 * ray.direction.dot(normal) * normal;
       if (diffuse != 0 && diffuse != ray.bands) {
         RayBranch specular = ray;
@@ -432,10 +438,8 @@ struct Tracer {
         // The diffuse part keeps the key, so it follows the path a model in which every band
         // scattered here would take; the specular part gets its own numbers.
         specular.key = mixBits(ray.key ^ (0x5eed5eedull + static_cast<std::uint64_t>(ray.order)));
-        for (int b = 0; b < kOctaveBandCount; ++b) {
-          if (diffuse >> b & 1u) specular.energy[b] = 0.0;
-          else ray.energy[b] = 0.0;
-        }
+        forEachBand(diffuse, [&](int b) { specular.energy[b] = 0.0; });
+        forEachBand(specular.bands, [&](int b) { ray.energy[b] = 0.0; });
         if (specular.bands & slice.active) pending.push_back(specular);
         // Kept only while every band is traced: both parts are then always followed.
         note(slice, LedgerEvent::kSplit, diffuse);
@@ -471,16 +475,16 @@ struct Tracer {
   RainArrival rain(EnergyHistogram& histogram, const RayBranch& ray, std::size_t triangle,
                    const OctaveBandValues& scattering, const Eigen::Vector3d& normal, BandMask bands) const {
     const Eigen::Vector3d to_listener = listener - ray.position;
+    const double facing = normal.dot(to_listener);
+    if (!(facing > 0.0)) return {};  // the listener is behind the wall: no root or division
     const double d = to_listener.norm();
-    const double cos_theta = normal.dot(to_listener) / d;
-    if (!(cos_theta > 0.0)) return {};
+    const double cos_theta = facing / d;
     OctaveBandValues scattered;
     bool any = false;
-    for (BandMask rest = bands; rest != 0; rest &= rest - 1) {
-      const int b = __builtin_ctz(rest);
+    forEachBand(bands, [&](int b) {
       scattered[b] = ray.energy[b] * scattering[b];
       any = any || scattered[b] > 0.0;
-    }
+    });
     if (!any || (!seen_whole[triangle] && scene.geometry().occluded(ray.position, listener, 1e-5))) return {};
     const RainArrival arrival{ray.travelled + d, cos_theta / (kPi * d * d), -to_listener / d};
     deposit(histogram, scattered, arrival.distance_m, arrival.factor, arrival.direction, bands);
