@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <iostream>
+#include <random>
 #include <vector>
 
 #include "room_reverb/acoustics/room_model.h"
@@ -396,9 +397,9 @@ TEST(RayTracer, OneSurfaceChangedAtTheSameSeedChangesLittleElse) {
 TEST(TriangleVisibility, TheListenerSeesEveryWallOfAnEmptyBoxWholeAndNotWhatAnObjectHides) {
   // An empty shoebox: nothing can hide any of its twelve triangles (neighbours only touch).
   const TriangleMesh box = room_reverb::test::shoeboxMesh({5, 4, 3});
-  const std::vector<bool> empty = trianglesSeenWhole(box, {2.0, 1.5, 1.2});
-  ASSERT_EQ(empty.size(), box.triangleCount());
-  for (std::size_t t = 0; t < empty.size(); ++t) EXPECT_TRUE(empty[t]) << t;
+  const TriangleVisibility empty(box, {2.0, 1.5, 1.2});
+  ASSERT_EQ(empty.triangleCount(), box.triangleCount());
+  for (std::size_t t = 0; t < empty.triangleCount(); ++t) EXPECT_TRUE(empty.seenWhole(t)) << t;
   // A pillar between the listener and the x = 5 wall: that wall is not seen whole, the
   // x = 0 wall behind the listener still is.
   const RoomModel model = parseRoomModel(R"(frame: room
@@ -415,19 +416,19 @@ objects:
 )");
   const AcousticScene scene = roomModelToScene(model, MaterialLibrary::loadDefault(), {});
   const Eigen::Vector3d listener(2.0, 2.0, 1.5);
-  const std::vector<bool> seen = trianglesSeenWhole(scene.mesh(), listener);
+  const TriangleVisibility seen(scene.mesh(), listener);
   std::size_t hidden_far = 0, seen_near = 0, far = 0, near = 0;
-  for (std::size_t t = 0; t < seen.size(); ++t) {
+  for (std::size_t t = 0; t < seen.triangleCount(); ++t) {
     const TriangleMesh& mesh = scene.mesh();
     const Eigen::Vector3d centre =
         (mesh.vertices[mesh.triangles[t][0]] + mesh.vertices[mesh.triangles[t][1]] + mesh.vertices[mesh.triangles[t][2]]) / 3.0;
     if (std::abs(centre.x() - 5.0) < 1e-9) {
       ++far;
-      if (!seen[t]) ++hidden_far;
+      if (!seen.seenWhole(t)) ++hidden_far;
     }
     if (std::abs(centre.x()) < 1e-9) {
       ++near;
-      if (seen[t]) ++seen_near;
+      if (seen.seenWhole(t)) ++seen_near;
     }
   }
   EXPECT_GT(far, 0u);
@@ -435,6 +436,68 @@ objects:
   EXPECT_GT(near, 0u);
   EXPECT_EQ(seen_near, near);
   // More triangles than the limit: each ray decides.
-  const std::vector<bool> limited = trianglesSeenWhole(box, {2.0, 1.5, 1.2}, 4);
-  for (bool whole : limited) EXPECT_FALSE(whole);
+  const TriangleVisibility limited(box, {2.0, 1.5, 1.2}, 3, 4);
+  for (std::size_t t = 0; t < box.triangleCount(); ++t) {
+    EXPECT_FALSE(limited.seenWhole(t));
+    EXPECT_FALSE(limited.sees(t, box.vertices[box.triangles[t][0]]));
+  }
+}
+
+TEST(TriangleVisibility, ACellItCallsSeenIsSeenAndMostOfWhatIsSeenNeedsNoRay) {
+  // Three objects in a room hide parts of its walls and floor from the listener. Points
+  // on every triangle that is not seen whole: where the cells say "seen", the scene's own
+  // ray must find the way clear, and the cells must settle most of the points that are
+  // seen (the rain's rays they save).
+  const RoomModel model = parseRoomModel(R"(frame: room
+room_box: {size_m: [6.0, 5.0, 3.0], has_ceiling: true}
+surfaces:
+  floor: {material: concrete_painted}
+  ceiling: {material: concrete_painted}
+  wall_x_min: {material: concrete_painted}
+  wall_x_max: {material: concrete_painted}
+  wall_y_min: {material: concrete_painted}
+  wall_y_max: {material: concrete_painted}
+objects:
+  - {label: pillar, material: concrete_painted, center_m: [4.5, 2.5, 1.5], size_m: [0.4, 0.4, 3.0]}
+  - {label: table, material: wood, center_m: [2.0, 3.8, 0.4], size_m: [1.2, 0.8, 0.8]}
+  - {label: cabinet, material: wood, center_m: [1.0, 1.0, 1.0], size_m: [0.5, 0.6, 2.0]}
+)");
+  const AcousticScene scene = roomModelToScene(model, MaterialLibrary::loadDefault(), {});
+  const TriangleMesh& mesh = scene.mesh();
+  const Eigen::Vector3d listener(3.0, 2.2, 1.3);
+  const TriangleVisibility visibility(mesh, listener);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::size_t partly = 0, clear = 0, settled = 0, hidden = 0;
+  for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+    if (visibility.seenWhole(t)) continue;
+    ++partly;
+    EXPECT_LT(visibility.seenShare(t), 1.0);
+    const Eigen::Vector3d a = mesh.vertices[mesh.triangles[t][0]], b = mesh.vertices[mesh.triangles[t][1]],
+                          c = mesh.vertices[mesh.triangles[t][2]];
+    for (int i = 0; i < 300; ++i) {
+      double u = unit(rng), v = unit(rng);
+      if (u + v > 1.0) {
+        u = 1.0 - u;
+        v = 1.0 - v;
+      }
+      const Eigen::Vector3d point = a + u * (b - a) + v * (c - a);
+      const bool blocked = scene.geometry().occluded(point, listener, 1e-5);
+      const bool sees = visibility.sees(t, point);
+      if (sees) {
+        EXPECT_FALSE(blocked) << "triangle " << t << " at " << point.transpose();
+      }
+      if (blocked) {
+        ++hidden;
+      } else {
+        ++clear;
+        if (sees) ++settled;
+      }
+    }
+  }
+  EXPECT_GT(partly, 10u);
+  EXPECT_GT(hidden, 1000u);  // the objects do hide some of the points
+  EXPECT_GT(static_cast<double>(settled), 0.6 * static_cast<double>(clear));
+  std::cout << "[          ] " << partly << " triangles partly hidden; of their points " << hidden << " hidden, " << clear
+            << " clear, " << settled << " of those settled by the cells\n";
 }

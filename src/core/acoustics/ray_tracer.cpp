@@ -168,7 +168,7 @@ struct Tracer {
   double mean_free_path_m;  // 4V/S of a closed room, 0 for an open one
   bool tracking = false;      // the receiver is the track receiver (RayTracingOptions::track_radius_m)
   double track_weight = 0.0;  // then 1 / its free volume (m^-3)
-  std::vector<bool> seen_whole;  // per triangle: the listener sees all of it (the rain needs no ray)
+  TriangleVisibility visibility;  // where on each triangle the listener is seen (the rain needs no ray)
 
   Tracer(const AcousticScene& scene_, const Eigen::Vector3d& source_, const Eigen::Vector3d& listener_,
          const PropagationModel& model_, const RayTracingOptions& options_, double receiver_radius_m_,
@@ -196,7 +196,7 @@ struct Tracer {
       if (!(volume > 0.0)) throw InputError("the track receiver's sphere holds no free volume about the listener");
       track_weight = 1.0 / volume;
     } else if (options.diffuse_rain) {
-      seen_whole = trianglesSeenWhole(mesh, listener);
+      visibility = TriangleVisibility(mesh, listener);
     }
     launch_rotation = randomRotation(options.seed);
     seed_key = mixBits(0x7ace5eedull ^ static_cast<std::uint64_t>(options.seed));
@@ -352,7 +352,7 @@ struct Tracer {
         note(slice, LedgerEvent::kPark);
         return;
       }
-      const RayHit hit = scene.geometry().intersect(ray.position, ray.direction, 1e-7);
+      const RayHit hit = scene.geometry().intersectFast(ray.position, ray.direction, 1e-7);
       const double leg = hit.hit ? hit.distance_m : std::numeric_limits<double>::infinity();
       if (tracking) {
         if (!(ray.specular_only && ray.order <= options.image_source_order)) {
@@ -470,8 +470,8 @@ struct Tracer {
   };
 
   // Diffuse rain (Schröder 2011): the scattered share of this reflection sent straight to
-  // the receiver when it sees the wall point (without asking Embree where it sees the
-  // whole triangle).
+  // the receiver when it sees the wall point (asking Embree only where no cell of the
+  // triangle's visibility says so).
   RainArrival rain(EnergyHistogram& histogram, const RayBranch& ray, std::size_t triangle,
                    const OctaveBandValues& scattering, const Eigen::Vector3d& normal, BandMask bands) const {
     const Eigen::Vector3d to_listener = listener - ray.position;
@@ -485,7 +485,7 @@ struct Tracer {
       scattered[b] = ray.energy[b] * scattering[b];
       any = any || scattered[b] > 0.0;
     });
-    if (!any || (!seen_whole[triangle] && scene.geometry().occluded(ray.position, listener, 1e-5))) return {};
+    if (!any || (!visibility.sees(triangle, ray.position) && scene.geometry().occluded(ray.position, listener, 1e-5))) return {};
     const RainArrival arrival{ray.travelled + d, cos_theta / (kPi * d * d), -to_listener / d};
     deposit(histogram, scattered, arrival.distance_m, arrival.factor, arrival.direction, bands);
     return arrival;
