@@ -129,10 +129,11 @@ TriangleVisibility::TriangleVisibility(const TriangleMesh& mesh, const Eigen::Ve
 
 bool TriangleVisibility::sees(std::size_t triangle, const Eigen::Vector3d& on_triangle) const {
   if (roots_.empty()) return false;
+  const Node* node = &nodes_[roots_[triangle]];
+  if (node->state != kSplit) return node->state == kSeen;
   const Frame& f = frames_[triangle];
   const Eigen::Vector3d w = on_triangle - f.origin;
   double u = f.along_u.dot(w), v = f.along_v.dot(w);
-  const Node* node = &nodes_[roots_[triangle]];
   while (node->state == kSplit) {
     // The cell holding (u, v), and the point's coordinates in it (quarters' corner order).
     std::uint32_t q;
