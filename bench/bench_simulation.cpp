@@ -44,9 +44,9 @@ const Eigen::Vector3d& kSource = room_reverb::bench::kCr2Source;
 const Eigen::Vector3d& kReceiver = room_reverb::bench::kCr2Receiver;
 
 // ---------------------------------------------------------------------------------------
-// Raw Embree on the scene's own triangles, built with the wrapper's settings (robust
-// traversal, high build quality) so that only the work around rtcIntersect1 differs; the
-// non-robust build is there for reference.
+// Raw Embree on the scene's own triangles, built as the wrapper builds its two BVHs
+// (embree_scene.h): watertight (robust traversal, high build quality) and fast (neither:
+// the one the ray tracer's legs use), so that only the work around rtcIntersect1 differs.
 // ---------------------------------------------------------------------------------------
 class RawEmbree {
  public:
@@ -55,7 +55,7 @@ class RawEmbree {
     if (!device_) throw std::runtime_error("Embree: cannot create a device");
     scene_ = rtcNewScene(device_);
     rtcSetSceneFlags(scene_, robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
-    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+    rtcSetSceneBuildQuality(scene_, robust ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
     RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                                  3 * sizeof(float), mesh.vertices.size()));
@@ -183,12 +183,14 @@ void BM_RawEmbreeSpecular(benchmark::State& state) {
 }
 BENCHMARK(BM_RawEmbreeSpecular)->ArgNames({"bounces", "robust"})->Args({100, 1})->Args({100, 0})->Unit(benchmark::kMillisecond)->MinTime(1.0);
 
-// Paths of the same kind through the project's wrapper (double in and out, normal looked up).
+// Paths of the same kind through the project's wrapper (double in and out, normal looked
+// up): its watertight intersect() (fast 0) or the ray tracer's intersectFast() (fast 1).
 void BM_EmbreeSceneSpecular(benchmark::State& state) {
   const AcousticScene* cr2 = cr2Scene(state);
   if (!cr2) return;
   const EmbreeScene& geometry = cr2->geometry();
   const int bounces = static_cast<int>(state.range(0));
+  const bool fast = state.range(1) != 0;
   std::mt19937_64 rng(1);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   PathCounts total;
@@ -200,7 +202,7 @@ void BM_EmbreeSceneSpecular(benchmark::State& state) {
       Eigen::Vector3d position = kSource;
       Eigen::Vector3d direction(r * std::cos(phi), r * std::sin(phi), z);
       for (int b = 0; b < bounces; ++b) {
-        const RayHit hit = geometry.intersect(position, direction, 0.0);
+        const RayHit hit = fast ? geometry.intersectFast(position, direction, 0.0) : geometry.intersect(position, direction, 0.0);
         if (!hit.hit) {
           ++total.leaks;
           break;
@@ -216,18 +218,19 @@ void BM_EmbreeSceneSpecular(benchmark::State& state) {
   state.counters["leaks"] = static_cast<double>(total.leaks);
   state.SetItemsProcessed(static_cast<std::int64_t>(total.bounces));
 }
-BENCHMARK(BM_EmbreeSceneSpecular)->ArgName("bounces")->Arg(100)->Unit(benchmark::kMillisecond)->MinTime(1.0);
+BENCHMARK(BM_EmbreeSceneSpecular)->ArgNames({"bounces", "fast"})->Args({100, 0})->Args({100, 1})->Unit(benchmark::kMillisecond)->MinTime(1.0);
 
 // The project's tracer, one thread, the settings simulateRoom gives it for CR2 (2 s,
 // image-source order 3, air at 20 C / 50 %). Arg: rays per iteration. Each iteration also
-// times raw Embree (as BM_RawEmbreeSpecular, robust build, about 0.1 s, outside the
-// benchmark's timing) right before the tracer, so that the ratio compares the two at the
-// same machine speed: on a shared machine that speed drifts by tens of percent.
+// times raw Embree (as BM_RawEmbreeSpecular, the fast build the tracer's legs use, about
+// 0.1 s, outside the benchmark's timing) right before the tracer, so that the ratio
+// compares the two at the same machine speed: on a shared machine that speed drifts by
+// tens of percent.
 void BM_TraceRaysOneThread(benchmark::State& state) {
   const AcousticScene* cr2 = cr2Scene(state);
   if (!cr2) return;
   const AcousticScene& scene = *cr2;
-  const RTCScene raw_scene = cr2Raw(scene).scene();
+  const RTCScene raw_scene = cr2Raw(scene, false).scene();
   std::mt19937 raw_rng(1);
   rawSpecularPaths(raw_scene, raw_rng, 200, 100);  // warm-up
   const PropagationModel model = PropagationModel::from(AirConditions{}, SourceDirectivity{});

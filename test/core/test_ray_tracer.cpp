@@ -402,18 +402,8 @@ TEST(TriangleVisibility, TheListenerSeesEveryWallOfAnEmptyBoxWholeAndNotWhatAnOb
   for (std::size_t t = 0; t < empty.triangleCount(); ++t) EXPECT_TRUE(empty.seenWhole(t)) << t;
   // A pillar between the listener and the x = 5 wall: that wall is not seen whole, the
   // x = 0 wall behind the listener still is.
-  const RoomModel model = parseRoomModel(R"(frame: room
-room_box: {size_m: [5.0, 4.0, 3.0], has_ceiling: true}
-surfaces:
-  floor: {material: concrete_painted}
-  ceiling: {material: concrete_painted}
-  wall_x_min: {material: concrete_painted}
-  wall_x_max: {material: concrete_painted}
-  wall_y_min: {material: concrete_painted}
-  wall_y_max: {material: concrete_painted}
-objects:
-  - {label: pillar, material: concrete_painted, center_m: [3.8, 2.0, 1.5], size_m: [0.4, 0.4, 3.0]}
-)");
+  RoomModel model = room_reverb::test::plasterRoom({5.0, 4.0, 3.0});
+  model.objects.push_back(room_reverb::test::woodCuboid("pillar", {3.8, 2.0, 1.5}, {0.4, 0.4, 3.0}));
   const AcousticScene scene = roomModelToScene(model, MaterialLibrary::loadDefault(), {});
   const Eigen::Vector3d listener(2.0, 2.0, 1.5);
   const TriangleVisibility seen(scene.mesh(), listener);
@@ -448,20 +438,10 @@ TEST(TriangleVisibility, ACellItCallsSeenIsSeenAndMostOfWhatIsSeenNeedsNoRay) {
   // on every triangle that is not seen whole: where the cells say "seen", the scene's own
   // ray must find the way clear, and the cells must settle most of the points that are
   // seen (the rain's rays they save).
-  const RoomModel model = parseRoomModel(R"(frame: room
-room_box: {size_m: [6.0, 5.0, 3.0], has_ceiling: true}
-surfaces:
-  floor: {material: concrete_painted}
-  ceiling: {material: concrete_painted}
-  wall_x_min: {material: concrete_painted}
-  wall_x_max: {material: concrete_painted}
-  wall_y_min: {material: concrete_painted}
-  wall_y_max: {material: concrete_painted}
-objects:
-  - {label: pillar, material: concrete_painted, center_m: [4.5, 2.5, 1.5], size_m: [0.4, 0.4, 3.0]}
-  - {label: table, material: wood, center_m: [2.0, 3.8, 0.4], size_m: [1.2, 0.8, 0.8]}
-  - {label: cabinet, material: wood, center_m: [1.0, 1.0, 1.0], size_m: [0.5, 0.6, 2.0]}
-)");
+  RoomModel model = room_reverb::test::plasterRoom({6.0, 5.0, 3.0});
+  model.objects.push_back(room_reverb::test::woodCuboid("pillar", {4.5, 2.5, 1.5}, {0.4, 0.4, 3.0}));
+  model.objects.push_back(room_reverb::test::woodCuboid("table", {2.0, 3.8, 0.4}, {1.2, 0.8, 0.8}));
+  model.objects.push_back(room_reverb::test::woodCuboid("cabinet", {1.0, 1.0, 1.0}, {0.5, 0.6, 2.0}));
   const AcousticScene scene = roomModelToScene(model, MaterialLibrary::loadDefault(), {});
   const TriangleMesh& mesh = scene.mesh();
   const Eigen::Vector3d listener(3.0, 2.2, 1.3);

@@ -27,12 +27,14 @@ struct DecayContinuationOptions {
   // The band must have decayed this far (dB) below its launch energy in flight. Whatever
   // the receiver's decay measures read above that comes from the traced response: EDT
   // (10 dB) and C80 are traced, T20's range (5-25 dB down) as far as the energy in flight
-  // has fallen, T30's last 10 dB may be continued. On BRAS CR2 25 dB traces 47 million
-  // reflections per 100 000 rays where 30 dB traces 62 million, with every octave's mean
-  // T20 over three seeds within 0.1 JND of 30 dB's and EDT, C80 and D50 unchanged; in four
-  // rooms with grazing paths (eight seeds each), whose decays bend and are traced to the
-  // end, within 0.03 JND. 20 dB (37 million) moves CR2's 125 Hz T20 by 1 %
-  // (docs/simulation.md).
+  // has fallen, T30's last 10 dB may be continued. On BRAS CR2, with slices a quarter of
+  // the elapsed time apart, 25 dB traces 47 million reflections per 100 000 rays where
+  // 30 dB traces 62 million, with every octave's mean T20 over three seeds within 0.1 JND
+  // of 30 dB's and EDT, C80 and D50 unchanged; in four rooms with grazing paths (eight
+  // seeds each), whose decays bend and are traced to the end, within 0.03 JND. 20 dB
+  // (37 million) moves CR2's 125 Hz T20 by 1 %. With each band stopped within a slice of
+  // its own 25 dB (the tracer's slices), 43 million, T20 within 0.13 JND of tracing to
+  // the end (docs/simulation.md).
   double decayed_db = 25.0;
   // The last `straight_span_db` of that fall are fitted with a line in two halves. The
   // change of slope between them, carried on while the later half's slope falls another
