@@ -102,6 +102,42 @@ TEST(DecayContinuation, TheTracerStopsAStraightDecayEarlyAndKeepsItsLateEnergy) 
   }
 }
 
+// A slowly decaying room whose 1 kHz band (absorption 0.05) falls 25 dB near 1 s, after
+// the octaves above it (0.07) have fallen as far and stopped near 0.7 s. A slice ends when
+// the first band still traced is predicted to have fallen that far, so the 1 kHz band too
+// stops within one slice (25 ms) and a flight bin of it, not a quarter of the elapsed
+// time later, while every branch would go on reflecting.
+TEST(DecayContinuation, ABandStopsWithinASliceOfItsOwnTwentyFiveDecibels) {
+  const Eigen::Vector3d size(7, 5, 3), source(1.5, 1.2, 1.4), listener(5.2, 3.4, 1.6);
+  AcousticMaterial wall = room_reverb::test::uniformLibrary(0.05, 0.5).get("test_wall");
+  for (int b = 5; b < kOctaveBandCount; ++b) wall.absorption[b] = 0.07;
+  MaterialLibrary library;
+  library.add(wall);
+  const AcousticScene scene(room_reverb::test::shoeboxMesh(size), library);
+  const PropagationModel model = PropagationModel::from(noAir(), {});
+  RayTracingOptions options;
+  options.ray_count = 3000;
+  options.max_time_s = 2.5;
+  options.threads = 2;
+  const RayTracingResult continued = traceRays(scene, source, listener, model, options);
+  options.continue_established_decays = false;
+  options.record_energy_in_flight = true;
+  const RayTracingResult traced = traceRays(scene, source, listener, model, options);
+  double fallen_at_s = 0.0;
+  for (std::size_t k = 0; k < traced.energy_in_flight.size(); ++k) {
+    if (traced.energy_in_flight[k][4] < traced.energy_in_flight[0][4] * std::pow(10.0, -2.5)) {
+      fallen_at_s = (static_cast<double>(k) + 0.5) * options.bin_s;
+      break;
+    }
+  }
+  std::cout << "[ measured ] 25 dB down at " << fallen_at_s << " s, stopped at " << continued.stats.traced_until_s[4]
+            << " s (2 kHz at " << continued.stats.traced_until_s[5] << " s)\n";
+  EXPECT_GT(fallen_at_s, 0.6);
+  EXPECT_LT(continued.stats.traced_until_s[5], fallen_at_s - 0.15);
+  EXPECT_GT(continued.stats.traced_until_s[4], fallen_at_s - 0.01);
+  EXPECT_LT(continued.stats.traced_until_s[4], fallen_at_s + 0.035);
+}
+
 // A low room (1 m) with a nearly black floor and ceiling between mirror-like walls: a ray
 // at elevation e loses its energy at a rate that grows with sin e, so the energy in flight
 // falls as 1 / t, a decay that bends all the way. The tracer must trace on past the first
