@@ -97,7 +97,7 @@ TEST(EmbreeScene, ARealHoleIsNotClosedByTheSecondQuery) {
   mesh.triangles.erase(mesh.triangles.begin());
   mesh.triangle_material.erase(mesh.triangle_material.begin());
   const EmbreeScene geometry(mesh);
-  // Triangle 0 was (0,0,0) (5,0,0) (5,4,0): below (4, 1) lies the missing half.
+  // The removed triangle is (0,0,0) (5,0,0) (5,4,0): below (4, 1) lies the missing half.
   EXPECT_FALSE(geometry.intersectFast({4.0, 1.0, 1.5}, {0.0, 0.0, -1.0}).hit);
   EXPECT_FALSE(geometry.intersect({4.0, 1.0, 1.5}, {0.0, 0.0, -1.0}).hit);
   // The other half is still there.
