@@ -26,8 +26,11 @@ class TriangleVisibility {
   // its edges' midpoints into four, each of those again, to `depth` levels, and a cell is
   // seen when none of the triangles that enter its parent's pyramid enters its own. A mesh
   // with more than `max_triangles` (the test is quadratic in the count) gets no answers:
-  // every ray decides.
-  TriangleVisibility(const TriangleMesh& mesh, const Eigen::Vector3d& point, int depth = 3,
+  // every ray decides. On CR2 (504 triangles) the listener sees 94 of 203 m2 whole, 168 m2
+  // with two levels of cells and 179 m2 with three, built in about 2, 5 and 12 ms: two
+  // levels, since the build is paid by every simulation and the rays it saves by the
+  // reflections of the run (about 2 % of a 100 000-ray run's time).
+  TriangleVisibility(const TriangleMesh& mesh, const Eigen::Vector3d& point, int depth = 2,
                      std::size_t max_triangles = 4096);
 
   std::size_t triangleCount() const { return roots_.size(); }

@@ -39,14 +39,15 @@ bool overlaps(const std::array<Eigen::Vector3d, 4>& tetra, const Corners& tri) {
   for (const Eigen::Vector3d& a : tetra_edges) {
     for (const Eigen::Vector3d& b : tri_edges) axes[n++] = a.cross(b);
   }
-  for (const Eigen::Vector3d& raw : axes) {
-    const double length = raw.norm();
-    if (!(length > 1e-12)) continue;  // parallel edges: no axis
-    const Eigen::Vector3d axis = raw / length;
+  for (const Eigen::Vector3d& axis : axes) {
+    // Projections onto the axis unnormalised: lengths along it come scaled by its norm.
+    const double length2 = axis.squaredNorm();
+    if (!(length2 > 1e-24)) continue;  // parallel edges: no axis
+    const double touch = kTouchM * std::sqrt(length2);
     double tetra_lo, tetra_hi, tri_lo, tri_hi;
     project(tetra, axis, tetra_lo, tetra_hi);
     project(tri, axis, tri_lo, tri_hi);
-    if (tetra_hi <= tri_lo + kTouchM || tri_hi <= tetra_lo + kTouchM) return false;
+    if (tetra_hi <= tri_lo + touch || tri_hi <= tetra_lo + touch) return false;
   }
   return true;
 }
