@@ -18,7 +18,9 @@ struct RayHit {
 
 class EmbreeScene {
  public:
-  // Builds the BVHs (single precision, as Embree stores them). The mesh is validated first.
+  // Builds the BVHs (single precision, as Embree stores them): a watertight one and one
+  // built for speed (intersectFast), each about as large as the other. The mesh is
+  // validated first.
   explicit EmbreeScene(TriangleMesh mesh);
   ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;

@@ -23,9 +23,9 @@ namespace {
 // The mesh in one BVH. Watertight: Embree's robust mode (its Plücker-coordinate test)
 // lets no ray through a shared edge, which the FDTD grid's parity count along grid lines
 // and a room model's leak check rely on; it builds with spatial splits
-// (RTC_BUILD_QUALITY_HIGH), which change nothing measurable for it. The other: Embree's
-// Möller-Trumbore test, whose rays may slip between two triangles at their shared edge,
-// without spatial splits, with which its BVH traced BRAS CR2 8 % slower.
+// (RTC_BUILD_QUALITY_HIGH), which change nothing measurable for it. The other uses
+// Embree's Möller-Trumbore test, whose rays may slip between two triangles at their shared
+// edge, and no spatial splits: with them its BVH traced BRAS CR2 8 % slower.
 RTCScene buildScene(RTCDevice device, const TriangleMesh& mesh, bool watertight) {
   RTCScene scene = rtcNewScene(device);
   if (watertight) rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);

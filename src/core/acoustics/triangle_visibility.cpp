@@ -75,8 +75,7 @@ TriangleVisibility::TriangleVisibility(const TriangleMesh& mesh, const Eigen::Ve
   }
   roots_.resize(count);
   frames_.resize(count);
-  // Whether any of `candidates` enters the pyramid from the point to `cell`; those that do
-  // go to `entering`.
+  // Those of `candidates` that enter the pyramid from the point to `cell`, into `entering`.
   const auto enter = [&](const Corners& cell, const std::vector<std::uint32_t>& candidates,
                          std::vector<std::uint32_t>& entering) {
     entering.clear();
