@@ -36,15 +36,6 @@ AirConditions noAir() {
   return air;
 }
 
-// Two threads, `rays` rays, `max_time_s` long: the tracer's runs in the tests below.
-RayTracingOptions tracing(std::size_t rays, double max_time_s) {
-  RayTracingOptions options;
-  options.ray_count = rays;
-  options.max_time_s = max_time_s;
-  options.threads = 2;
-  return options;
-}
-
 }  // namespace
 
 TEST(DecayContinuation, AStraightDecayIsEstablishedOnceItHasFallenFarEnough) {
@@ -92,7 +83,7 @@ TEST(DecayContinuation, TheTracerStopsAStraightDecayEarlyAndKeepsItsLateEnergy) 
   const Eigen::Vector3d size(7, 5, 3), source(1.5, 1.2, 1.4), listener(5.2, 3.4, 1.6);
   const AcousticScene scene(room_reverb::test::shoeboxMesh(size), room_reverb::test::uniformLibrary(0.15, 0.5));
   const PropagationModel model = PropagationModel::from(noAir(), {});
-  RayTracingOptions options = tracing(6000, 1.0);
+  RayTracingOptions options = room_reverb::test::twoThreads(6000, 1.0);
   const RayTracingResult continued = traceRays(scene, source, listener, model, options);
   options.continue_established_decays = false;
   const RayTracingResult traced = traceRays(scene, source, listener, model, options);
@@ -121,7 +112,7 @@ TEST(DecayContinuation, ABandStopsWithinASliceOfItsOwnTwentyFiveDecibels) {
   library.add(wall);
   const AcousticScene scene(room_reverb::test::shoeboxMesh(size), library);
   const PropagationModel model = PropagationModel::from(noAir(), {});
-  RayTracingOptions options = tracing(3000, 2.5);
+  RayTracingOptions options = room_reverb::test::twoThreads(3000, 2.5);
   const RayTracingResult continued = traceRays(scene, source, listener, model, options);
   options.continue_established_decays = false;
   options.record_energy_in_flight = true;
@@ -156,7 +147,7 @@ TEST(DecayContinuation, TheTracerTracesABentDecayOn) {
   library.add(room_reverb::test::uniformLibrary(0.99, 0.0, "absorber").get("absorber"));
   const AcousticScene scene(mesh, library);
   const PropagationModel model = PropagationModel::from(noAir(), {});
-  RayTracingOptions options = tracing(30000, 2.2);
+  RayTracingOptions options = room_reverb::test::twoThreads(30000, 2.2);
   options.continue_established_decays = false;
   const RayTracingResult traced = traceRays(scene, source, listener, model, options);
   options.continue_established_decays = true;

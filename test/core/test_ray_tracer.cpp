@@ -18,18 +18,7 @@
 
 using namespace room_reverb::core;
 using room_reverb::test::noAir;
-
-namespace {
-
-RayTracingOptions twoThreads(std::size_t rays, double max_time_s) {
-  RayTracingOptions options;
-  options.ray_count = rays;
-  options.max_time_s = max_time_s;
-  options.threads = 2;
-  return options;
-}
-
-}  // namespace
+using room_reverb::test::twoThreads;
 
 TEST(RayTracer, LosslessRoomKeepsItsEnergyAndHoldsTheDiffuseFieldLevel) {
   const Eigen::Vector3d size(5, 4, 3);
