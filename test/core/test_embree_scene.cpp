@@ -62,7 +62,6 @@ TEST(EmbreeScene, ARayThroughASharedEdgeFindsAWall) {
   const EmbreeScene geometry(mesh);
   std::mt19937 rng(9);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  int aimed = 0;
   for (std::size_t t = 0; t < mesh.triangleCount(); t += 2) {
     // Triangles (q0, q1, q2) and (q0, q2, q3) share the edge q0-q2.
     const Eigen::Vector3d a = mesh.vertices[mesh.triangles[t][0]], b = mesh.vertices[mesh.triangles[t][2]];
@@ -71,23 +70,18 @@ TEST(EmbreeScene, ARayThroughASharedEdgeFindsAWall) {
       const Eigen::Vector3d origin(0.5 + 4.0 * unit(rng), 0.5 + 3.0 * unit(rng), 0.5 + 2.0 * unit(rng));
       const Eigen::Vector3d direction = (target - origin).normalized();
       const RayHit hit = geometry.intersectFast(origin, direction);
-      ++aimed;
       ASSERT_TRUE(hit.hit) << "slipped through the edge at " << target.transpose();
       EXPECT_NEAR(hit.distance_m, (target - origin).norm(), 1e-4);
     }
   }
-  EXPECT_EQ(aimed, 3000);
   // Straight down onto the floor's diagonal from (0, 0) to (5, 4), and along the walls'
   // planes' normals onto theirs: rays that meet the edge itself.
-  int straight = 0;
   for (int i = 1; i < 2000; ++i) {
     const double s = static_cast<double>(i) / 2000.0;
     const RayHit down = geometry.intersectFast({5.0 * s, 4.0 * s, 1.5}, {0.0, 0.0, -1.0});
     ASSERT_TRUE(down.hit) << "slipped through the floor at s = " << s;
     EXPECT_NEAR(down.distance_m, 1.5, 1e-5);
-    ++straight;
   }
-  EXPECT_EQ(straight, 1999);
 }
 
 TEST(EmbreeScene, ARealHoleIsNotClosedByTheSecondQuery) {

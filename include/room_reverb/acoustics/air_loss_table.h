@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
-#include <cstdint>
 #include <vector>
 
 #include "room_reverb/acoustics/material.h"
@@ -38,16 +37,12 @@ class AirLossTable {
     }
   }
 
-  // The same for the bands whose bit is set in `bands` only (the others are left as they are).
-  void loss(double distance_m, double factor, OctaveBandValues& out, std::uint32_t bands) const {
+  // The same for the bands in `bands` only (the others are left as they are).
+  void loss(double distance_m, double factor, OctaveBandValues& out, BandMask bands) const {
     const std::size_t k = bin(distance_m);
     const double* upper = &upper_[k * kOctaveBandCount];
     const double rest = distance_m - static_cast<double>(k) * bin_m_;
-    for (; bands != 0; bands &= bands - 1) {
-      const int b = __builtin_ctz(bands);
-      if (b >= kOctaveBandCount) break;
-      out[b] = factor * upper[b] * expSeries(attenuation_per_m_[b] * rest);
-    }
+    forEachBand(bands, [&](int b) { out[b] = factor * upper[b] * expSeries(attenuation_per_m_[b] * rest); });
   }
 
   // Per band, exp(-m_b d) from below: the table's value at the end of d's bin.

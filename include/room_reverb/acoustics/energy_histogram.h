@@ -3,7 +3,6 @@
 // directional moment (the energy-weighted sum of arrival directions, i.e. the intensity
 // vector up to a constant).
 #include <Eigen/Core>
-#include <cstdint>
 #include <vector>
 
 #include "room_reverb/acoustics/material.h"
@@ -27,11 +26,11 @@ class EnergyHistogram {
   // lookup per arrival instead of one per band).
   void addBands(double time_s, const OctaveBandValues& energy, const OctaveBandValues& weight,
                 const Eigen::Vector3d& direction);
-  // The same for the bands whose bit is set in `bands` (bit b: band b) only. A ray
-  // tracer's branch carries a few of the nine bands once the bands' scattering has split
-  // it, and the others would add zeros.
+  // The same for the bands in `bands` only (a ray tracer's branch carries a few of the
+  // nine once the bands' scattering has split it, and the others would add zeros); the
+  // one above, a straight loop, serves the path replay, whose branches carry every band.
   void addBands(double time_s, const OctaveBandValues& energy, const OctaveBandValues& weight,
-                const Eigen::Vector3d& direction, std::uint32_t bands);
+                const Eigen::Vector3d& direction, BandMask bands);
   void merge(const EnergyHistogram& other);
   // Replaces one bin of one band (a continued decay, decay_continuation.h).
   void set(std::size_t bin, int band, double energy, const Eigen::Vector3d& flux);

@@ -34,19 +34,17 @@ void EnergyHistogram::addBands(double time_s, const OctaveBandValues& energy, co
 }
 
 void EnergyHistogram::addBands(double time_s, const OctaveBandValues& energy, const OctaveBandValues& weight,
-                               const Eigen::Vector3d& direction, std::uint32_t bands) {
+                               const Eigen::Vector3d& direction, BandMask bands) {
   if (!(time_s >= 0.0)) return;
   const auto bin = static_cast<std::size_t>(time_s / bin_s_);
   if (bin >= bins_) return;
   double* e = &energy_[bin * kOctaveBandCount];
   double* f = &flux_[3 * bin * kOctaveBandCount];
-  for (; bands != 0; bands &= bands - 1) {
-    const int b = __builtin_ctz(bands);
-    if (b >= kOctaveBandCount) break;
+  forEachBand(bands, [&](int b) {
     const double v = energy[b] * weight[b];
     e[b] += v;
     for (int k = 0; k < 3; ++k) f[3 * b + k] += v * direction[k];
-  }
+  });
 }
 
 void EnergyHistogram::merge(const EnergyHistogram& other) {

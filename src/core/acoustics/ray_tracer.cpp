@@ -95,17 +95,6 @@ struct MaterialTerms {
   OctaveBandValues scattering{};
 };
 
-using BandMask = std::uint32_t;
-constexpr BandMask kAllBands = (1u << kOctaveBandCount) - 1u;
-
-// Calls f(b) for every band b whose bit is set. A branch carries 1.7 of the nine bands on
-// average over BRAS CR2's reflections once the bands' scattering has split it, and the
-// others carry no energy: per-band work on them would only add or scale zeros.
-template <typename F>
-inline void forEachBand(BandMask bands, F&& f) {
-  for (; bands != 0; bands &= bands - 1) f(__builtin_ctz(bands));
-}
-
 // One branch of a ray: the bands in `bands` share this path (the others carry no energy).
 struct RayBranch {
   Eigen::Vector3d position;
