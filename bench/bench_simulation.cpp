@@ -303,6 +303,7 @@ void BM_SimulateCr2Accurate(benchmark::State& state) {
   settings.rays.ray_count = 100000;
   settings.rays.threads = 2;
   settings.rays.continue_established_decays = state.range(0) != 0;
+  if (state.range(1) != 0) settings.bands = BandResolution::kThirdOctave;  // three runs, one per third
   const double hwm_before_mb = procStatusMb("VmHWM");
   const double rss_before_mb = procStatusMb("VmRSS");
   // With the reset, VmHWM afterwards is the peak of the simulation itself (the scene and
@@ -329,7 +330,14 @@ void BM_SimulateCr2Accurate(benchmark::State& state) {
   state.counters["image_paths"] = static_cast<double>(paths);
   state.counters["leaked_rays"] = static_cast<double>(leaks);
 }
-BENCHMARK(BM_SimulateCr2Accurate)->ArgName("continued")->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+BENCHMARK(BM_SimulateCr2Accurate)
+    ->ArgNames({"continued", "thirds"})
+    ->Args({1, 0})
+    ->Args({0, 0})
+    ->Args({1, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(2);
 
 // The preview modes, one response each: fast (image sources + the room's own decay from
 // 8000 rays, no receiver detection; arg 0) and eyring (image sources + Eyring tail; arg 1),

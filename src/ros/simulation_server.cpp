@@ -49,6 +49,9 @@ SimulationServer::SimulationServer(::ros::NodeHandle& private_nh) {
   typedParam(private_nh, "low_band", low_band, std::string("geometric"));
   defaults_.low_band = core::parseLowBandMethod(low_band);
   typedParam(private_nh, "crossover_hz", defaults_.wave.crossover_hz, 500.0);
+  std::string bands;
+  typedParam(private_nh, "bands", bands, std::string("octave"));
+  defaults_.bands = core::parseBandResolution(bands);
   if (!(defaults_.wave.crossover_hz >= 63.0 && defaults_.wave.crossover_hz <= 2000.0)) {
     throw core::InputError("parameter ~crossover_hz must be 63 to 2000 Hz");
   }

@@ -22,6 +22,7 @@ const char* kHelpHead = R"(usage: room_reverb simulate (--room ROOM.yaml | --mes
                             [--materials FILE] [--no-air] [--temperature C] [--humidity PCT]
                             [--scattering S] [--receiver-radius M]
                             [--diffraction-scattering] [--low-band geometric|wave [--crossover HZ]]
+                            [--bands octave|third]
 
 Simulates the room impulse response from a source to a listener (metres, room frame) and
 writes it as AmbiX (ACN/SN3D) at 48 kHz, 32-bit float; --ambisonic-order 0 writes omni.

@@ -40,6 +40,9 @@ const char* const kSimulationOptionsHelp = R"(  --mode MODE          accurate (i
                        channels from a wave (FDTD) solver on the room's grid
                        (docs/simulation.md)
   --crossover HZ       where the wave low band hands over (default 500)
+  --bands RES          octave (default) or third: simulate and synthesise in third octaves
+                       with the materials' third-octave coefficients where they have them
+                       (three times the time; docs/simulation.md)
   --trace-to-end       trace every band to the end of the response (default: a band whose
                        decay is established, 25 dB down and straight, is continued
                        analytically; docs/simulation.md)
@@ -47,7 +50,7 @@ const char* const kSimulationOptionsHelp = R"(  --mode MODE          accurate (i
 
 std::set<std::string> simulationValueOptions() {
   return {"mode", "order", "rays", "seed", "threads", "ambisonic-order", "duration", "materials", "temperature",
-          "humidity", "scattering", "receiver-radius", "fast-tolerance", "fast-track-radius", "low-band", "crossover"};
+          "humidity", "scattering", "receiver-radius", "fast-tolerance", "fast-track-radius", "low-band", "crossover", "bands"};
 }
 
 std::set<std::string> simulationFlags() { return {"no-air", "trace-to-end", "diffraction-scattering"}; }
@@ -78,6 +81,7 @@ SimulationSettings simulationSettingsFrom(const Arguments& args) {
   if (args.has("crossover") && settings.low_band != LowBandMethod::kWave) {
     throw InputError("--crossover needs --low-band wave");
   }
+  settings.bands = parseBandResolution(args.value("bands", "octave"));
   settings.ambisonic_order = args.intValue("ambisonic-order", 1);
   settings.duration_s = args.doubleValue("duration", 2.0);
   return settings;

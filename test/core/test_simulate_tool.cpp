@@ -90,6 +90,7 @@ materials:
   expectExit2("simulate --mesh " + good + kInside + " --order 60" + out, "candidate paths");
   expectExit2("simulate --mesh " + good + " --source 1 1 --listener 3 2 1.5" + out, "--source");
   expectExit2("simulate --mesh " + good + kInside + " --low-band fdtd" + out, "fdtd");
+  expectExit2("simulate --mesh " + good + kInside + " --bands fifth" + out, "fifth");
   expectExit2("simulate --mesh " + good + kInside + " --crossover 300" + out, "--low-band wave");
   expectExit2("simulate --mesh " + good + kInside + " --low-band wave --crossover 20" + out, "crossover");
   // 3 cm from the floor: inside the wave solver's first cell (6.9 cm at 500 Hz).

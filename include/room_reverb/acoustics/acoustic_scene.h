@@ -42,6 +42,19 @@ class AcousticScene {
   AcousticScene(TriangleMesh mesh, const MaterialLibrary& library, const MaterialOverrides& overrides,
                 RoomShape shape);
 
+  // The same room whose nine bands stand for the `third`-th third of every octave (0
+  // lower, 1 centre, 2 upper): each material's third-octave coefficients where it has
+  // them (thirdOctaveMaterial; an override or a global scattering replaces the thirds as
+  // it replaces the octave), and band centres 2^((third - 1) / 3) times the octaves'. It
+  // shares this scene's geometry. A simulation in third octaves runs once per third.
+  AcousticScene thirdOctaveBands(int third) const;
+  // Whether any material has third-octave coefficients.
+  bool hasThirdOctaveMaterials() const;
+  // The centre frequency each band stands for (Hz): the octaves' exact centres, or a
+  // third's (thirdOctaveBands). Air absorption and the scattering of finite surfaces are
+  // evaluated there.
+  const OctaveBandValues& bandCentresHz() const { return band_centres_hz_; }
+
   const EmbreeScene& geometry() const { return *geometry_; }
   const TriangleMesh& mesh() const { return geometry_->mesh(); }
   const AcousticMaterial& material(std::size_t triangle) const {
@@ -81,7 +94,9 @@ class AcousticScene {
   double distanceToNearestSurface(const Eigen::Vector3d& point) const;
 
  private:
-  std::unique_ptr<EmbreeScene> geometry_;
+  std::shared_ptr<const EmbreeScene> geometry_;
+  OctaveBandValues band_centres_hz_{};
+  int third_ = -1;  // the third of every octave the bands stand for; -1: whole octaves
   std::vector<AcousticMaterial> materials_;
   std::vector<ScenePlane> planes_;
   std::vector<std::size_t> triangle_plane_;

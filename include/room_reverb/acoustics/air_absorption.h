@@ -20,6 +20,9 @@ double airAttenuationDbPerM(double frequency_hz, const AirConditions& air);
 // m = alpha / (10 log10 e), evaluated at each band's exact centre frequency. All zeros
 // when air.enabled is false.
 OctaveBandValues airEnergyAttenuationPerM(const AirConditions& air);
+// The same at the given frequency of each band (a third-octave view's centres,
+// AcousticScene::bandCentresHz).
+OctaveBandValues airEnergyAttenuationPerM(const AirConditions& air, const OctaveBandValues& band_centres_hz);
 
 // Reverberation time by Sabine, T = 0.161 V / (A + 4 m V), and by Eyring,
 // T = 0.161 V / (-S ln(1 - mean_alpha) + 4 m V), in seconds. V in m^3, S and A in m^2,

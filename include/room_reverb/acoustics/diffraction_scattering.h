@@ -49,10 +49,12 @@ double characteristicDistance(double incoming_m, double outgoing_m);
 double specularShare(const SurfaceExtent& patch, const Eigen::Vector3d& incident, double characteristic_distance_m,
                      double frequency_hz, double speed_of_sound_m_s);
 
-// Per octave band (the bands' exact centres): the material's scattering with the
-// surface's diffraction added, 1 - (1 - s) K.
+// Per band (at each band's centre: the octaves', or a third-octave view's,
+// AcousticScene::bandCentresHz): the material's scattering with the surface's diffraction
+// added, 1 - (1 - s) K.
 OctaveBandValues withDiffractionScattering(const OctaveBandValues& material_scattering, const SurfaceExtent& patch,
                                            const Eigen::Vector3d& incident, double characteristic_distance_m,
-                                           double speed_of_sound_m_s);
+                                           double speed_of_sound_m_s,
+                                           const OctaveBandValues& band_centres_hz = octaveCentresHz());
 
 }  // namespace room_reverb::core

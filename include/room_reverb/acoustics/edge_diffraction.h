@@ -43,16 +43,19 @@ std::optional<EdgeDetour> shortestEdgeDetour(const CuboidObject& object, const E
 // x = sqrt(2 pi |N|), to 0 at about N = -0.2; at most 20 dB (ISO 9613-2's cap for one edge).
 double barrierLossDb(double fresnel_number);
 
-// Per octave band (material.h's centres) the pressure gain the edge adds: in the shadow the
-// loss at N = 2 delta f / c, on the lit side the loss at -N (1 well clear of the shadow).
-OctaveBandValues edgeDiffractionGains(const EdgeDetour& detour, double speed_of_sound_m_s);
+// Per band (at `band_centres_hz`, the octaves' by default) the pressure gain the edge adds:
+// in the shadow the loss at N = 2 delta f / c, on the lit side the loss at -N (1 well
+// clear of the shadow).
+OctaveBandValues edgeDiffractionGains(const EdgeDetour& detour, double speed_of_sound_m_s,
+                                      const OctaveBandValues& band_centres_hz = octaveCentresHz());
 
 // The direct sound from `source` to `listener` among `objects`, as both routes hear it
 // (the simulated route's image sources, the measured route's moved RSAO): blocked
 // (`in_view` false), bent around the edge of the object that takes the least at 1 kHz
 // whose way round no other object blocks; in view, weakened by the object whose shadow it
 // passes nearest (the most at 1 kHz). None when it is blocked and no single edge clears
-// it.
+// it. The edge is chosen in octaves; `band_centres_hz` are where its gains are evaluated
+// (a third-octave view's bands hear the same edge).
 struct DirectSoundPast {
   std::optional<EdgeDetour> detour;  // the edge it bends around or passes; none: no object near its way
   OctaveBandValues gains{};          // per band, the pressure gain that edge adds (1 without one)
@@ -60,6 +63,7 @@ struct DirectSoundPast {
 };
 std::optional<DirectSoundPast> directSoundPastObjects(const std::vector<CuboidObject>& objects,
                                                       const Eigen::Vector3d& source, const Eigen::Vector3d& listener,
-                                                      bool in_view, double speed_of_sound_m_s);
+                                                      bool in_view, double speed_of_sound_m_s,
+                                                      const OctaveBandValues& band_centres_hz = octaveCentresHz());
 
 }  // namespace room_reverb::core

@@ -7,10 +7,12 @@
 // by the exact (non-integer) number of samples, weighted by the harmonics of its
 // direction.
 // Late part: a Poisson process of signed impulses whose rate grows as 4 pi c^3 t^2 / V (the
-// density of reflections in a room; Kuttruff), filtered into octave (below 1 kHz) and third-octave bands and scaled
+// density of reflections in a room; Kuttruff), filtered into octave (below 1 kHz) and third-octave bands (all
+// thirds for a simulation in third octaves) and scaled
 // in every histogram bin to the bin's energy (octave energies interpolated across the
 // spectrum, so the decay rate changes smoothly with frequency); its direction follows the bin's intensity
 // vector, the rest of the energy spread as a diffuse field (SN3D: 1 / (2l + 1) per channel).
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -39,5 +41,15 @@ struct SynthesisOptions {
 // late field carries the share of the histogram energy that a white source puts in that band.
 AudioBuffer synthesizeImpulseResponse(const std::vector<SpecularPath>& paths, const EnergyHistogram* late,
                                       const SynthesisOptions& options);
+
+// The same in third octaves end to end: paths[k] and late[k] are the simulation of the
+// scene's k-th third-octave view (AcousticScene::thirdOctaveBands: band b stands for the
+// k-th third of octave b). Every view's image sources are the same arrivals in the same
+// order, with that third's gains; each arrival's tap interpolates its 27 third-octave gains
+// and the late noise is synthesised in the 27 thirds 50 Hz .. 20 kHz, each scaled to its own
+// histogram. late: all null (early part only) or none.
+AudioBuffer synthesizeThirdOctaveImpulseResponse(const std::array<const std::vector<SpecularPath>*, 3>& paths,
+                                                 const std::array<const EnergyHistogram*, 3>& late,
+                                                 const SynthesisOptions& options);
 
 }  // namespace room_reverb::core

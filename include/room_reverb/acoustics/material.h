@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,12 +27,27 @@ inline void forEachBand(BandMask bands, F&& f) {
   for (bands &= kAllBands; bands != 0; bands &= bands - 1) f(static_cast<int>(__builtin_ctz(bands)));
 }
 
+// Coefficients of the three third octaves of every octave band: [k][b] is the k-th third
+// (0 lower, 1 centre, 2 upper) of octave b, e.g. [0][1] 100 Hz, [1][1] 125 Hz, [2][1] 160 Hz.
+using ThirdOctaveValues = std::array<OctaveBandValues, 3>;
+
+// The exact centres of the nine octave bands (Hz).
+const OctaveBandValues& octaveCentresHz();
+
 struct AcousticMaterial {
   std::string name;
   OctaveBandValues absorption{};  // energy absorption coefficient per octave, in [0, 1]
   OctaveBandValues scattering{};  // scattering coefficient (ISO 17497-1) per octave, in [0, 1]
+  // The same per third octave, where the source gives them (BRAS CR2 does): a simulation
+  // in third octaves uses them, one in octaves the octave values.
+  std::optional<ThirdOctaveValues> absorption_thirds;
+  std::optional<ThirdOctaveValues> scattering_thirds;
   std::string source;             // where the numbers come from
 };
+
+// The material as the k-th third of every octave sees it (0 lower, 1 centre, 2 upper): its
+// third-octave coefficients where it has them, its octave ones where it has none.
+AcousticMaterial thirdOctaveMaterial(const AcousticMaterial& material, int third);
 
 // Throws InputError naming the material unless every coefficient is finite and in [0, 1].
 void validateMaterial(const AcousticMaterial& material);

@@ -28,6 +28,9 @@ struct PropagationModel {
   OctaveBandValues air_attenuation_per_m{};  // energy, from `air`
 
   static PropagationModel from(const AirConditions& air, const SourceDirectivity& directivity);
+  // With the air absorbing at each band's given frequency (AcousticScene::bandCentresHz).
+  static PropagationModel from(const AirConditions& air, const SourceDirectivity& directivity,
+                               const OctaveBandValues& band_centres_hz);
 };
 
 }  // namespace room_reverb::core

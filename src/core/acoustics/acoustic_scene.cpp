@@ -36,15 +36,18 @@ AcousticScene::AcousticScene(TriangleMesh mesh, const MaterialLibrary& library,
     if (auto it = overrides.absorption.find(name); it != overrides.absorption.end()) {
       checkCoefficients(it->second, "absorption override of '" + name + "'");
       material.absorption = it->second;
+      material.absorption_thirds.reset();
     }
     if (auto it = overrides.scattering.find(name); it != overrides.scattering.end()) {
       checkCoefficients(it->second, "scattering override of '" + name + "'");
       material.scattering = it->second;
+      material.scattering_thirds.reset();
     }
     if (overrides.global_scattering) {
       const double s = *overrides.global_scattering;
       if (!std::isfinite(s) || s < 0.0 || s > 1.0) throw InputError("global scattering must be in [0, 1] (got " + std::to_string(s) + ")");
       material.scattering.fill(s);
+      material.scattering_thirds.reset();
     }
     materials_.push_back(material);
   }
@@ -87,7 +90,23 @@ AcousticScene::AcousticScene(TriangleMesh mesh, const MaterialLibrary& library,
     triangle_plane_[t] = found;
   }
   patches_ = surfaceExtents(mesh, triangle_plane_, triangle_patch_);
-  geometry_ = std::make_unique<EmbreeScene>(std::move(mesh));
+  geometry_ = std::make_shared<const EmbreeScene>(std::move(mesh));
+  band_centres_hz_ = octaveCentresHz();
+}
+
+AcousticScene AcousticScene::thirdOctaveBands(int third) const {
+  if (third_ >= 0) throw InputError("the scene's bands are third octaves already");
+  AcousticScene out = *this;
+  out.third_ = third;
+  for (AcousticMaterial& material : out.materials_) material = thirdOctaveMaterial(material, third);
+  const double scale = std::pow(2.0, (third - 1) / 3.0);
+  for (double& f : out.band_centres_hz_) f *= scale;
+  return out;
+}
+
+bool AcousticScene::hasThirdOctaveMaterials() const {
+  return std::any_of(materials_.begin(), materials_.end(),
+                     [](const AcousticMaterial& m) { return m.absorption_thirds || m.scattering_thirds; });
 }
 
 AcousticScene::AcousticScene(TriangleMesh mesh, const MaterialLibrary& library, const MaterialOverrides& overrides,

@@ -79,14 +79,15 @@ double airAttenuationDbPerM(double frequency_hz, const AirConditions& air) {
 }
 
 OctaveBandValues airEnergyAttenuationPerM(const AirConditions& air) {
+  return airEnergyAttenuationPerM(air, octaveCentresHz());
+}
+
+OctaveBandValues airEnergyAttenuationPerM(const AirConditions& air, const OctaveBandValues& band_centres_hz) {
   OctaveBandValues m{};
   if (!air.enabled) return m;
   // alpha is a level decay in dB/m; intensity exp(-m d) falls by 10 log10(e) m dB per metre.
   const double db_per_neper_energy = 10.0 * std::log10(std::exp(1.0));
-  const std::vector<FrequencyBand> bands = standardBands(BandResolution::kOctave);
-  for (std::size_t i = 0; i < m.size() && i < bands.size(); ++i) {
-    m[i] = airAttenuationDbPerM(bands[i].center_hz, air) / db_per_neper_energy;
-  }
+  for (std::size_t i = 0; i < m.size(); ++i) m[i] = airAttenuationDbPerM(band_centres_hz[i], air) / db_per_neper_energy;
   return m;
 }
 

@@ -130,12 +130,10 @@ double specularShare(const SurfaceExtent& patch, const Eigen::Vector3d& incident
 
 OctaveBandValues withDiffractionScattering(const OctaveBandValues& material_scattering, const SurfaceExtent& patch,
                                            const Eigen::Vector3d& incident, double characteristic_distance_m,
-                                           double speed_of_sound_m_s) {
-  static const std::vector<FrequencyBand> bands = standardBands(BandResolution::kOctave);
+                                           double speed_of_sound_m_s, const OctaveBandValues& band_centres_hz) {
   OctaveBandValues combined{};
   for (int b = 0; b < kOctaveBandCount; ++b) {
-    const double share = specularShare(patch, incident, characteristic_distance_m, bands[static_cast<std::size_t>(b)].center_hz,
-                                       speed_of_sound_m_s);
+    const double share = specularShare(patch, incident, characteristic_distance_m, band_centres_hz[b], speed_of_sound_m_s);
     combined[b] = 1.0 - (1.0 - material_scattering[b]) * share;
   }
   return combined;

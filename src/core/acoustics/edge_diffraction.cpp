@@ -163,11 +163,11 @@ double barrierLossDb(double fresnel_number) {
   return std::max(0.0, 5.0 + 20.0 * std::log10(x / std::tan(x)));
 }
 
-OctaveBandValues edgeDiffractionGains(const EdgeDetour& detour, double speed_of_sound_m_s) {
+OctaveBandValues edgeDiffractionGains(const EdgeDetour& detour, double speed_of_sound_m_s,
+                                      const OctaveBandValues& band_centres_hz) {
   OctaveBandValues gains{};
-  const std::vector<FrequencyBand> bands = standardBands(BandResolution::kOctave);
   for (int b = 0; b < kOctaveBandCount; ++b) {
-    const double n = 2.0 * detour.path_difference_m * bands[static_cast<std::size_t>(b)].center_hz / speed_of_sound_m_s;
+    const double n = 2.0 * detour.path_difference_m * band_centres_hz[b] / speed_of_sound_m_s;
     gains[static_cast<std::size_t>(b)] = std::pow(10.0, -barrierLossDb(detour.shadowed ? n : -n) / 20.0);
   }
   return gains;
@@ -175,7 +175,8 @@ OctaveBandValues edgeDiffractionGains(const EdgeDetour& detour, double speed_of_
 
 std::optional<DirectSoundPast> directSoundPastObjects(const std::vector<CuboidObject>& objects,
                                                       const Eigen::Vector3d& source, const Eigen::Vector3d& listener,
-                                                      bool in_view, double speed_of_sound_m_s) {
+                                                      bool in_view, double speed_of_sound_m_s,
+                                                      const OctaveBandValues& band_centres_hz) {
   DirectSoundPast chosen;
   chosen.gains.fill(1.0);
   // In view, an object far from the line of sight costs nothing and is passed by without
@@ -215,6 +216,9 @@ std::optional<DirectSoundPast> directSoundPastObjects(const std::vector<CuboidOb
   }
   if (!in_view && !chosen.detour) return std::nullopt;
   chosen.bent = !in_view;
+  // The edge is chosen at the octaves' centres above, so that every third-octave view of a
+  // scene hears the same path (the views' responses are joined path by path).
+  if (chosen.detour) chosen.gains = edgeDiffractionGains(*chosen.detour, speed_of_sound_m_s, band_centres_hz);
   return chosen;
 }
 

@@ -87,7 +87,7 @@ OctaveBandValues pathGains(const Search& s, const Eigen::Vector3d& leaving, doub
 // model, diffraction_scattering.h), d1 and d2 the unfolded path lengths on either side.
 OctaveBandValues diffractionShares(const Search& s, const std::vector<Eigen::Vector3d>& points,
                                    const std::vector<std::size_t>& triangles) {
-  static const std::vector<FrequencyBand> bands = standardBands(BandResolution::kOctave);
+  const OctaveBandValues& centres_hz = s.scene.bandCentresHz();
   std::vector<double> along(points.size() + 2, 0.0);  // unfolded distance from the source to each point
   Eigen::Vector3d previous = s.source;
   for (std::size_t k = 0; k <= points.size(); ++k) {
@@ -104,7 +104,7 @@ OctaveBandValues diffractionShares(const Search& s, const std::vector<Eigen::Vec
     const double distance = characteristicDistance(along[k + 1], total - along[k + 1]);
     for (int b = 0; b < kOctaveBandCount; ++b) {
       shares[b] *= specularShare(s.scene.surfaceExtent(triangles[k]), incident, distance,
-                                 bands[static_cast<std::size_t>(b)].center_hz, s.model.speed_of_sound_m_s);
+                                 centres_hz[b], s.model.speed_of_sound_m_s);
     }
     from = points[k];
   }
@@ -116,7 +116,7 @@ OctaveBandValues diffractionShares(const Search& s, const std::vector<Eigen::Vec
 bool addDirectSound(Search& s, bool in_view) {
   const double c = s.model.speed_of_sound_m_s;
   const std::optional<DirectSoundPast> past =
-      directSoundPastObjects(s.scene.roomShape()->objects, s.source, s.listener, in_view, c);
+      directSoundPastObjects(s.scene.roomShape()->objects, s.source, s.listener, in_view, c, s.scene.bandCentresHz());
   if (!past) return false;
   SpecularPath path;
   path.order = 0;

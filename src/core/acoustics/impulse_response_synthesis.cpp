@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <complex>
+#include <stdexcept>
 
 #include "room_reverb/acoustics/late_field_noise.h"
 #include "room_reverb/ambisonics/spherical_harmonics.h"
@@ -19,30 +20,49 @@ constexpr std::size_t kTapLength = kPathTapLength;
 
 int orderOfChannel(std::size_t acn) { return static_cast<int>(std::floor(std::sqrt(static_cast<double>(acn)))); }
 
-void addEarlyPaths(const std::vector<SpecularPath>& paths, const BandFilterBank& bank, int order, AudioBuffer& out) {
+// The bands a response is synthesised from and where their energies come from: band t of
+// `bank` is band t / views of view t % views (views: 1 for octaves, 3 for the thirds of
+// every octave, AcousticScene::thirdOctaveBands), so the bank's bands run up the spectrum.
+struct BandViews {
+  std::vector<const std::vector<SpecularPath>*> paths;  // per view, the same arrivals
+  std::vector<const EnergyHistogram*> late;             // per view (null entries: no late part)
+  std::size_t views() const { return paths.size(); }
+  int octaveOf(std::size_t t) const { return static_cast<int>(t / views()); }
+  std::size_t viewOf(std::size_t t) const { return t % views(); }
+};
+
+void addEarlyPaths(const BandViews& in, const BandFilterBank& bank, int order, AudioBuffer& out) {
   const double fs = out.sample_rate_hz;
   const auto frames = static_cast<long>(out.frameCount());
+  const std::size_t band_count = bank.bands().size();
   RealFft fft(kTapLength);
   // Squared band responses on the tap's frequency grid.
-  std::vector<std::array<double, kOctaveBandCount>> band_power(fft.spectrumSize());
+  std::vector<std::vector<double>> band_power(fft.spectrumSize(), std::vector<double>(band_count));
   for (std::size_t k = 0; k < fft.spectrumSize(); ++k) {
-    for (int b = 0; b < kOctaveBandCount; ++b) {
-      const double g = bank.gain(static_cast<std::size_t>(b), k * fs / kTapLength);
-      band_power[k][b] = g * g;
+    for (std::size_t t = 0; t < band_count; ++t) {
+      const double g = bank.gain(t, k * fs / kTapLength);
+      band_power[k][t] = g * g;
     }
   }
 
   std::vector<std::complex<float>> spectrum(fft.spectrumSize());
   std::vector<float> tap(kTapLength);
+  std::vector<double> gain_squared(band_count);
   const long half = static_cast<long>(kTapLength / 2);
-  for (const auto& path : paths) {
+  const std::vector<SpecularPath>& arrivals = *in.paths.front();
+  for (std::size_t i = 0; i < arrivals.size(); ++i) {
+    const SpecularPath& path = arrivals[i];
     const double delay = path.delay_s * fs;
     const auto whole = static_cast<long>(std::floor(delay));
     if (whole - half >= frames) continue;
     const double fraction = delay - static_cast<double>(whole);
+    for (std::size_t t = 0; t < band_count; ++t) {
+      const double g = (*in.paths[in.viewOf(t)])[i].pressure_gain[in.octaveOf(t)];
+      gain_squared[t] = g * g;
+    }
     for (std::size_t k = 0; k < spectrum.size(); ++k) {
       double power = 0.0;
-      for (int b = 0; b < kOctaveBandCount; ++b) power += path.pressure_gain[b] * path.pressure_gain[b] * band_power[k][b];
+      for (std::size_t t = 0; t < band_count; ++t) power += gain_squared[t] * band_power[k][t];
       // Zero phase, centred in the tap, plus the fractional part of the delay.
       const double phase = -2.0 * kPi * k * (static_cast<double>(half) + fraction) / kTapLength;
       spectrum[k] = std::polar(static_cast<float>(std::sqrt(power)), static_cast<float>(phase));
@@ -75,8 +95,21 @@ double interpolatedTarget(const std::vector<double>& per_bin, double position_in
 // The highest octave synthesised as a whole (nominal centre); thirds above it.
 constexpr double kLastWholeOctaveHz = 500.0;
 
-// The bands the late noise is synthesised in: the histogram's octaves up to 500 Hz, their
-// thirds from the 1 kHz octave up.
+// The bands a response's energies are given in (its views' bands, BandViews): the nine
+// octaves, or for three views the 27 thirds of the octaves, 50 Hz .. 20 kHz.
+std::vector<FrequencyBand> viewBands(std::size_t views) {
+  if (views == 1) return standardBands(BandResolution::kOctave);
+  const std::vector<FrequencyBand> thirds = standardBands(BandResolution::kThirdOctave);
+  const std::vector<FrequencyBand> octaves = standardBands(BandResolution::kOctave);
+  std::vector<FrequencyBand> bands;
+  for (const FrequencyBand& third : thirds) {
+    if (third.center_hz > octaves.front().lower_hz && third.center_hz < octaves.back().upper_hz) bands.push_back(third);
+  }
+  return bands;
+}
+
+// The bands the late noise is synthesised in. From octave energies: the octaves up to
+// 500 Hz, their thirds from the 1 kHz octave up. From third-octave energies: the thirds.
 //
 // Why thirds: a band's noise reaches into its neighbours' crossovers, so with octave-wide
 // synthesis bands a slowly decaying octave leaks its decay into the next octave's analysis
@@ -87,7 +120,8 @@ constexpr double kLastWholeOctaveHz = 500.0;
 // that its noise's level wanders over hundreds of milliseconds, which scatters the low
 // bands' C80 and D50 by several dB from one seed to the next, while there air absorption
 // is negligible and neighbouring octaves decay at similar rates.
-std::vector<FrequencyBand> lateSynthesisBands() {
+std::vector<FrequencyBand> lateSynthesisBands(std::size_t views) {
+  if (views != 1) return viewBands(views);
   std::vector<FrequencyBand> bands;
   for (const FrequencyBand& octave : standardBands(BandResolution::kOctave)) {
     if (octave.nominal_hz <= kLastWholeOctaveHz) bands.push_back(octave);
@@ -122,62 +156,67 @@ std::vector<double> noiseBandwidthsHz(const BandFilterBank& bank) {
 // Per histogram bin, the late field's power spectral density (energy per sample per Hz) at
 // each synthesis band: a histogram band's energy is what an impulsive, white source
 // delivers in that band, so its density is the energy over the whole spectrum (fs / 2),
-// interpolated between octave centres as log density over log frequency. `owner` gets
-// each band's octave (-1 for bands below the octaves' range, which get nothing).
-std::vector<std::vector<double>> synthesisBandDensities(const std::vector<std::array<double, kOctaveBandCount>>& octave_density,
-                                                        const std::vector<FrequencyBand>& octaves,
+// interpolated between the given bands' centres (`nodes`, `per_octave` to an octave) as
+// log density over log frequency. `owner` gets the node each band lies in (-1 for bands
+// outside the nodes' range, which get nothing).
+std::vector<std::vector<double>> synthesisBandDensities(const std::vector<std::vector<double>>& node_density,
+                                                        const std::vector<FrequencyBand>& nodes, int per_octave,
                                                         const std::vector<FrequencyBand>& bands, std::vector<int>& owner) {
   owner.assign(bands.size(), -1);
   for (std::size_t t = 0; t < bands.size(); ++t) {
-    for (std::size_t o = 0; o < octaves.size(); ++o) {
-      if (bands[t].center_hz >= octaves[o].lower_hz && bands[t].center_hz < octaves[o].upper_hz) owner[t] = static_cast<int>(o);
+    for (std::size_t o = 0; o < nodes.size(); ++o) {
+      if (bands[t].center_hz >= nodes[o].lower_hz && bands[t].center_hz < nodes[o].upper_hz) owner[t] = static_cast<int>(o);
     }
   }
-  std::vector<std::vector<double>> density(bands.size(), std::vector<double>(octave_density.size(), 0.0));
+  std::vector<std::vector<double>> density(bands.size(), std::vector<double>(node_density.size(), 0.0));
   for (std::size_t t = 0; t < bands.size(); ++t) {
     if (owner[t] < 0) continue;
-    const double x = std::clamp(std::log2(bands[t].center_hz / octaves.front().center_hz), 0.0,
-                                static_cast<double>(octaves.size() - 1));
-    const std::size_t i = std::min(static_cast<std::size_t>(x), octaves.size() - 2);
+    const double x = std::clamp(per_octave * std::log2(bands[t].center_hz / nodes.front().center_hz), 0.0,
+                                static_cast<double>(nodes.size() - 1));
+    const std::size_t i = std::min(static_cast<std::size_t>(x), nodes.size() - 2);
     const double f = x - static_cast<double>(i);
-    for (std::size_t bin = 0; bin < octave_density.size(); ++bin) {
-      const double d0 = octave_density[bin][i];
-      const double d1 = octave_density[bin][i + 1];
+    for (std::size_t bin = 0; bin < node_density.size(); ++bin) {
+      const double d0 = node_density[bin][i];
+      const double d1 = node_density[bin][i + 1];
       density[t][bin] = (d0 > 0.0 && d1 > 0.0) ? std::exp((1.0 - f) * std::log(d0) + f * std::log(d1)) : (1.0 - f) * d0 + f * d1;
     }
   }
   return density;
 }
 
-void addLateField(const EnergyHistogram& late, const SynthesisOptions& o, AudioBuffer& out) {
+void addLateField(const BandViews& in, const SynthesisOptions& o, AudioBuffer& out) {
+  const EnergyHistogram& first = *in.late.front();
   const std::size_t frames = out.frameCount();
   const std::size_t channels = out.channelCount();
   const int order = static_cast<int>(std::lround(std::sqrt(static_cast<double>(channels)))) - 1;
-  const double bin_frames = late.binS() * o.sample_rate_hz;
+  const double bin_frames = first.binS() * o.sample_rate_hz;
   const double to_pressure = 4.0 * kPi;  // J/m^2 per emitted J -> energy re the direct sound at 1 m
-  const std::vector<FrequencyBand> octaves = standardBands(BandResolution::kOctave);
+  const std::vector<FrequencyBand> nodes = viewBands(in.views());
   // Amplitude-complementary bands: bands of one noise, scaled by gains that vary smoothly
   // across the spectrum, sum to noise whose spectrum follows those gains.
-  const BandFilterBank bank(lateSynthesisBands(), o.sample_rate_hz, 0.5, Complementarity::kAmplitude);
+  const BandFilterBank bank(lateSynthesisBands(in.views()), o.sample_rate_hz, 0.5, Complementarity::kAmplitude);
   const std::vector<double> bandwidth_hz = noiseBandwidthsHz(bank);
 
-  // Per bin and octave: power spectral density per sample, and per channel the two gains
-  // the sample loop applies (flat: [bin][band][channel]): of the main sequence (the
+  // Per bin and node band: power spectral density per sample, and per channel the two
+  // gains the sample loop applies (flat: [bin][node][channel]): of the main sequence (the
   // direction's harmonic times the square root of the directional fraction) and of the
   // channel's own sequence (the root of the diffuse fraction spread over the order's 2l+1
   // channels). Precomputed here, the loop over samples takes one square root per sample.
-  std::vector<std::array<double, kOctaveBandCount>> density(late.bins());
-  std::vector<double> directional_gain(late.bins() * kOctaveBandCount * channels);
-  std::vector<double> diffuse_gain(late.bins() * kOctaveBandCount * channels);
+  const std::size_t node_count = nodes.size();
+  std::vector<std::vector<double>> density(first.bins(), std::vector<double>(node_count, 0.0));
+  std::vector<double> directional_gain(first.bins() * node_count * channels);
+  std::vector<double> diffuse_gain(first.bins() * node_count * channels);
   const double per_hz = 1.0 / (0.5 * o.sample_rate_hz);
-  for (std::size_t bin = 0; bin < late.bins(); ++bin) {
-    for (int b = 0; b < kOctaveBandCount; ++b) {
+  for (std::size_t bin = 0; bin < first.bins(); ++bin) {
+    for (std::size_t t = 0; t < node_count; ++t) {
+      const EnergyHistogram& late = *in.late[in.viewOf(t)];
+      const int b = in.octaveOf(t);
       const double energy = to_pressure * late.energy(bin, b) / bin_frames;
-      density[bin][b] = energy * per_hz;
+      density[bin][t] = energy * per_hz;
       const Eigen::Vector3d flux = to_pressure * late.flux(bin, b) / bin_frames;
       const double directional = energy > 0.0 ? std::min(1.0, flux.norm() / energy) : 0.0;
       const std::vector<double> y = sn3dHarmonics(order, flux.norm() > 0.0 ? Eigen::Vector3d(flux.normalized()) : Eigen::Vector3d::UnitX());
-      const std::size_t at = (bin * kOctaveBandCount + b) * channels;
+      const std::size_t at = (bin * node_count + t) * channels;
       for (std::size_t c = 0; c < channels; ++c) {
         directional_gain[at + c] = y[c] * std::sqrt(directional);
         diffuse_gain[at + c] = std::sqrt((1.0 - directional) / (2.0 * orderOfChannel(c) + 1.0));
@@ -185,7 +224,8 @@ void addLateField(const EnergyHistogram& late, const SynthesisOptions& o, AudioB
     }
   }
   std::vector<int> owner;
-  const std::vector<std::vector<double>> targets = synthesisBandDensities(density, octaves, bank.bands(), owner);
+  const std::vector<std::vector<double>> targets =
+      synthesisBandDensities(density, nodes, static_cast<int>(in.views()), bank.bands(), owner);
 
   // Channel 0 carries the whole energy and the directional part, the others add the
   // diffuse part, each from its own noise.
@@ -211,8 +251,8 @@ void addLateField(const EnergyHistogram& late, const SynthesisOptions& o, AudioB
       // The band's noise has density 1 / bandwidth once normalised; scaled to the target.
       const double target = interpolatedTarget(targets[t], position) * bandwidth_hz[t];
       if (target <= 0.0 || unit[0][n] == 0.0f) continue;
-      const auto bin = std::min(late.bins() - 1, static_cast<std::size_t>(position));
-      const std::size_t at = (bin * kOctaveBandCount + b) * channels;
+      const auto bin = std::min(first.bins() - 1, static_cast<std::size_t>(position));
+      const std::size_t at = (bin * node_count + b) * channels;
       const double amplitude = std::sqrt(target);
       const double main = amplitude * unit[0][n];
       out.channels[0][n] += static_cast<float>(main);
@@ -226,8 +266,9 @@ void addLateField(const EnergyHistogram& late, const SynthesisOptions& o, AudioB
 
 }  // namespace
 
-AudioBuffer synthesizeImpulseResponse(const std::vector<SpecularPath>& paths, const EnergyHistogram* late,
-                                      const SynthesisOptions& options) {
+namespace {
+
+AudioBuffer synthesize(const BandViews& in, const SynthesisOptions& options) {
   if (options.ambisonic_order < 0 || options.ambisonic_order > kMaxAmbisonicOrder) {
     throw InputError("ambisonic order must be 0 to 3");
   }
@@ -236,10 +277,35 @@ AudioBuffer synthesizeImpulseResponse(const std::vector<SpecularPath>& paths, co
   const auto frames = static_cast<std::size_t>(std::ceil(options.duration_s * options.sample_rate_hz));
   AudioBuffer out = makeSilentBuffer(static_cast<std::size_t>(ambisonicChannelCount(options.ambisonic_order)), frames,
                                      options.sample_rate_hz);
-  const BandFilterBank bank(standardBands(BandResolution::kOctave), options.sample_rate_hz);
-  addEarlyPaths(paths, bank, options.ambisonic_order, out);
-  if (late) addLateField(*late, options, out);
+  const BandFilterBank bank(viewBands(in.views()), options.sample_rate_hz);
+  addEarlyPaths(in, bank, options.ambisonic_order, out);
+  if (in.late.front()) addLateField(in, options, out);
   return out;
+}
+
+}  // namespace
+
+AudioBuffer synthesizeImpulseResponse(const std::vector<SpecularPath>& paths, const EnergyHistogram* late,
+                                      const SynthesisOptions& options) {
+  return synthesize(BandViews{{&paths}, {late}}, options);
+}
+
+AudioBuffer synthesizeThirdOctaveImpulseResponse(const std::array<const std::vector<SpecularPath>*, 3>& paths,
+                                                 const std::array<const EnergyHistogram*, 3>& late,
+                                                 const SynthesisOptions& options) {
+  for (std::size_t k = 0; k < 3; ++k) {
+    if (!paths[k]) throw std::logic_error("third-octave synthesis: every third needs its paths");
+    if ((late[k] == nullptr) != (late[0] == nullptr)) throw std::logic_error("third-octave synthesis: late energy for some thirds only");
+    const std::vector<SpecularPath>& a = *paths[0];
+    const std::vector<SpecularPath>& b = *paths[k];
+    bool same = a.size() == b.size();
+    for (std::size_t i = 0; same && i < a.size(); ++i) same = a[i].delay_s == b[i].delay_s && a[i].order == b[i].order;
+    if (!same) throw std::logic_error("third-octave synthesis: the thirds' image sources differ in their arrivals");
+    if (late[k] && (late[k]->bins() != late[0]->bins() || late[k]->binS() != late[0]->binS())) {
+      throw std::logic_error("third-octave synthesis: the thirds' histograms differ in their bins");
+    }
+  }
+  return synthesize(BandViews{{paths[0], paths[1], paths[2]}, {late[0], late[1], late[2]}}, options);
 }
 
 }  // namespace room_reverb::core

@@ -73,6 +73,7 @@ std::shared_ptr<const LateFieldNoise> makeNoise(const LateFieldNoiseShape& shape
 struct CachedNoise {
   LateFieldNoiseShape shape;
   std::vector<bool> wanted;
+  std::vector<double> band_centres_hz;
   std::shared_ptr<const LateFieldNoise> noise;
   std::size_t uses = 1;
 };
@@ -98,10 +99,13 @@ std::shared_ptr<const LateFieldNoise> lateFieldNoise(const LateFieldNoiseShape& 
   static std::mutex mutex;
   static std::list<CachedNoise> cache;  // most recently used first
   static std::size_t cached_bytes = 0;
+  // The bank is part of the key: octave and third-octave synthesis share seeds.
+  std::vector<double> centres;
+  for (const FrequencyBand& band : bank.bands()) centres.push_back(band.center_hz);
   {
     const std::lock_guard<std::mutex> lock(mutex);
     for (auto it = cache.begin(); it != cache.end(); ++it) {
-      if (it->shape == shape && it->wanted == wanted) {
+      if (it->shape == shape && it->wanted == wanted && it->band_centres_hz == centres) {
         ++it->uses;
         cache.splice(cache.begin(), cache, it);
         return cache.front().noise;
@@ -115,7 +119,7 @@ std::shared_ptr<const LateFieldNoise> lateFieldNoise(const LateFieldNoiseShape& 
   if (bytes > kLateFieldNoiseCacheBytes) return noise;
   const std::lock_guard<std::mutex> lock(mutex);
   for (const CachedNoise& c : cache) {
-    if (c.shape == shape && c.wanted == wanted) return c.noise;
+    if (c.shape == shape && c.wanted == wanted && c.band_centres_hz == centres) return c.noise;
   }
   // The least used goes first, of those the least recently used: a diagnosis comes back to
   // each pair's base seed for every candidate and to each noise seed a few times, and in
@@ -129,7 +133,7 @@ std::shared_ptr<const LateFieldNoise> lateFieldNoise(const LateFieldNoiseShape& 
     cached_bytes -= victim->noise->bytes();
     cache.erase(victim);
   }
-  cache.push_front({shape, wanted, noise});
+  cache.push_front({shape, wanted, centres, noise});
   cached_bytes += bytes;
   return noise;
 }

@@ -20,6 +20,11 @@ constexpr std::array<double, kOctaveBandCount> kNominalOctavesHz = {63,   125,  
                                                                     2000, 4000, 8000, 16000};
 
 // Keys every material entry must have (see the header comment of config/materials.yaml).
+// Third-octave coefficients, where given, run 20 Hz .. 20 kHz (config/materials.yaml's
+// third_octave_centers_hz): the octaves' thirds 50 Hz .. 20 kHz start at the fifth.
+constexpr std::size_t kThirdOctaveValueCount = 31;
+constexpr std::size_t kFirstThirdOfTheOctaves = 4;
+
 constexpr std::array<const char*, 4> kRequiredMaterialKeys = {"description", "absorption",
                                                               "scattering", "source"};
 
@@ -74,6 +79,33 @@ OctaveBandValues readBandValues(const YAML::Node& node, const std::string& conte
   return values;
 }
 
+// Reads an optional list of the 31 third-octave values (20 Hz .. 20 kHz) into the thirds
+// of the nine octaves.
+std::optional<ThirdOctaveValues> readThirdOctaveValues(const YAML::Node& node, const std::string& context) {
+  if (!node) return std::nullopt;
+  if (!node.IsSequence() || node.size() != kThirdOctaveValueCount) {
+    throw InputError(context + " must be a list of " + std::to_string(kThirdOctaveValueCount) +
+                     " numbers (third octaves 20 Hz .. 20 kHz)" + nodeLocation(node));
+  }
+  std::array<double, kThirdOctaveValueCount> all{};
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    try {
+      all[i] = node[i].as<double>();
+    } catch (const YAML::Exception&) {
+      throw InputError(context + " value " + std::to_string(i + 1) + " is not a number" + nodeLocation(node[i]));
+    }
+    if (!std::isfinite(all[i]) || all[i] < 0.0 || all[i] > 1.0) {
+      throw InputError(context + " value " + std::to_string(i + 1) + " is " + formatNumber(all[i]) +
+                       ", must be a finite number in [0, 1]" + nodeLocation(node[i]));
+    }
+  }
+  ThirdOctaveValues values{};
+  for (std::size_t b = 0; b < static_cast<std::size_t>(kOctaveBandCount); ++b) {
+    for (std::size_t k = 0; k < 3; ++k) values[k][b] = all[kFirstThirdOfTheOctaves + 3 * b + k];
+  }
+  return values;
+}
+
 std::string readScalarString(const YAML::Node& entry, const char* key, const std::string& context) {
   const YAML::Node node = entry[key];
   if (!node.IsScalar()) {
@@ -115,6 +147,8 @@ AcousticMaterial parseMaterial(const std::string& name, const YAML::Node& entry,
   material.name = name;
   material.absorption = readBandValues(entry["absorption"], context + ": absorption");
   material.scattering = readBandValues(entry["scattering"], context + ": scattering");
+  material.absorption_thirds = readThirdOctaveValues(entry["absorption_third_octave"], context + ": absorption_third_octave");
+  material.scattering_thirds = readThirdOctaveValues(entry["scattering_third_octave"], context + ": scattering_third_octave");
   material.source = readScalarString(entry, "source", context);
   readScalarString(entry, "description", context);  // required, but not kept in the struct
   try {
@@ -190,6 +224,34 @@ std::vector<std::string> closeNames(const std::string& wanted,
 void validateMaterial(const AcousticMaterial& material) {
   checkCoefficients(material.name, "absorption", material.absorption);
   checkCoefficients(material.name, "scattering", material.scattering);
+  const char* third_names[3] = {"lower third", "centre third", "upper third"};
+  for (std::size_t k = 0; k < 3; ++k) {
+    const std::string absorption = std::string("absorption (") + third_names[k] + ")";
+    const std::string scattering = std::string("scattering (") + third_names[k] + ")";
+    if (material.absorption_thirds) checkCoefficients(material.name, absorption.c_str(), (*material.absorption_thirds)[k]);
+    if (material.scattering_thirds) checkCoefficients(material.name, scattering.c_str(), (*material.scattering_thirds)[k]);
+  }
+}
+
+const OctaveBandValues& octaveCentresHz() {
+  static const OctaveBandValues centres = [] {
+    OctaveBandValues out{};
+    const std::vector<FrequencyBand> bands = standardBands(BandResolution::kOctave);
+    for (int b = 0; b < kOctaveBandCount; ++b) out[b] = bands[static_cast<std::size_t>(b)].center_hz;
+    return out;
+  }();
+  return centres;
+}
+
+AcousticMaterial thirdOctaveMaterial(const AcousticMaterial& material, int third) {
+  if (third < 0 || third > 2) throw InputError("a third of an octave is 0, 1 or 2 (got " + std::to_string(third) + ")");
+  AcousticMaterial out = material;
+  const auto k = static_cast<std::size_t>(third);
+  if (material.absorption_thirds) out.absorption = (*material.absorption_thirds)[k];
+  if (material.scattering_thirds) out.scattering = (*material.scattering_thirds)[k];
+  out.absorption_thirds.reset();
+  out.scattering_thirds.reset();
+  return out;
 }
 
 MaterialLibrary MaterialLibrary::load(const std::string& path) {

@@ -20,4 +20,11 @@ PropagationModel PropagationModel::from(const AirConditions& air, const SourceDi
   return model;
 }
 
+PropagationModel PropagationModel::from(const AirConditions& air, const SourceDirectivity& directivity,
+                                        const OctaveBandValues& band_centres_hz) {
+  PropagationModel model = from(air, directivity);
+  model.air_attenuation_per_m = airEnergyAttenuationPerM(air, band_centres_hz);
+  return model;
+}
+
 }  // namespace room_reverb::core

@@ -397,7 +397,7 @@ struct Tracer {
           options.diffraction_scattering
               ? withDiffractionScattering(m.scattering, scene.surfaceExtent(hit.triangle), ray.direction,
                                           characteristicDistance(leg, mean_free_path_m > 0.0 ? mean_free_path_m : leg),
-                                          model.speed_of_sound_m_s)
+                                          model.speed_of_sound_m_s, scene.bandCentresHz())
               : m.scattering;
       const RainArrival rained = options.diffuse_rain && !tracking
                                      ? rain(histogram, ray, hit.triangle, scattering, normal, ray.bands & slice.active)

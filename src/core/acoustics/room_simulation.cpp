@@ -1,6 +1,7 @@
 #include "room_reverb/acoustics/room_simulation.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -30,7 +31,7 @@ std::string toString(SimulationMode mode) {
 
 OctaveBandValues eyringReverberationTimes(const AcousticScene& scene, const AirConditions& air) {
   const OctaveBandValues alpha = scene.meanAbsorption();
-  const OctaveBandValues m = airEnergyAttenuationPerM(air);
+  const OctaveBandValues m = airEnergyAttenuationPerM(air, scene.bandCentresHz());
   OctaveBandValues t60{};
   // An open or leaky mesh encloses no volume: no diffuse-field reverberation time.
   if (!(scene.volumeM3() > 0.0) || !scene.closed()) {
@@ -98,6 +99,99 @@ EnergyHistogram roomDecayLateEnergy(const AcousticScene& scene, const Propagatio
                           [&](std::size_t bin, double, int b) { return late_energy_in_flight[bin][b]; });
 }
 
+namespace {
+
+// What one set of bands contributes: the image sources and the late energy of the scene
+// (octaves, or one third-octave view) in the mode of `settings`.
+struct BandsSimulation {
+  std::vector<SpecularPath> paths;
+  EnergyHistogram late;
+  RayTracingStats stats;
+  std::shared_ptr<const PathLedger> ledger;
+};
+
+BandsSimulation simulateBands(const AcousticScene& scene, const Eigen::Vector3d& source, const Eigen::Vector3d& listener,
+                              const SimulationSettings& settings, std::size_t ledger_budget_bytes) {
+  const PropagationModel model = PropagationModel::from(settings.air, settings.directivity, scene.bandCentresHz());
+  BandsSimulation out;
+  out.paths = computeImageSources(scene, source, listener, model, imageSourceOptionsFor(settings));
+  if (settings.mode == SimulationMode::kAccurate) {
+    RayTracingOptions rays = settings.rays;
+    rays.max_time_s = settings.duration_s;
+    rays.diffraction_scattering = settings.diffraction_scattering;
+    rays.image_source_order = settings.image_source_order;
+    RayTracingResult traced = traceRays(scene, source, listener, model, rays, ledger_budget_bytes);
+    out.late = std::move(traced.histogram);
+    out.stats = traced.stats;
+    out.ledger = std::move(traced.ledger);
+  } else if (settings.mode == SimulationMode::kFast) {
+    RayTracingOptions rays = settings.rays;
+    rays.max_time_s = settings.duration_s;
+    rays.diffraction_scattering = settings.diffraction_scattering;
+    rays.record_energy_in_flight = true;
+    rays.diffuse_rain = false;  // the receiver's share is not used: only the energy in flight
+    // Faded rays play roulette from 40 dB down rather than 60: on BRAS CR2 that takes 40 %
+    // off the time with T20, T30 and EDT unchanged to 0.1 % (docs/simulation.md); only
+    // the tail below -40 dB, which no decay measure reads, gets noisier.
+    rays.roulette_db = std::max(rays.roulette_db, -40.0);
+    const FastModeTrace traced =
+        traceFastModeDecay(scene, source, listener, model, rays, settings.fast_ray_count, settings.fast_rays);
+    out.stats = traced.stats;
+    const double direct_delay = (source - listener).norm() / model.speed_of_sound_m_s;
+    // A settled pilot says the room's decay is one diffuse field; otherwise the track
+    // receiver near the listener is heard (fast_mode_rays.h).
+    out.late = traced.receiver ? *traced.receiver
+                               : roomDecayLateEnergy(scene, model, traced.late_energy_in_flight, direct_delay,
+                                                     rays.bin_s);
+  } else {
+    const double direct_delay = (source - listener).norm() / model.speed_of_sound_m_s;
+    out.late = parametricLateEnergy(scene, model, direct_delay, settings.image_source_order, settings.duration_s,
+                                    settings.rays.bin_s);
+  }
+  return out;
+}
+
+// The octave summary of a simulation in third octaves (SimulationResult::paths and late):
+// per octave the mean of its thirds' energies, as a white source shares them.
+BandsSimulation octaveSummary(const std::array<BandsSimulation, 3>& thirds) {
+  BandsSimulation out;
+  out.paths = thirds[1].paths;
+  for (std::size_t i = 0; i < out.paths.size(); ++i) {
+    for (int b = 0; b < kOctaveBandCount; ++b) {
+      double power = 0.0;
+      for (const BandsSimulation& t : thirds) power += t.paths[i].pressure_gain[b] * t.paths[i].pressure_gain[b];
+      out.paths[i].pressure_gain[b] = std::sqrt(power / 3.0);
+    }
+  }
+  out.late = thirds[1].late;
+  for (std::size_t bin = 0; bin < out.late.bins(); ++bin) {
+    for (int b = 0; b < kOctaveBandCount; ++b) {
+      double energy = 0.0;
+      Eigen::Vector3d flux = Eigen::Vector3d::Zero();
+      for (const BandsSimulation& t : thirds) {
+        energy += t.late.energy(bin, b) / 3.0;
+        flux += t.late.flux(bin, b) / 3.0;
+      }
+      out.late.set(bin, b, energy, flux);
+    }
+  }
+  // Counts over all three runs; the per-band figures of the centre thirds.
+  out.stats = thirds[1].stats;
+  for (std::size_t k : {0u, 2u}) {
+    const RayTracingStats& t = thirds[k].stats;
+    out.stats.rays += t.rays;
+    out.stats.reflections += t.reflections;
+    out.stats.leaked_rays += t.leaked_rays;
+    out.stats.escaped_rays += t.escaped_rays;
+    out.stats.stopped_by_time += t.stopped_by_time;
+    out.stats.stopped_by_energy += t.stopped_by_energy;
+    out.stats.sphere_detections += t.sphere_detections;
+  }
+  return out;
+}
+
+}  // namespace
+
 SimulationResult simulateRoom(const AcousticScene& scene, const Eigen::Vector3d& source,
                               const Eigen::Vector3d& listener, const SimulationSettings& settings,
                               const WaveProgress& progress, std::size_t ledger_budget_bytes) {
@@ -118,44 +212,25 @@ SimulationResult simulateRoom(const AcousticScene& scene, const Eigen::Vector3d&
   SimulationResult result;
   result.speed_of_sound_m_s = model.speed_of_sound_m_s;
   result.eyring_t60_s = eyringReverberationTimes(scene, settings.air);
-  result.paths = computeImageSources(scene, source, listener, model, imageSourceOptionsFor(settings));
-
-  if (settings.mode == SimulationMode::kAccurate) {
-    RayTracingOptions rays = settings.rays;
-    rays.max_time_s = settings.duration_s;
-    rays.diffraction_scattering = settings.diffraction_scattering;
-    rays.image_source_order = settings.image_source_order;
-    RayTracingResult traced = traceRays(scene, source, listener, model, rays, ledger_budget_bytes);
-    result.late = std::move(traced.histogram);
-    result.stats = traced.stats;
-    result.ledger = std::move(traced.ledger);
-  } else if (settings.mode == SimulationMode::kFast) {
-    RayTracingOptions rays = settings.rays;
-    rays.max_time_s = settings.duration_s;
-    rays.diffraction_scattering = settings.diffraction_scattering;
-    rays.record_energy_in_flight = true;
-    rays.diffuse_rain = false;  // the receiver's share is not used: only the energy in flight
-    // Faded rays play roulette from 40 dB down rather than 60: on BRAS CR2 that takes 40 %
-    // off the time with T20, T30 and EDT unchanged to 0.1 % (docs/simulation.md); only
-    // the tail below -40 dB, which no decay measure reads, gets noisier.
-    rays.roulette_db = std::max(rays.roulette_db, -40.0);
-    const FastModeTrace traced =
-        traceFastModeDecay(scene, source, listener, model, rays, settings.fast_ray_count, settings.fast_rays);
-    result.stats = traced.stats;
-    const double direct_delay = (source - listener).norm() / model.speed_of_sound_m_s;
-    // A settled pilot says the room's decay is one diffuse field; otherwise the track
-    // receiver near the listener is heard (fast_mode_rays.h).
-    result.late = traced.receiver ? *traced.receiver
-                                  : roomDecayLateEnergy(scene, model, traced.late_energy_in_flight, direct_delay,
-                                                        rays.bin_s);
+  const SynthesisOptions synthesis = simulationSynthesisOptions(scene, settings);
+  BandsSimulation simulated;
+  if (settings.bands == BandResolution::kThirdOctave) {
+    // One simulation per third of every octave: the same rays and image sources, each
+    // with its third's coefficients, air and diffraction (AcousticScene::thirdOctaveBands).
+    std::array<BandsSimulation, 3> thirds;
+    for (int k = 0; k < 3; ++k) thirds[static_cast<std::size_t>(k)] = simulateBands(scene.thirdOctaveBands(k), source, listener, settings, 0);
+    result.impulse_response = synthesizeThirdOctaveImpulseResponse(
+        {&thirds[0].paths, &thirds[1].paths, &thirds[2].paths}, {&thirds[0].late, &thirds[1].late, &thirds[2].late},
+        synthesis);
+    simulated = octaveSummary(thirds);
   } else {
-    const double direct_delay = (source - listener).norm() / model.speed_of_sound_m_s;
-    result.late = parametricLateEnergy(scene, model, direct_delay, settings.image_source_order,
-                                       settings.duration_s, settings.rays.bin_s);
+    simulated = simulateBands(scene, source, listener, settings, ledger_budget_bytes);
+    result.impulse_response = synthesizeImpulseResponse(simulated.paths, &simulated.late, synthesis);
   }
-
-  result.impulse_response =
-      synthesizeImpulseResponse(result.paths, &result.late, simulationSynthesisOptions(scene, settings));
+  result.paths = std::move(simulated.paths);
+  result.late = std::move(simulated.late);
+  result.stats = simulated.stats;
+  result.ledger = std::move(simulated.ledger);
   if (low) result.impulse_response = joinWaveLowBand(*low, result.impulse_response, result.low_band);
   return result;
 }
@@ -172,6 +247,7 @@ std::optional<SimulationResult> replaySimulation(const SimulationResult& traced,
   if (settings.mode != SimulationMode::kAccurate) return refuse("only the accurate mode traces paths");
   if (settings.diffraction_scattering) return refuse("diffraction scattering depends on each path's legs");
   if (settings.low_band != LowBandMethod::kGeometric) return refuse("the wave low band is solved, not traced");
+  if (settings.bands != BandResolution::kOctave) return refuse("third octaves are traced once per third");
   if (ledger->source != source || ledger->listener != listener) return refuse("the positions differ from the traced ones");
   if (ledger->seed != settings.rays.seed || ledger->ray_count != settings.rays.ray_count ||
       ledger->image_source_order != settings.image_source_order ||

@@ -11,8 +11,8 @@ namespace {
 
 // Magic numbers with the encoding's version in the low byte; read back in another byte
 // order they do not match, so a foreign machine's bytes are refused, not misread.
-constexpr std::uint32_t kSceneMarker = 0x52525301;    // "RRS" 1
-constexpr std::uint32_t kRequestMarker = 0x52525105;  // "RRQ" 5
+constexpr std::uint32_t kSceneMarker = 0x52525302;    // "RRS" 2
+constexpr std::uint32_t kRequestMarker = 0x52525106;  // "RRQ" 6
 constexpr std::uint32_t kResultMarker = 0x52525202;   // "RRR" 2
 constexpr std::uint32_t kJobMarker = 0x52524a01;      // "RRJ" 1
 
@@ -22,14 +22,14 @@ static_assert(sizeof(AirConditions) == 32, "AirConditions changed: encode the ne
 static_assert(sizeof(SourceDirectivity) == 32, "SourceDirectivity changed: encode the new field");
 static_assert(sizeof(DecayContinuationOptions) == 40, "DecayContinuationOptions changed: encode the new field");
 static_assert(sizeof(RayTracingOptions) == 112, "RayTracingOptions changed: encode the new field");
-static_assert(sizeof(SimulationSettings) == 280, "SimulationSettings changed: encode the new field");
+static_assert(sizeof(SimulationSettings) == 288, "SimulationSettings changed: encode the new field");
 static_assert(sizeof(FastRayOptions) == 40, "FastRayOptions changed: encode the new field");
 static_assert(sizeof(WaveLowBandOptions) == 24, "WaveLowBandOptions changed: encode the new field");
 static_assert(sizeof(WaveLowBandStats) == 56, "WaveLowBandStats changed: encode the new field");
 static_assert(sizeof(RayTracingStats) == 208, "RayTracingStats changed: encode the new field");
 static_assert(sizeof(SpecularPath) == 168, "SpecularPath changed: encode the new field");
 static_assert(sizeof(CuboidObject) == 168, "CuboidObject changed: encode the new field");
-static_assert(sizeof(AcousticMaterial) == 208, "AcousticMaterial changed: encode the new field");
+static_assert(sizeof(AcousticMaterial) == 656, "AcousticMaterial changed: encode the new field");
 
 void putVector(ByteWriter& w, const Eigen::Vector3d& v) {
   for (int k = 0; k < 3; ++k) w.put<double>(v[k]);
@@ -90,6 +90,7 @@ void putSettings(ByteWriter& w, const SimulationSettings& s) {
   w.put<double>(s.wave.crossover_hz);
   w.put<double>(s.wave.cells_per_wavelength);
   w.put<std::int32_t>(s.wave.threads);
+  w.put<std::int32_t>(static_cast<std::int32_t>(s.bands));
 }
 
 SimulationSettings getSettings(ByteReader& r) {
@@ -139,6 +140,9 @@ SimulationSettings getSettings(ByteReader& r) {
   s.wave.crossover_hz = r.get<double>();
   s.wave.cells_per_wavelength = r.get<double>();
   s.wave.threads = r.get<std::int32_t>();
+  const auto bands = r.get<std::int32_t>();
+  if (bands < 0 || bands > static_cast<std::int32_t>(BandResolution::kThirdOctave)) r.fail("unknown band resolution " + std::to_string(bands));
+  s.bands = static_cast<BandResolution>(bands);
   return s;
 }
 
@@ -183,6 +187,12 @@ std::vector<std::uint8_t> encodeScene(const AcousticScene& scene) {
     w.putString(mesh.material_names[m]);
     putBands(w, material.absorption);
     putBands(w, material.scattering);
+    for (const std::optional<ThirdOctaveValues>* thirds : {&material.absorption_thirds, &material.scattering_thirds}) {
+      w.putBool(thirds->has_value());
+      if (*thirds) {
+        for (const OctaveBandValues& third : **thirds) putBands(w, third);
+      }
+    }
     w.putString(material.source);
   }
   w.putBool(scene.closed());
@@ -225,6 +235,12 @@ std::unique_ptr<AcousticScene> decodeScene(const std::uint8_t* data, std::size_t
     material.name = r.getString();
     material.absorption = getBands(r);
     material.scattering = getBands(r);
+    for (std::optional<ThirdOctaveValues>* thirds : {&material.absorption_thirds, &material.scattering_thirds}) {
+      if (!r.getBool()) continue;
+      ThirdOctaveValues values{};
+      for (OctaveBandValues& third : values) third = getBands(r);
+      *thirds = values;
+    }
     material.source = r.getString();
     if (library.contains(material.name)) r.fail("material '" + material.name + "' is named twice");
     library.add(material);  // validated: coefficients in [0, 1]
