@@ -36,8 +36,9 @@ DIR/extended_room.yaml (the corrected room).
   --y-up             the mesh has y up
   --out DIR          output directory
   --causes LIST      comma-separated cause ids to try (default: the eight of the
-                     catalogue; diffraction_scattering and wave_low_band, which fit
-                     nothing, are tried only when named here)
+                     catalogue; diffraction_scattering, wave_low_band and
+                     third_octave_bands, which fit nothing, are tried only when
+                     named here)
   --max-causes N     at most N causes (default 3)
   --rays N           rays per simulation (default 10000)
   --order N          image-source order (default 3)

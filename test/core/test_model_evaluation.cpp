@@ -105,6 +105,26 @@ TEST(ModelEvaluation, GeometryScaleIsNotFittedFromATable) {
   EXPECT_GT(d.baseline_error_jnd, 0.0);  // the table was scored
 }
 
+TEST(ModelEvaluation, ThirdOctaveBandsNeedMaterialsWithThirds) {
+  const RoomUnderTest room =
+      RoomUnderTest::fromRoomModel(parseRoomModel(kStudioRoomYaml), MaterialLibrary::loadDefault());
+  MeasuredEvidence evidence;
+  MeasurementPair pair;
+  pair.source_m = {1.2, 1.0, 1.4};
+  pair.receiver_m = {3.6, 2.8, 1.3};
+  evidence.positions = {pair};
+  evidence.table = parametersFromReport(syntheticReport());
+  DiagnosisOptions options;
+  options.causes = {"third_octave_bands"};
+  options.noise_seeds = 1;
+  options.evaluation.simulation.rays.ray_count = 500;
+  options.evaluation.simulation.duration_s = 1.0;
+  const Diagnosis d = diagnose(room, evidence, options);
+  ASSERT_EQ(d.trials.size(), 1u);
+  EXPECT_FALSE(d.trials[0].fitted);
+  EXPECT_NE(d.trials[0].note.find("third-octave coefficients"), std::string::npos) << d.trials[0].note;
+}
+
 TEST(ModelEvaluation, TwoPairsAreSplitByPairInEveryBand) {
   const MetricsReport report = syntheticReport();
   MeasuredEvidence evidence;
@@ -222,7 +242,8 @@ TEST(ModelEvaluation, EveryCatalogueCauseCountsItsParameters) {
     EXPECT_GE(freeParameters(cause), 1) << cause;
     EXPECT_GT(causeMeaning(cause).size(), 20u) << cause;
   }
-  EXPECT_EQ(kOnRequestCauses, (std::vector<std::string>{"diffraction_scattering", "wave_low_band"}));
+  EXPECT_EQ(kOnRequestCauses,
+            (std::vector<std::string>{"diffraction_scattering", "wave_low_band", "third_octave_bands"}));
   for (const std::string& cause : kOnRequestCauses) {
     EXPECT_EQ(freeParameters(cause), 0) << cause;
     EXPECT_GT(causeMeaning(cause).size(), 20u) << cause;
@@ -305,6 +326,30 @@ TEST(ModelEvaluation, ThePhysicsSwitchesReachTheSimulations) {
   ModelExtension both = wave;
   both.add(diffraction);
   EXPECT_TRUE(both.wave_low_band && both.diffraction_scattering);
+
+  // Third octaves, once the room's materials have thirds that differ from their octaves.
+  MaterialLibrary library = c.library;
+  for (const auto& [name, surface] : c.room.surfaces) {
+    AcousticMaterial m = library.get(surface.material);
+    ThirdOctaveValues thirds{};
+    for (int b = 0; b < kOctaveBandCount; ++b) {
+      thirds[0][b] = std::min(1.0, 1.6 * m.absorption[b]);
+      thirds[1][b] = m.absorption[b];
+      thirds[2][b] = 0.4 * m.absorption[b];
+    }
+    m.absorption_thirds = thirds;
+    library.add(m);
+  }
+  const RoomUnderTest with_thirds = RoomUnderTest::fromRoomModel(c.room, library);
+  const ModelEvaluator thirds_evaluator(with_thirds, c.evidence, options.evaluation);
+  ModelExtension third;
+  third.third_octave_bands = true;
+  const Evaluation octave = thirds_evaluator.evaluate({});
+  const Evaluation in_thirds = thirds_evaluator.evaluate(third);
+  ASSERT_TRUE(octave.valid && in_thirds.valid) << in_thirds.reason;
+  EXPECT_NE(in_thirds.fit_error_jnd, octave.fit_error_jnd);
+  both.add(third);
+  EXPECT_TRUE(both.third_octave_bands);
 }
 
 }  // namespace

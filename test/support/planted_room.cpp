@@ -233,6 +233,7 @@ PlantedCase plantedCase(const std::string& cause, std::uint32_t seed) {
   if (e.directivity) s.directivity = *e.directivity;
   s.diffraction_scattering = e.diffraction_scattering;
   if (e.wave_low_band) s.low_band = LowBandMethod::kWave;
+  if (e.third_octave_bands) s.bands = BandResolution::kThirdOctave;
   s.rays.ray_count = 30000;
   c.evidence.positions = pairs;
   const ModalRoom modal_room = modalRoomFor(scene, s.air);

@@ -42,9 +42,11 @@ struct ModelExtension {
   std::optional<CoupledDecay> coupled;
   std::optional<LowFrequencyModes> modes;
   // Physics the simulation has as switches, with nothing to fit: the scattering of the
-  // surfaces' finite size, and the low band from the wave solver (room_simulation.h).
+  // surfaces' finite size, the low band from the wave solver, and third octaves end to end
+  // (room_simulation.h).
   bool diffraction_scattering = false;
   bool wave_low_band = false;
+  bool third_octave_bands = false;
 
   // `other`'s fields on top of these (maps merged, reflectors appended, scale multiplied).
   void add(const ModelExtension& other);

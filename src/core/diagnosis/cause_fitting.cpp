@@ -47,6 +47,10 @@ constexpr CatalogueEntry kCatalogue[] = {
      false},
     {"wave_low_band", fitWaveLowBand, 0,
      "the low band is a wave field, which rays cannot show (wave solver below the crossover, nothing fitted)",
+     false},
+    {"third_octave_bands", fitThirdOctaveBands, 0,
+     "an octave's coefficient averages over thirds that differ (the materials' third-octave coefficients, "
+     "simulated and synthesised per third, nothing fitted)",
      false}};
 
 const CatalogueEntry& entry(const std::string& cause) {

@@ -36,6 +36,7 @@ std::optional<FittedCause> fitScattering(const FitContext& context, std::string&
 std::optional<FittedCause> fitMissingReflector(const FitContext& context, std::string& why);
 std::optional<FittedCause> fitGeometryScale(const FitContext& context, std::string& why);
 std::optional<FittedCause> fitCoupledVolume(const FitContext& context, std::string& why);
+std::optional<FittedCause> fitThirdOctaveBands(const FitContext& context, std::string& why);
 std::optional<FittedCause> fitSourceDirectivity(const FitContext& context, std::string& why);
 std::optional<FittedCause> fitLowFrequencyModes(const FitContext& context, std::string& why);
 std::optional<FittedCause> fitDiffractionScattering(const FitContext& context, std::string& why);

@@ -36,4 +36,18 @@ std::optional<FittedCause> fitWaveLowBand(const FitContext& context, std::string
   return switchedOn(context, "wave_low_band", extension);
 }
 
+std::optional<FittedCause> fitThirdOctaveBands(const FitContext& context, std::string& why) {
+  if (context.accepted.third_octave_bands) {
+    why = "the model already has it";
+    return std::nullopt;
+  }
+  if (!context.evaluator.room().scene(context.accepted).hasThirdOctaveMaterials()) {
+    why = "no material of the model has third-octave coefficients";
+    return std::nullopt;
+  }
+  ModelExtension extension;
+  extension.third_octave_bands = true;
+  return switchedOn(context, "third_octave_bands", extension);
+}
+
 }  // namespace room_reverb::core

@@ -171,6 +171,7 @@ std::string diagnosisToMarkdown(const Diagnosis& d, const std::string& extended_
     if (d.extension.modes) outside.push_back("the modal low band");
     if (d.extension.diffraction_scattering) outside.push_back("the diffraction scattering (`--diffraction-scattering`)");
     if (d.extension.wave_low_band) outside.push_back("the wave low band (`--low-band wave`)");
+    if (d.extension.third_octave_bands) outside.push_back("the third-octave bands (`--bands third`)");
     for (std::size_t i = 0; i < outside.size(); ++i) {
       os << (i == 0 ? " The room format cannot hold " : i + 1 == outside.size() ? " and " : ", ") << outside[i];
     }

@@ -216,6 +216,7 @@ ModelEvaluator::PreparedCase ModelEvaluator::prepare(const EvaluationCase& c, co
     if (c.extension->directivity) p.settings.directivity = *c.extension->directivity;
     if (c.extension->diffraction_scattering) p.settings.diffraction_scattering = true;
     if (c.extension->wave_low_band) p.settings.low_band = LowBandMethod::kWave;
+    if (c.extension->third_octave_bands) p.settings.bands = BandResolution::kThirdOctave;
   }
   // Pair i at seed offset k: pairSeed(base + 7919 k, i), with the thread count its place in
   // the rounds of one evaluation gives it, wherever it runs.

@@ -43,6 +43,7 @@ void ModelExtension::add(const ModelExtension& other) {
   if (other.modes) modes = other.modes;
   diffraction_scattering = diffraction_scattering || other.diffraction_scattering;
   wave_low_band = wave_low_band || other.wave_low_band;
+  third_octave_bands = third_octave_bands || other.third_octave_bands;
 }
 
 RoomUnderTest RoomUnderTest::fromRoomModel(RoomModel room, MaterialLibrary library) {
