@@ -82,7 +82,8 @@ TEST(ModelEvaluation, ATableIsSplitByOctaveBandNotByParameter) {
 // A wrong scale shows as reflections arriving late or early by one factor. A table of
 // averaged parameters has no arrival times, and in its decay times the scale trades
 // against absorption, so from a table the scale is not fitted, and says why.
-TEST(ModelEvaluation, GeometryScaleIsNotFittedFromATable) {
+// A diagnosis of the studio from a table of parameters (no RIRs) trying one cause.
+Diagnosis studioTableDiagnosis(const std::string& cause) {
   const RoomUnderTest room =
       RoomUnderTest::fromRoomModel(parseRoomModel(kStudioRoomYaml), MaterialLibrary::loadDefault());
   MeasuredEvidence evidence;
@@ -92,11 +93,15 @@ TEST(ModelEvaluation, GeometryScaleIsNotFittedFromATable) {
   evidence.positions = {pair};
   evidence.table = parametersFromReport(syntheticReport());
   DiagnosisOptions options;
-  options.causes = {"geometry_scale"};
+  options.causes = {cause};
   options.noise_seeds = 1;
   options.evaluation.simulation.rays.ray_count = 500;
   options.evaluation.simulation.duration_s = 1.0;
-  const Diagnosis d = diagnose(room, evidence, options);
+  return diagnose(room, evidence, options);
+}
+
+TEST(ModelEvaluation, GeometryScaleIsNotFittedFromATable) {
+  const Diagnosis d = studioTableDiagnosis("geometry_scale");
   ASSERT_EQ(d.trials.size(), 1u);
   EXPECT_EQ(d.trials[0].cause, "geometry_scale");
   EXPECT_FALSE(d.trials[0].fitted);
@@ -106,20 +111,7 @@ TEST(ModelEvaluation, GeometryScaleIsNotFittedFromATable) {
 }
 
 TEST(ModelEvaluation, ThirdOctaveBandsNeedMaterialsWithThirds) {
-  const RoomUnderTest room =
-      RoomUnderTest::fromRoomModel(parseRoomModel(kStudioRoomYaml), MaterialLibrary::loadDefault());
-  MeasuredEvidence evidence;
-  MeasurementPair pair;
-  pair.source_m = {1.2, 1.0, 1.4};
-  pair.receiver_m = {3.6, 2.8, 1.3};
-  evidence.positions = {pair};
-  evidence.table = parametersFromReport(syntheticReport());
-  DiagnosisOptions options;
-  options.causes = {"third_octave_bands"};
-  options.noise_seeds = 1;
-  options.evaluation.simulation.rays.ray_count = 500;
-  options.evaluation.simulation.duration_s = 1.0;
-  const Diagnosis d = diagnose(room, evidence, options);
+  const Diagnosis d = studioTableDiagnosis("third_octave_bands");
   ASSERT_EQ(d.trials.size(), 1u);
   EXPECT_FALSE(d.trials[0].fitted);
   EXPECT_NE(d.trials[0].note.find("third-octave coefficients"), std::string::npos) << d.trials[0].note;

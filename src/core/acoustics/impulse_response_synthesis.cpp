@@ -119,7 +119,9 @@ std::vector<FrequencyBand> viewBands(std::size_t views) {
 // octave centres restore that. Why not thirds all the way down: a low third is so narrow
 // that its noise's level wanders over hundreds of milliseconds, which scatters the low
 // bands' C80 and D50 by several dB from one seed to the next, while there air absorption
-// is negligible and neighbouring octaves decay at similar rates.
+// is negligible and neighbouring octaves decay at similar rates. Third-octave energies
+// (a simulation in third octaves) are synthesised in thirds all the way down: there the
+// thirds differ by what the materials say, and that is what was asked for.
 std::vector<FrequencyBand> lateSynthesisBands(std::size_t views) {
   if (views != 1) return viewBands(views);
   std::vector<FrequencyBand> bands;
