@@ -58,7 +58,12 @@ int runSimulate(const std::vector<std::string>& raw) {
   std::cout << std::fixed << std::setprecision(3);
   std::cout << "room: " << scene.mesh().triangleCount() << " triangles, " << scene.planes().size() << " planes, V "
             << scene.volumeM3() << " m^3, S " << scene.surfaceM2() << " m^2\n";
-  std::cout << "mode " << toString(settings.mode) << ": " << result.paths.size() << " image-source paths";
+  std::cout << "mode " << toString(settings.mode);
+  if (settings.bands == BandResolution::kThirdOctave) {
+    std::cout << " in third octaves (" << (scene.hasThirdOctaveMaterials() ? "the materials' thirds" : "no material has thirds")
+              << "; one simulation per third, counts summed)";
+  }
+  std::cout << ": " << result.paths.size() << " image-source paths";
   if (settings.mode != SimulationMode::kEyring) {
     std::cout << ", " << result.stats.rays << " rays, " << result.stats.reflections << " reflections, "
               << result.stats.leaked_rays << " leaked, " << result.stats.escaped_rays << " escaped, receiver sphere "

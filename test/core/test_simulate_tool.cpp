@@ -107,6 +107,19 @@ TEST(SimulateTool, TheWaveLowBandWritesAResponse) {
   EXPECT_EQ(ir.frameCount(), 14400u);
 }
 
+TEST(SimulateTool, ThirdOctavesUseTheMaterialsThirds) {
+  const std::string out = room_reverb::test::tempPath("sim_thirds.wav").string();
+  const ToolRun run = runTool("simulate --mesh " + cube("thirds.obj", "mat_CR2_plaster") + kInside +
+                              " --bands third --out " + out);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("in third octaves (the materials' thirds"), std::string::npos) << run.out;
+  EXPECT_EQ(room_reverb::core::readAudioFile(out).frameCount(), 14400u);
+  const ToolRun plain = runTool("simulate --mesh " + cube("plain.obj", "concrete") + kInside +
+                                " --bands third --out " + out);
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_NE(plain.out.find("no material has thirds"), std::string::npos) << plain.out;
+}
+
 // Units flush against the walls, the floor, the ceiling and each other, as the visual
 // route fits a kitchen: the air between them is simulated, a listener in a unit is refused
 // with the unit's number and label.
