@@ -129,8 +129,7 @@ bool SimulationServer::simulate(room_reverb::SimulateRoom::Request& request,
     response.impulse_response.positions_known = true;
     response.image_source_order = settings.image_source_order;
     if (request.late_part) {
-      const core::AudioBuffer late =
-          core::synthesizeImpulseResponse({}, &result.late, core::simulationSynthesisOptions(*scene, settings));
+      const core::AudioBuffer late = core::synthesizeLatePart(result, core::simulationSynthesisOptions(*scene, settings));
       response.late_impulse_response = response.impulse_response;
       response.late_impulse_response.audio = toMessage(late, settings.ambisonic_order == 0 ? "mono" : "ambix");
       response.late_impulse_response.audio.header = response.impulse_response.audio.header;

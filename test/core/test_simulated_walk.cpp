@@ -56,10 +56,9 @@ std::size_t peakIndex(const std::vector<float>& x) {
   return best;
 }
 
-TEST(SimulatedWalk, EarlyPlusLateIsTheSimulatedResponse) {
-  const SimulatedWalk walk = makeWalk();
-  const AcousticScene scene(test::shoeboxMesh(kSize), test::uniformLibrary(0.2, 0.1));
-  const AudioBuffer full = simulateRoom(scene, kSource, kReference, settings()).impulse_response;
+// At the reference position the walk's early part over its late part is `full`, the
+// simulator's response, to float rounding.
+void expectEarlyPlusLateIs(const SimulatedWalk& walk, const AudioBuffer& full) {
   const AudioBuffer early = walk.earlyAt(kReference);
   ASSERT_EQ(early.channelCount(), 16u);
   ASSERT_EQ(walk.late().frameCount(), full.frameCount());
@@ -80,6 +79,34 @@ TEST(SimulatedWalk, EarlyPlusLateIsTheSimulatedResponse) {
     }
   }
   EXPECT_LT(worst, 1e-6 * peak);
+}
+
+TEST(SimulatedWalk, EarlyPlusLateIsTheSimulatedResponse) {
+  const AcousticScene scene(test::shoeboxMesh(kSize), test::uniformLibrary(0.2, 0.1));
+  expectEarlyPlusLateIs(makeWalk(), simulateRoom(scene, kSource, kReference, settings()).impulse_response);
+}
+
+// The same in third octaves, with a material whose thirds differ: the early part takes each
+// third's gains, the late part each third's energy.
+TEST(SimulatedWalk, EarlyPlusLateIsTheSimulatedResponseInThirdOctaves) {
+  MaterialLibrary library = test::uniformLibrary(0.2, 0.1);
+  AcousticMaterial wall = library.get("test_wall");
+  ThirdOctaveValues thirds{};
+  thirds[0].fill(0.1);
+  thirds[1].fill(0.2);
+  thirds[2].fill(0.4);
+  wall.absorption_thirds = thirds;
+  library.add(wall);
+  SimulationSettings in_thirds = settings();
+  in_thirds.bands = BandResolution::kThirdOctave;
+  const AcousticScene scene(test::shoeboxMesh(kSize), library);
+  const SimulationResult full = simulateRoom(scene, kSource, kReference, in_thirds);
+  ASSERT_EQ(full.late_thirds.size(), 3u);
+  const SimulatedWalk walk(scene, kSource, kReference, in_thirds);
+  expectEarlyPlusLateIs(walk, full.impulse_response);
+  // Not the octave response: the thirds' absorption reaches the walk.
+  const AudioBuffer octave_early = makeWalk().earlyAt(kReference);
+  EXPECT_NE(walk.earlyAt(kReference).channels[0], octave_early.channels[0]);
 }
 
 TEST(SimulatedWalk, TheEarlyPartFollowsTheListener) {

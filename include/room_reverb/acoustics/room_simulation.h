@@ -70,6 +70,11 @@ struct SimulationResult {
   OctaveBandValues eyring_t60_s{};         // Eyring with air, for reference
   WaveLowBandStats low_band;               // the wave solver's part, when it was used
   double speed_of_sound_m_s = 0.0;
+  // In third octaves (SimulationSettings::bands), the late energy of each third's view
+  // (AcousticScene::thirdOctaveBands), from which the response's late part was
+  // synthesised; `late` is then their octave mean. Empty in octaves. This process only,
+  // never on the wire.
+  std::vector<EnergyHistogram> late_thirds;
   // The ray tracer's paths when the caller asked for them (simulateRoom's
   // ledger_budget_bytes) and they could be kept; this process only, never on the wire.
   std::shared_ptr<const PathLedger> ledger;
@@ -99,6 +104,10 @@ std::optional<SimulationResult> replaySimulation(const SimulationResult& traced,
 // synthesis options of the scene and settings (the early and late parts synthesised apart
 // with them add up to simulateRoom's response exactly).
 SynthesisOptions simulationSynthesisOptions(const AcousticScene& scene, const SimulationSettings& settings);
+
+// The late part of simulateRoom's response alone (its early and late parts synthesised apart
+// add up to the response exactly): from the thirds' late energy where the result has it.
+AudioBuffer synthesizeLatePart(const SimulationResult& result, const SynthesisOptions& synthesis);
 
 // The image-source search of the settings: their order and diffraction scattering.
 ImageSourceOptions imageSourceOptionsFor(const SimulationSettings& settings);

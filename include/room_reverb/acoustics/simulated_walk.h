@@ -4,7 +4,8 @@
 // room model's box and objects) computed again at every listener position, and the late
 // part of one simulation at a reference position kept, as a diffuse field changes little
 // across a room. Both parts are the simulator's own: at the reference position earlyAt()
-// plus late() is simulateRoom()'s impulse response, sample for sample.
+// plus late() is simulateRoom()'s impulse response, sample for sample, in octaves or in
+// third octaves (SimulationSettings::bands).
 #include <Eigen/Core>
 #include <vector>
 
@@ -55,6 +56,10 @@ class SimulatedWalk {
   SimulationSettings settings_;
   SynthesisOptions synthesis_;
   AudioBuffer late_;
+  // In third octaves, the scene's three views (AcousticScene::thirdOctaveBands) whose image
+  // sources make each early part; empty in octaves.
+  std::vector<AcousticScene> third_views_;
+  void makeThirdViews();
 };
 
 }  // namespace room_reverb::core

@@ -223,6 +223,7 @@ SimulationResult simulateRoom(const AcousticScene& scene, const Eigen::Vector3d&
         {&thirds[0].paths, &thirds[1].paths, &thirds[2].paths}, {&thirds[0].late, &thirds[1].late, &thirds[2].late},
         synthesis);
     simulated = octaveSummary(thirds);
+    for (BandsSimulation& third : thirds) result.late_thirds.push_back(std::move(third.late));
   } else {
     simulated = simulateBands(scene, source, listener, settings, ledger_budget_bytes);
     result.impulse_response = synthesizeImpulseResponse(simulated.paths, &simulated.late, synthesis);
@@ -270,6 +271,16 @@ std::optional<SimulationResult> replaySimulation(const SimulationResult& traced,
   result.impulse_response =
       synthesizeImpulseResponse(result.paths, &result.late, simulationSynthesisOptions(scene, settings));
   return result;
+}
+
+AudioBuffer synthesizeLatePart(const SimulationResult& result, const SynthesisOptions& synthesis) {
+  if (result.late_thirds.size() == 3) {
+    const std::vector<SpecularPath> none;
+    return synthesizeThirdOctaveImpulseResponse({&none, &none, &none},
+                                                {&result.late_thirds[0], &result.late_thirds[1], &result.late_thirds[2]},
+                                                synthesis);
+  }
+  return synthesizeImpulseResponse({}, &result.late, synthesis);
 }
 
 ImageSourceOptions imageSourceOptionsFor(const SimulationSettings& settings) {

@@ -1,6 +1,7 @@
 #include "room_reverb/acoustics/simulated_walk.h"
 
 #include <algorithm>
+#include <array>
 
 #include "room_reverb/acoustics/propagation.h"
 #include "room_reverb/ambisonics/spherical_harmonics.h"
@@ -13,7 +14,13 @@ SimulatedWalk::SimulatedWalk(AcousticScene scene, const Eigen::Vector3d& source_
     : scene_(std::move(scene)), source_m_(source_m), reference_m_(reference_listener_m), settings_(settings) {
   const SimulationResult reference = simulateRoom(scene_, source_m_, reference_m_, settings_);
   synthesis_ = simulationSynthesisOptions(scene_, settings_);
-  late_ = synthesizeImpulseResponse({}, &reference.late, synthesis_);
+  late_ = synthesizeLatePart(reference, synthesis_);
+  makeThirdViews();
+}
+
+void SimulatedWalk::makeThirdViews() {
+  if (settings_.bands != BandResolution::kThirdOctave) return;
+  for (int k = 0; k < 3; ++k) third_views_.push_back(scene_.thirdOctaveBands(k));
 }
 
 SimulatedWalk::SimulatedWalk(AcousticScene scene, const Eigen::Vector3d& source_m,
@@ -30,6 +37,7 @@ SimulatedWalk::SimulatedWalk(AcousticScene scene, const Eigen::Vector3d& source_
   scene_.requireInside(source_m_, "source");
   requireListener(reference_m_);
   synthesis_ = simulationSynthesisOptions(scene_, settings_);
+  makeThirdViews();
 }
 
 void SimulatedWalk::requireListener(const Eigen::Vector3d& listener_m) const {
@@ -52,7 +60,16 @@ AudioBuffer SimulatedWalk::earlyAt(const Eigen::Vector3d& listener_m) const {
   // To the end of the last path's band-shaping FIR, which is centred on its arrival.
   const double fir_half_s = static_cast<double>(kPathTapLength / 2 + 1) / options.sample_rate_hz;
   options.duration_s = std::min(last_s + fir_half_s, settings_.duration_s);
-  return synthesizeImpulseResponse(paths, nullptr, options);
+  if (settings_.bands != BandResolution::kThirdOctave) return synthesizeImpulseResponse(paths, nullptr, options);
+  // In third octaves each third's view gives the same arrivals with its own gains.
+  std::array<std::vector<SpecularPath>, 3> thirds;
+  for (std::size_t k = 0; k < 3; ++k) {
+    const AcousticScene& view = third_views_[k];
+    thirds[k] = computeImageSources(view, source_m_, listener_m,
+                                    PropagationModel::from(settings_.air, settings_.directivity, view.bandCentresHz()),
+                                    imageSourceOptionsFor(settings_));
+  }
+  return synthesizeThirdOctaveImpulseResponse({&thirds[0], &thirds[1], &thirds[2]}, {nullptr, nullptr, nullptr}, options);
 }
 
 AudioBuffer SimulatedWalk::responseAt(const Eigen::Vector3d& listener_m) const {
