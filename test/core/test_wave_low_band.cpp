@@ -220,14 +220,10 @@ TEST(WaveLowBand, ABoxAboveItsSchroederFrequencyDecaysAsEyringSays) {
 // octave lies between them.
 TEST(WaveLowBand, TheJoinKeepsAFreeFieldImpulsesEnergyInEveryBand) {
   const AcousticScene scene(room_reverb::test::shoeboxMesh({16.0, 16.0, 16.0}), room_reverb::test::uniformLibrary(0.95, 0.0));
-  SimulationSettings settings;
-  settings.air = noAir();
+  SimulationSettings settings = boxSettings();
   settings.duration_s = 0.08;
-  settings.ambisonic_order = 1;
   settings.image_source_order = 1;
   settings.rays.ray_count = 200;
-  settings.rays.threads = 2;
-  settings.wave.crossover_hz = 250.0;
   const Eigen::Vector3d source(8.0, 5.0, 8.0), listener(8.0, 11.0, 8.0);
   const SimulationResult geometric = simulateRoom(scene, source, listener, settings);
   settings.low_band = LowBandMethod::kWave;
