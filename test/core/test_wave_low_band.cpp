@@ -44,6 +44,20 @@ double bandEnergyOf(const std::vector<float>& signal, std::size_t band) {
 
 const Eigen::Vector3d kSource(1.5, 1.2, 1.4), kListener(4.3, 2.9, 1.6);
 
+// The same room simulated with the geometric low band and with the wave one.
+struct BothLowBands {
+  SimulationResult geometric, wave;
+};
+BothLowBands simulateBothLowBands(const AcousticScene& scene, const Eigen::Vector3d& source,
+                                  const Eigen::Vector3d& listener, SimulationSettings settings) {
+  BothLowBands out;
+  settings.low_band = LowBandMethod::kGeometric;
+  out.geometric = simulateRoom(scene, source, listener, settings);
+  settings.low_band = LowBandMethod::kWave;
+  out.wave = simulateRoom(scene, source, listener, settings);
+  return out;
+}
+
 }  // namespace
 
 // In a rigid box the image sources are the exact solution of the wave equation for the
@@ -95,9 +109,7 @@ TEST(WaveLowBand, AboveTheCrossoverTheResponseIsTheGeometricOne) {
   const AcousticScene scene(room_reverb::test::shoeboxMesh({6.0, 4.0, 3.0}), room_reverb::test::uniformLibrary(0.15, 0.6));
   SimulationSettings settings = boxSettings();
   settings.duration_s = 0.6;
-  const SimulationResult geometric = simulateRoom(scene, kSource, kListener, settings);
-  settings.low_band = LowBandMethod::kWave;
-  const SimulationResult wave = simulateRoom(scene, kSource, kListener, settings);
+  const auto [geometric, wave] = simulateBothLowBands(scene, kSource, kListener, settings);
   EXPECT_FALSE(geometric.low_band.used);
   ASSERT_TRUE(wave.low_band.used);
   EXPECT_NEAR(wave.low_band.crossover_hz, 250.0, 1e-12);
@@ -122,9 +134,7 @@ TEST(WaveLowBand, ChannelsAboveFirstOrderKeepTheGeometricResponse) {
   settings.ambisonic_order = 2;
   settings.rays.ray_count = 2000;
   const Eigen::Vector3d source(0.8, 0.7, 1.2), listener(2.1, 1.7, 1.3);
-  const SimulationResult geometric = simulateRoom(scene, source, listener, settings);
-  settings.low_band = LowBandMethod::kWave;
-  const SimulationResult wave = simulateRoom(scene, source, listener, settings);
+  const auto [geometric, wave] = simulateBothLowBands(scene, source, listener, settings);
   ASSERT_EQ(wave.impulse_response.channels.size(), 9u);
   for (std::size_t c = 4; c < 9; ++c) EXPECT_EQ(wave.impulse_response.channels[c], geometric.impulse_response.channels[c]) << c;
   EXPECT_NE(wave.impulse_response.channels[0], geometric.impulse_response.channels[0]);
@@ -225,9 +235,7 @@ TEST(WaveLowBand, TheJoinKeepsAFreeFieldImpulsesEnergyInEveryBand) {
   settings.image_source_order = 1;
   settings.rays.ray_count = 200;
   const Eigen::Vector3d source(8.0, 5.0, 8.0), listener(8.0, 11.0, 8.0);
-  const SimulationResult geometric = simulateRoom(scene, source, listener, settings);
-  settings.low_band = LowBandMethod::kWave;
-  const SimulationResult joined = simulateRoom(scene, source, listener, settings);
+  const auto [geometric, joined] = simulateBothLowBands(scene, source, listener, settings);
   ASSERT_TRUE(joined.low_band.used);
   WaveLowBandOptions options = settings.wave;
   options.threads = 2;
