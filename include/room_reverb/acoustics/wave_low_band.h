@@ -6,7 +6,8 @@
 // the solver runs once per octave band that reaches below the crossover's top, each run
 // with that octave's admittances (boundary_admittance.h), and each run contributes its
 // own octave (the zero-phase, amplitude-complementary octave bank, so the bands add up to
-// the signal again); the octaves above the last run take the last run's. The sum, W and
+// the signal again); the octaves above the last run take the last run's. In third octaves
+// (WaveLowBandOptions::bands) the same per third, three times the runs. The sum, W and
 // the first-order X, Y, Z, is resampled to 48 kHz and joined to the geometric response
 // with the zero-phase crossover of audio/crossover.h (half amplitude at the crossover,
 // one octave wide). Channels above first order keep the geometric response.
@@ -20,6 +21,7 @@
 #include <string>
 
 #include "room_reverb/acoustics/acoustic_scene.h"
+#include "room_reverb/audio/frequency_bands.h"
 #include "room_reverb/audio/audio_buffer.h"
 
 namespace room_reverb::core {
@@ -32,6 +34,10 @@ struct WaveLowBandOptions {
   double crossover_hz = 500.0;
   double cells_per_wavelength = 10.0;  // at the crossover frequency
   int threads = 0;                     // 0: all hardware threads
+  // Third octaves: one run per third that reaches below the crossover's top, each with its
+  // third's admittances (the materials' third-octave absorption where they have it), each
+  // contributing its own third (SimulationSettings::bands sets it).
+  BandResolution bands = BandResolution::kOctave;
 };
 
 // Told a line after each solver run (its octave, how many runs there are, its time).

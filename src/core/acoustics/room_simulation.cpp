@@ -207,6 +207,7 @@ SimulationResult simulateRoom(const AcousticScene& scene, const Eigen::Vector3d&
   if (settings.low_band == LowBandMethod::kWave) {
     WaveLowBandOptions wave = settings.wave;
     wave.threads = settings.rays.threads;
+    wave.bands = settings.bands;
     low = simulateWaveLowBand(scene, source, listener, model.speed_of_sound_m_s, settings.duration_s, wave, progress);
   }
   SimulationResult result;

@@ -24,7 +24,7 @@ static_assert(sizeof(DecayContinuationOptions) == 40, "DecayContinuationOptions 
 static_assert(sizeof(RayTracingOptions) == 112, "RayTracingOptions changed: encode the new field");
 static_assert(sizeof(SimulationSettings) == 288, "SimulationSettings changed: encode the new field");
 static_assert(sizeof(FastRayOptions) == 40, "FastRayOptions changed: encode the new field");
-static_assert(sizeof(WaveLowBandOptions) == 24, "WaveLowBandOptions changed: encode the new field");
+static_assert(sizeof(WaveLowBandOptions) == 24, "WaveLowBandOptions changed: encode the new field");  // bands fills the padding
 static_assert(sizeof(WaveLowBandStats) == 56, "WaveLowBandStats changed: encode the new field");
 static_assert(sizeof(RayTracingStats) == 208, "RayTracingStats changed: encode the new field");
 static_assert(sizeof(SpecularPath) == 168, "SpecularPath changed: encode the new field");
@@ -90,7 +90,14 @@ void putSettings(ByteWriter& w, const SimulationSettings& s) {
   w.put<double>(s.wave.crossover_hz);
   w.put<double>(s.wave.cells_per_wavelength);
   w.put<std::int32_t>(s.wave.threads);
+  w.put<std::int32_t>(static_cast<std::int32_t>(s.wave.bands));
   w.put<std::int32_t>(static_cast<std::int32_t>(s.bands));
+}
+
+BandResolution getBandResolution(ByteReader& r) {
+  const auto bands = r.get<std::int32_t>();
+  if (bands < 0 || bands > static_cast<std::int32_t>(BandResolution::kThirdOctave)) r.fail("unknown band resolution " + std::to_string(bands));
+  return static_cast<BandResolution>(bands);
 }
 
 SimulationSettings getSettings(ByteReader& r) {
@@ -140,9 +147,8 @@ SimulationSettings getSettings(ByteReader& r) {
   s.wave.crossover_hz = r.get<double>();
   s.wave.cells_per_wavelength = r.get<double>();
   s.wave.threads = r.get<std::int32_t>();
-  const auto bands = r.get<std::int32_t>();
-  if (bands < 0 || bands > static_cast<std::int32_t>(BandResolution::kThirdOctave)) r.fail("unknown band resolution " + std::to_string(bands));
-  s.bands = static_cast<BandResolution>(bands);
+  s.wave.bands = getBandResolution(r);
+  s.bands = getBandResolution(r);
   return s;
 }
 

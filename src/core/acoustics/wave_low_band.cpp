@@ -17,6 +17,8 @@ namespace room_reverb::core {
 namespace {
 
 constexpr double kCrossoverWidthOctaves = 1.0;
+// The standard thirds below the lowest octave's (20 - 40 Hz).
+constexpr std::ptrdiff_t kThirdsBelowTheOctaves = 4;
 // The solver runs this much past the response's end, so the octave filters' ringing at
 // the end of the signal (they see it stop) falls outside the response.
 constexpr double kTailPaddingS = 0.25;
@@ -79,7 +81,12 @@ WaveLowBand simulateWaveLowBand(const AcousticScene& scene, const Eigen::Vector3
   const FdtdGrid grid = voxelizeScene(scene, spacing);
   const double top_hz = options.crossover_hz * std::pow(2.0, 0.5 * kCrossoverWidthOctaves);
 
-  const std::vector<FrequencyBand> bands = standardBands(BandResolution::kOctave);
+  // The bands the runs stand for: the octaves, or the 27 thirds of the octaves (third t is
+  // the (t mod 3)-th third of octave t / 3).
+  const bool thirds = options.bands == BandResolution::kThirdOctave;
+  std::vector<FrequencyBand> bands = standardBands(options.bands);
+  if (thirds) bands.erase(bands.begin(), bands.begin() + kThirdsBelowTheOctaves);
+  const std::size_t per_octave = thirds ? 3 : 1;
   FdtdOptions solver;
   solver.duration_s = duration_s + kTailPaddingS;
   solver.speed_of_sound_m_s = speed_of_sound_m_s;
@@ -104,11 +111,14 @@ WaveLowBand simulateWaveLowBand(const AcousticScene& scene, const Eigen::Vector3
     if (b == 0 || bands[b].center_hz < top_hz) {
       std::vector<double> admittance;
       for (const AcousticMaterial& material : scene.materials()) {
-        admittance.push_back(admittanceForRandomIncidenceAbsorption(material.absorption[b]));
+        const AcousticMaterial band_material =
+            thirds ? thirdOctaveMaterial(material, static_cast<int>(b % per_octave)) : material;
+        admittance.push_back(admittanceForRandomIncidenceAbsorption(band_material.absorption[b / per_octave]));
       }
       const FdtdResponse response = solveWaveField(grid, source, listener, admittance, solver);
       ++out.stats.solver_runs;
-      tell("wave low band: octave " + std::to_string(static_cast<int>(bands[b].nominal_hz)) + " Hz done (" +
+      tell(std::string("wave low band: ") + (thirds ? "third " : "octave ") +
+           std::to_string(static_cast<int>(bands[b].nominal_hz)) + " Hz done (" +
            std::to_string(out.stats.solver_runs) + " of " + std::to_string(runs) + " runs on " +
            std::to_string(grid.cellCount()) + " cells, " +
            std::to_string(static_cast<int>(std::lround(
@@ -125,7 +135,7 @@ WaveLowBand simulateWaveLowBand(const AcousticScene& scene, const Eigen::Vector3
       }
     }
     if (!bank->bandBelowNyquist(b)) continue;
-    // This octave from its own run, or, above the last run, from the last.
+    // This band from its own run, or, above the last run, from the last.
     for (std::size_t c = 0; c < 4; ++c) {
       const std::vector<float> part = bank->extract(latest[c], b);
       for (std::size_t n = 0; n < part.size(); ++n) sum.channels[c][n] += part[n];
