@@ -110,7 +110,16 @@ int runCompare(const std::vector<std::string>& raw) {
   const bool thirds = comparison.resolution == BandResolution::kThirdOctave;
   const std::vector<BandComparison> octaves = thirds ? thirdsToOctaves(comparison.average) : comparison.average;
   std::ostringstream report;
-  report << "Simulated: " << n_pairs << " pairs, mode " << toString(settings.mode) << ", "
+  // The physics switches that are on, so that a table says which variant made it.
+  std::string switches;
+  if (settings.diffraction_scattering) switches += ", diffraction scattering";
+  if (settings.low_band == LowBandMethod::kWave) {
+    std::ostringstream wave;
+    wave << ", wave low band below " << settings.wave.crossover_hz << " Hz";
+    switches += wave.str();
+  }
+  if (settings.bands == BandResolution::kThirdOctave) switches += ", third octaves";
+  report << "Simulated: " << n_pairs << " pairs, mode " << toString(settings.mode) << switches << ", "
          << settings.rays.ray_count << " rays, image-source order " << settings.image_source_order << ", "
          << settings.duration_s << " s, air " << (air.enabled ? "on" : "off") << " (" << air.temperature_c << " C, "
          << air.humidity_percent << " %), seeds " << settings.rays.seed << ".." << settings.rays.seed + n_pairs - 1

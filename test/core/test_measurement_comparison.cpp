@@ -177,9 +177,12 @@ TEST(CompareTool, WritesJsonReportAndDecayCurvesForRirFiles) {
   const std::string meas = writeFile("cmp_meas.yaml", "pairs:\n  - {label: P1, file: " + rir +
                                                           ", format: ambix, source_m: [1.2, 1.0, 1.4], receiver_m: [3.6, 2.8, 1.3]}\n");
   const std::string out = tempPath("cmp_out").string();
-  const ToolRun run = runTool("compare --measurements " + meas + " --room " + room + " --rays 3000 --duration 1.0 --out " + out);
+  const ToolRun run = runTool("compare --measurements " + meas + " --room " + room +
+                              " --rays 3000 --duration 1.0 --diffraction-scattering --out " + out);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_NE(run.out.find("Early reflections of P1"), std::string::npos) << run.out;
+  // The report says which physics was on.
+  EXPECT_NE(run.out.find("mode accurate, diffraction scattering, 3000 rays"), std::string::npos) << run.out;
   std::ifstream in(out + "/comparison.json");
   const nlohmann::json j = nlohmann::json::parse(in);
   EXPECT_EQ(j["pairs"][0]["label"], "P1");
