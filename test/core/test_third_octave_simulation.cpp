@@ -125,7 +125,7 @@ TEST(ThirdOctaveSynthesis, AStepInsideAnOctaveKeepsItsDecaysAndItsEarlyLevels) {
   for (double nominal : {160.0, 200.0, 315.0, 400.0, 500.0}) {
     EXPECT_NEAR(levelDb(thirds_early, nominal), expectedDb(nominal), 1.0) << nominal << " Hz";
   }
-  EXPECT_NEAR(levelDb(thirds_early, 250.0), expectedDb(250.0), 2.5);
+  EXPECT_NEAR(levelDb(thirds_early, 250.0), expectedDb(250.0), 2.5);  // measured +2.3 dB
   // In octaves the 250 Hz octave's thirds share its mean gain: 200 Hz is 3 dB too loud.
   EXPECT_GT(levelDb(octave_early, 200.0) - expectedDb(200.0), 2.5);
 }

@@ -25,4 +25,9 @@ std::vector<FrequencyBand> standardBands(BandResolution resolution);
 // Number of the standard octave bands (63 Hz .. 16 kHz).
 constexpr int kOctaveBandCount = 9;
 
+// The 27 thirds of the nine standard octaves, 50 Hz - 20 kHz: band t is the (t % 3)-th
+// third (lower, centre, upper) of octave t / 3, as a simulation in third octaves orders
+// its bands (AcousticScene::thirdOctaveBands).
+std::vector<FrequencyBand> thirdsOfTheOctaves();
+
 }  // namespace room_reverb::core

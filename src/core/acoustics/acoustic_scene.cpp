@@ -96,11 +96,12 @@ AcousticScene::AcousticScene(TriangleMesh mesh, const MaterialLibrary& library,
 
 AcousticScene AcousticScene::thirdOctaveBands(int third) const {
   if (third_ >= 0) throw InputError("the scene's bands are third octaves already");
+  if (third < 0 || third > 2) throw InputError("a third of an octave is 0, 1 or 2 (got " + std::to_string(third) + ")");
   AcousticScene out = *this;
   out.third_ = third;
   for (AcousticMaterial& material : out.materials_) material = thirdOctaveMaterial(material, third);
-  const double scale = std::pow(2.0, (third - 1) / 3.0);
-  for (double& f : out.band_centres_hz_) f *= scale;
+  const std::vector<FrequencyBand> thirds = thirdsOfTheOctaves();
+  for (int b = 0; b < kOctaveBandCount; ++b) out.band_centres_hz_[b] = thirds[static_cast<std::size_t>(3 * b + third)].center_hz;
   return out;
 }
 

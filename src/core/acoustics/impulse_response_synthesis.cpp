@@ -98,14 +98,7 @@ constexpr double kLastWholeOctaveHz = 500.0;
 // The bands a response's energies are given in (its views' bands, BandViews): the nine
 // octaves, or for three views the 27 thirds of the octaves, 50 Hz .. 20 kHz.
 std::vector<FrequencyBand> viewBands(std::size_t views) {
-  if (views == 1) return standardBands(BandResolution::kOctave);
-  const std::vector<FrequencyBand> thirds = standardBands(BandResolution::kThirdOctave);
-  const std::vector<FrequencyBand> octaves = standardBands(BandResolution::kOctave);
-  std::vector<FrequencyBand> bands;
-  for (const FrequencyBand& third : thirds) {
-    if (third.center_hz > octaves.front().lower_hz && third.center_hz < octaves.back().upper_hz) bands.push_back(third);
-  }
-  return bands;
+  return views == 1 ? standardBands(BandResolution::kOctave) : thirdsOfTheOctaves();
 }
 
 // The bands the late noise is synthesised in. From octave energies: the octaves up to

@@ -17,8 +17,6 @@ namespace room_reverb::core {
 namespace {
 
 constexpr double kCrossoverWidthOctaves = 1.0;
-// The standard thirds below the lowest octave's (20 - 40 Hz).
-constexpr std::ptrdiff_t kThirdsBelowTheOctaves = 4;
 // The solver runs this much past the response's end, so the octave filters' ringing at
 // the end of the signal (they see it stop) falls outside the response.
 constexpr double kTailPaddingS = 0.25;
@@ -81,11 +79,9 @@ WaveLowBand simulateWaveLowBand(const AcousticScene& scene, const Eigen::Vector3
   const FdtdGrid grid = voxelizeScene(scene, spacing);
   const double top_hz = options.crossover_hz * std::pow(2.0, 0.5 * kCrossoverWidthOctaves);
 
-  // The bands the runs stand for: the octaves, or the 27 thirds of the octaves (third t is
-  // the (t mod 3)-th third of octave t / 3).
+  // The bands the runs stand for: the octaves, or the thirds of the octaves.
   const bool thirds = options.bands == BandResolution::kThirdOctave;
-  std::vector<FrequencyBand> bands = standardBands(options.bands);
-  if (thirds) bands.erase(bands.begin(), bands.begin() + kThirdsBelowTheOctaves);
+  const std::vector<FrequencyBand> bands = thirds ? thirdsOfTheOctaves() : standardBands(BandResolution::kOctave);
   const std::size_t per_octave = thirds ? 3 : 1;
   FdtdOptions solver;
   solver.duration_s = duration_s + kTailPaddingS;

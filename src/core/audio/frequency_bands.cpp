@@ -42,4 +42,14 @@ std::vector<FrequencyBand> standardBands(BandResolution resolution) {
                    -17, 3);
 }
 
+std::vector<FrequencyBand> thirdsOfTheOctaves() {
+  const std::vector<FrequencyBand> thirds = standardBands(BandResolution::kThirdOctave);
+  const std::vector<FrequencyBand> octaves = standardBands(BandResolution::kOctave);
+  std::vector<FrequencyBand> bands;
+  for (const FrequencyBand& third : thirds) {
+    if (third.center_hz > octaves.front().lower_hz && third.center_hz < octaves.back().upper_hz) bands.push_back(third);
+  }
+  return bands;
+}
+
 }  // namespace room_reverb::core
