@@ -105,6 +105,9 @@ RsaoEstimatorServer::RsaoEstimatorServer(::ros::NodeHandle& private_nh) {
   defaults_.early.max_reflections = static_cast<std::size_t>(max_reflections);
   typedParam(private_nh, "analysis_window_s", defaults_.early.analysis_window_s, 0.002);
   typedParam(private_nh, "lpc_order", defaults_.early.lpc_order, 9);
+  bool paper_lpc = false;
+  typedParam(private_nh, "paper_lpc", paper_lpc, false);
+  if (paper_lpc) defaults_.early.lpc_flat_below_hz = 0.0;
   typedParam(private_nh, "fit_onset_ramps", defaults_.fit_onset_ramps, true);
   typedParam(private_nh, "two_slope_decays", defaults_.late.two_slopes, true);
   bool paper_onsets = false;

@@ -26,7 +26,7 @@ using namespace room_reverb::core;
 const char* kHelp = R"(usage: room_reverb rsao RIR.wav --format fuma|ambix [--yaml OUT.yaml] [--visr-json OUT.json]
                         [--resynthesis OUT.wav] [--max-reflections N] [--window-ms D]
                         [--lpc-order P] [--mixing-time S] [--grid] [--paper-ramp]
-                        [--one-slope] [--paper-onsets] [--source-distance M]
+                        [--one-slope] [--paper-onsets] [--paper-lpc] [--source-distance M]
                         [--move-to X Y Z [--room ROOM.yaml] [--rig X Y Z]]
 
 Parameterises a measured first-order B-format room impulse response into a reverberant
@@ -43,6 +43,9 @@ bends, reliability).
   --max-reflections N early reflections kept, strongest first (default 40)
   --window-ms D       analysis window D around each arrival, ms (default 2)
   --lpc-order P       order of each reflection's LPC filter (default 9)
+  --paper-lpc         fit each LPC filter to the window's whole spectrum as the paper does
+                      (default: the spectrum below 1/D, which the window cannot resolve, held
+                      at its value there; docs/rsao.md)
   --mixing-time S     fixed mixing time, s from the first sample (default: echo density)
   --paper-onsets      early reflections by the paper's group-delay onsets of W, directions
                       from the steered cardioid over the window (default: matching pursuit
@@ -137,7 +140,7 @@ int runRsao(const std::vector<std::string>& raw) {
   const std::optional<Eigen::Vector3d> rig = takeVector(rest, "rig");
   const Arguments args(rest, {"format", "yaml", "visr-json", "resynthesis", "max-reflections", "window-ms", "lpc-order",
                               "mixing-time", "source-distance", "room"},
-                       {"grid", "paper-ramp", "one-slope", "paper-onsets"});
+                       {"grid", "paper-ramp", "one-slope", "paper-onsets", "paper-lpc"});
   if (!move_to && (rig || args.has("room"))) throw UsageError("--rig and --room go with --move-to X Y Z");
   if (args.positional().size() != 1) throw UsageError("give exactly one B-format RIR file");
   if (!args.has("format")) throw UsageError("--format fuma|ambix is required: the file's convention is never guessed");
@@ -159,6 +162,7 @@ int runRsao(const std::vector<std::string>& raw) {
   }
   if (args.has("grid")) options.early.direction_method = DirectionMethod::kGridSearch;
   if (args.has("paper-onsets")) options.early.onset_method = OnsetMethod::kGroupDelay;
+  if (args.has("paper-lpc")) options.early.lpc_flat_below_hz = 0.0;
   options.fit_onset_ramps = !args.has("paper-ramp");
   options.late.two_slopes = !args.has("one-slope");
 

@@ -240,7 +240,16 @@ std::string describe(const MovedScore& s) {
                   what, quantileLinear(abs_early, 0.5), quantileLinear(abs_early, 0.9), within(abs_early),
                   quantileLinear(early, 0.5), quantileLinear(abs_drr, 0.5), quantileLinear(abs_drr, 0.9), within(abs_drr),
                   quantileLinear(drr, 0.5));
-    return std::string(text);
+    // The signed median by octave (the errors run band by band, six to an RIR).
+    std::string by_band = "; by octave 125 Hz-4 kHz, signed median:";
+    for (std::size_t b = 0; b < 6; ++b) {
+      std::vector<double> band;
+      for (std::size_t i = b; i < early.size(); i += 6) band.push_back(early[i]);
+      char one[16];
+      std::snprintf(one, sizeof one, " %+.2f", quantileLinear(band, 0.5));
+      by_band += one;
+    }
+    return std::string(text) + by_band + " dB";
   };
   return text + levels("levels at the capture point:", s.capture_early_db, s.capture_drr_db) +
          levels("translated to the capture point:", s.rig_early_db, s.rig_drr_db) +

@@ -5,6 +5,8 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <complex>
 #include <random>
 
 #include "room_reverb/common/error.h"
@@ -188,4 +190,65 @@ TEST(Lpc, BadInputIsAClearError) {
   expectInputError([] { levinsonDurbin({1.0, std::nan("")}, 1); }, {"NaN"});
   expectInputError([] { allPoleToSections({2.0, 0.5}, 1.0); }, {"a[0] must be 1"});
   expectInputError([] { filterAllPole({}, 1.0, {1.0}); }, {"a[0] must be 1"});
+}
+
+// The fit held below a cutoff (early_reflections.h: a 2 ms window resolves nothing below
+// about 500 Hz): the autocorrelation of a spectrum that is the segment's above the cutoff
+// and flat at its value there below it, against that definition integrated directly.
+TEST(Lpc, TheSpectrumHeldBelowACutoffIsTheDefinitionsAutocorrelation) {
+  // A Hamming-windowed 96-sample segment: a pulse, its neighbour 0.4 ms later and a slow
+  // swell under them.
+  std::vector<double> x(96, 0.0);
+  x[48] = 1.0;
+  x[67] = -0.6;
+  for (std::size_t n = 0; n < x.size(); ++n) {
+    x[n] += 0.2 * std::sin(2.0 * kPi * 150.0 * static_cast<double>(n) / 48000.0 + 0.4);
+    x[n] *= 0.54 - 0.46 * std::cos(2.0 * kPi * static_cast<double>(n) / 95.0);
+  }
+  const std::vector<double> r = autocorrelation(x, 9);
+  EXPECT_EQ(autocorrelationFlatBelow(x, 9, 0.0), r);
+  const auto power = [&](double w) {
+    std::complex<double> sum = 0.0;
+    for (std::size_t n = 0; n < x.size(); ++n) sum += x[n] * std::polar(1.0, -w * static_cast<double>(n));
+    return std::norm(sum);
+  };
+  for (const double cutoff_hz : {300.0, 500.0, 1000.0}) {
+    const double cutoff = 2.0 * kPi * cutoff_hz / 48000.0;
+    // r[k] = (1/pi) int_0^pi P(w) cos(k w) dw, by the midpoint rule on a fine grid.
+    constexpr int kSteps = 20000;
+    std::vector<double> expected(10, 0.0);
+    for (int i = 0; i < kSteps; ++i) {
+      const double w = (i + 0.5) * kPi / kSteps, p = w < cutoff ? power(cutoff) : power(w);
+      for (std::size_t k = 0; k < expected.size(); ++k) expected[k] += p * std::cos(static_cast<double>(k) * w) / kSteps;
+    }
+    const double scale = r[0] / expected[0];  // the segment's energy kept
+    for (double& v : expected) v *= scale;
+    const std::vector<double> held = autocorrelationFlatBelow(x, 9, cutoff);
+    EXPECT_DOUBLE_EQ(held[0], r[0]) << cutoff_hz;
+    for (std::size_t k = 0; k < held.size(); ++k) EXPECT_NEAR(held[k], expected[k], 1e-3 * r[0]) << cutoff_hz << " Hz, lag " << k;
+    // It changes the low band only: the shapes differ, the fits stay stable.
+    double change = 0.0;
+    for (std::size_t k = 1; k < held.size(); ++k) change = std::max(change, std::abs(held[k] - r[k]));
+    EXPECT_GT(change, 1e-3 * r[0]) << cutoff_hz;
+    for (double k : levinsonDurbin(held, 9).reflection_coefficients) EXPECT_LT(std::abs(k), 1.0) << cutoff_hz;
+  }
+}
+
+TEST(Lpc, TheHeldSpectrumStaysAValidAutocorrelationOverAWideRange) {
+  // A segment whose energy sits almost all below the cutoff (a low hum under a faint
+  // click): the held spectrum is still non-negative, so the recursion stays minimum phase
+  // and the sections stable.
+  std::vector<double> x(96);
+  for (std::size_t n = 0; n < x.size(); ++n) {
+    x[n] = std::sin(2.0 * kPi * 60.0 * static_cast<double>(n) / 48000.0) * (0.54 - 0.46 * std::cos(2.0 * kPi * static_cast<double>(n) / 95.0));
+  }
+  x[40] += 1e-4;
+  for (double cutoff_hz : {200.0, 500.0, 1000.0}) {
+    const LpcModel m = levinsonDurbin(autocorrelationFlatBelow(x, 9, 2.0 * kPi * cutoff_hz / 48000.0), 9);
+    for (double k : m.reflection_coefficients) EXPECT_LT(std::abs(k), 1.0) << cutoff_hz;
+    for (const BiquadSection& s : allPoleToSections(m.a, m.gain)) {
+      EXPECT_LT(std::abs(s.a2), 1.0) << cutoff_hz;
+      EXPECT_LT(std::abs(s.a1), 1.0 + s.a2) << cutoff_hz;
+    }
+  }
 }

@@ -80,6 +80,31 @@ TEST(RsaoTool, PaperOnsetsSelectTheGroupDelayDetector) {
   EXPECT_EQ(grid.exit_code, 0) << grid.err;
 }
 
+// --paper-lpc fits each filter to the window's whole spectrum (lpc_flat_below_hz = 0); by
+// default the spectrum below 1/D is held, and the filters differ.
+TEST(RsaoTool, PaperLpcFitsTheWholeWindow) {
+  const AudioBuffer rir = readAudioFile(kRir);
+  std::vector<std::vector<double>> written_lpcs;
+  for (const bool paper : {false, true}) {
+    const std::string yaml = tempPath(paper ? "paper_lpc.yaml" : "held_lpc.yaml").string();
+    const auto run = runTool("rsao " + kRir + " --format fuma --yaml " + yaml + (paper ? " --paper-lpc" : ""));
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    RsaoOptions options;
+    if (paper) options.early.lpc_flat_below_hz = 0.0;
+    const Rsao expected = estimateRsao(rir, AmbisonicFormat::kFuMa, options);
+    const Rsao written = loadRsaoYaml(yaml);
+    ASSERT_EQ(written.reflections.size(), expected.reflections.size());
+    ASSERT_EQ(written.reflections[1].lpc.size(), expected.reflections[1].lpc.size());
+    for (std::size_t i = 0; i < expected.reflections[1].lpc.size(); ++i) {
+      EXPECT_NEAR(written.reflections[1].lpc[i], expected.reflections[1].lpc[i], 1e-6) << i;
+    }
+    written_lpcs.push_back(written.reflections[1].lpc);
+  }
+  double difference = 0.0;
+  for (std::size_t i = 0; i < written_lpcs[0].size(); ++i) difference = std::max(difference, std::abs(written_lpcs[0][i] - written_lpcs[1][i]));
+  EXPECT_GT(difference, 1e-3);
+}
+
 TEST(RsaoTool, ADoubtfulFormatIsAWarningOnStderr) {
   const auto run = runTool("rsao " + kRir + " --format ambix");
   EXPECT_EQ(run.exit_code, 0);

@@ -64,6 +64,15 @@ struct EarlyReflectionOptions {
   DirectionMethod direction_method = DirectionMethod::kClosedForm;
   double grid_step_rad = 3.14159265358979323846 / 180.0;  // 1 degree
   int lpc_order = kDefaultLpcOrder;
+  // The window resolves no spectral detail finer than about 1/D (500 Hz at 2 ms): below
+  // that the segment's spectrum is mostly its neighbours' low frequencies, which a window
+  // holding several arrivals adds coherently, so the paper's fit gives every tap of a dense
+  // early part too much low-frequency energy (the development shoeboxes of
+  // reflection_rooms.h, whose reflections are flat: +2.1, +2.0 and +1.7 dB at 125, 250 and
+  // 500 Hz in the median tap). The fit takes the segment's power spectrum held at its value
+  // at lpc_flat_below_hz below it instead (this project's extension: +0.7, +0.7 and +0.5 dB;
+  // docs/rsao.md). Unset: 1 / analysis_window_s; 0: the paper's fit of the whole segment.
+  std::optional<double> lpc_flat_below_hz;
   double speed_of_sound_m_s = 343.0;
   // The direct sound's distance [m] when the source's position is known (e.g. from the
   // measurement's positions). Without it: c times the direct sound's time of arrival,

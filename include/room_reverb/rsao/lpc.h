@@ -23,6 +23,14 @@ struct LpcModel {
 // solution is always minimum phase.
 std::vector<double> autocorrelation(const std::vector<double>& x, int max_lag);
 
+// r[0..max_lag] of a signal whose power spectrum is x's above cutoff_rad (radians per
+// sample) and x's value at cutoff_rad below it, scaled so that r[0] stays x's energy (the
+// gain matching of levinsonDurbin holds: only the shape changes). Computed from |X|^2
+// sampled at a power of two of points, at least 2 |x| and 8 per cutoff, so that the result
+// stays a valid autocorrelation and levinsonDurbin of it minimum phase. A cutoff of 0 (or
+// below) gives autocorrelation(x, max_lag).
+std::vector<double> autocorrelationFlatBelow(const std::vector<double>& x, int max_lag, double cutoff_rad);
+
 // Levinson-Durbin recursion on r[0..order]. With r unnormalised, gain^2 = r[0] prod(1 - k_i^2)
 // is the residual energy, so the impulse response of gain / A(z) has the energy r[0] of
 // the segment (Makhoul 1975, gain matching). An all-zero r gives A = 1, gain 0. If the

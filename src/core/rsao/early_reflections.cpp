@@ -15,6 +15,7 @@ namespace room_reverb::core {
 namespace {
 
 constexpr const char* kWhat = "early reflections";
+constexpr double kPi = 3.14159265358979323846;
 constexpr double kDirectSearchBeforeS = 0.0005;  // the onset sample may sit on a pulse's rising edge
 constexpr double kDirectSearchAfterS = 0.001;
 constexpr double kMinimumDurationS = 0.01;
@@ -63,8 +64,9 @@ EarlyReflection analyseArrival(const AudioBuffer& ambix, double time_s, const Ea
   const DirectionOfArrival doa = options.direction_method == DirectionMethod::kGridSearch
                                      ? directionByGridSearch(stats, options.grid_step_rad)
                                      : directionClosedForm(stats);
-  const LpcModel lpc = fitLpc(segment, options.lpc_order);
-
+  const double flat_below_hz = options.lpc_flat_below_hz.value_or(1.0 / options.analysis_window_s);
+  const LpcModel lpc = levinsonDurbin(autocorrelationFlatBelow(segment, options.lpc_order, 2.0 * kPi * flat_below_hz / fs),
+                                      options.lpc_order);
   EarlyReflection r;
   r.time_of_arrival_s = time_s;
   r.level = std::sqrt(energy);  // A_k = sqrt(E_k)
@@ -196,10 +198,12 @@ void validateEarlyReflectionOptions(const EarlyReflectionOptions& o) {
   } else if (!(o.analysis_window_s >= 0.0005 && o.analysis_window_s <= 0.05)) {
     os << "analysis_window_s = " << o.analysis_window_s << " s; use 0.0005 to 0.05 s, e.g. 0.002";
   } else if (o.direction_method == DirectionMethod::kGridSearch &&
-             !(o.grid_step_rad > 0.0 && o.grid_step_rad <= 0.25 * 3.14159265358979323846)) {
+             !(o.grid_step_rad > 0.0 && o.grid_step_rad <= 0.25 * kPi)) {
     os << "grid_step_rad = " << o.grid_step_rad << "; use a step in (0, pi/4], e.g. 0.01745 (1 degree)";
   } else if (o.lpc_order < 1 || o.lpc_order > 40) {
     os << "lpc_order = " << o.lpc_order << "; use 1 to 40 (the paper uses 9)";
+  } else if (o.lpc_flat_below_hz && !(*o.lpc_flat_below_hz >= 0.0 && *o.lpc_flat_below_hz < 0.5 * kInternalSampleRateHz)) {
+    os << "lpc_flat_below_hz = " << *o.lpc_flat_below_hz << " Hz; use 0 (the paper's fit) up to below 24000 Hz, or none";
   } else if (!(o.speed_of_sound_m_s > 0.0) || !std::isfinite(o.speed_of_sound_m_s)) {
     os << "speed_of_sound_m_s = " << o.speed_of_sound_m_s << "; use a positive speed, e.g. 343";
   } else if (o.direct_distance_m && !(*o.direct_distance_m > 0.0 && std::isfinite(*o.direct_distance_m))) {

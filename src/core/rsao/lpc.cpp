@@ -3,11 +3,17 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <sstream>
 
 #include "room_reverb/common/error.h"
 
 namespace room_reverb::core {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+}  // namespace
 
 std::vector<double> autocorrelation(const std::vector<double>& x, int max_lag) {
   if (max_lag < 0) throw InputError("autocorrelation: the maximum lag must be 0 or more");
@@ -18,6 +24,44 @@ std::vector<double> autocorrelation(const std::vector<double>& x, int max_lag) {
     r[lag] = sum;
   }
   return r;
+}
+
+std::vector<double> autocorrelationFlatBelow(const std::vector<double>& x, int max_lag, double cutoff_rad) {
+  std::vector<double> r = autocorrelation(x, max_lag);
+  if (!(cutoff_rad > 0.0) || x.empty() || !(r[0] > 0.0)) return r;
+  // |X|^2 sampled at M >= 2 |x| points round the circle: its inverse DFT is then x's
+  // autocorrelation exactly, and that of the held spectrum, a DFT of non-negative samples,
+  // stays a valid (positive semi-definite) autocorrelation whatever the spectrum's range.
+  std::size_t m = 64;
+  while (m < 2 * x.size() || 2.0 * kPi / static_cast<double>(m) > cutoff_rad / 8.0) m *= 2;
+  const std::size_t bins = m / 2 + 1;
+  const auto powerAt = [&](double w) {
+    const std::complex<double> z = std::polar(1.0, -w);
+    std::complex<double> sum = 0.0;
+    for (std::size_t n = x.size(); n-- > 0;) sum = sum * z + x[n];  // Horner: sum_n x[n] z^n
+    return std::norm(sum);
+  };
+  const double held = powerAt(cutoff_rad);
+  std::vector<double> power(bins);
+  for (std::size_t j = 0; j < bins; ++j) {
+    const double w = 2.0 * kPi * static_cast<double>(j) / static_cast<double>(m);
+    power[j] = w < cutoff_rad ? held : powerAt(w);
+  }
+  std::vector<double> shaped(r.size(), 0.0);
+  for (std::size_t k = 0; k < shaped.size(); ++k) {
+    double sum = 0.0;
+    for (std::size_t j = 0; j < bins; ++j) {
+      const double weight = j == 0 || j + 1 == bins ? 1.0 : 2.0;  // the bins mirrored below 0
+      sum += weight * power[j] * std::cos(2.0 * kPi * static_cast<double>(j * k) / static_cast<double>(m));
+    }
+    shaped[k] = sum / static_cast<double>(m);
+  }
+  // The segment's energy stays r[0]: only the shape changes.
+  if (shaped[0] > 0.0) {
+    const double scale = r[0] / shaped[0];
+    for (double& v : shaped) v *= scale;
+  }
+  return shaped;
 }
 
 LpcModel levinsonDurbin(const std::vector<double>& r, int order) {
