@@ -251,6 +251,30 @@ TEST(RoomLayout, FacadeSeenThroughAWindowIsNotAWall) {
   EXPECT_TRUE(layout.model.objects.empty());
 }
 
+TEST(RoomLayout, ACeilingWhoseRangeEndsShortOfTheWallIsNotTheWall) {
+  // The ceiling's last 0.9 m before the far wall returns no range (a light panel glowing
+  // flat, a plain ceiling at a grazing angle), and two thirds of the far wall's own points
+  // are gone (clutter in front of it): the ceiling's ranged edge stands where no wall plane
+  // is. The rays aimed past that edge at the ceiling's height fly on to the wall.
+  const RoomModel truth = kitchen(0.0);
+  RoomScanOptions scan_options;
+  scan_options.seed = 5;
+  const RoomScan scan = scanRoomModel(truth, scan_options);
+  PointCloud cloud;
+  for (std::size_t i = 0; i < scan.cloud.points.size(); ++i) {
+    const Eigen::Vector3d at = truth.rig_position_m + truth.rig_rotation * scan.cloud.points[i].p.cast<double>();
+    if (scan.face[i] == 1 && at.x() > truth.size_m.x() - 0.9) continue;
+    if (scan.face[i] == 3 && i % 3 != 0) continue;
+    cloud.points.push_back(scan.cloud.points[i]);
+  }
+  const RoomLayout layout = fitRoomLayout(cloud, optionsFor(scan_options));
+  expectRoomMatches(layout, truth, "KT, far ceiling unranged");
+  // What the wall rests on, and a warning that says so.
+  EXPECT_NE(layout.face_evidence[3].basis.find("rays aimed past"), std::string::npos) << layout.face_evidence[3].basis;
+  EXPECT_TRUE(std::any_of(layout.warnings.begin(), layout.warnings.end(),
+                          [](const std::string& w) { return w.find("wall_x_max") != std::string::npos; }));
+}
+
 TEST(RoomLayout, CourtyardWithoutCeiling) {
   // The paper's courtyard (CY): 10.10 x 19.00 m, open to the sky; walls 6 m high here.
   const RoomModel truth = room({10.10, 19.00, 6.0}, {3.35, 12.63, 1.70}, 17.0, false);

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 
+#include "ray_stops.h"
 #include "room_reverb/common/error.h"
 
 namespace room_reverb::core::layout {
@@ -278,8 +280,24 @@ AlignedBox fitAlignedBox(const std::vector<Eigen::Vector3d>& voxels, const std::
       edges[static_cast<std::size_t>(axis)][static_cast<std::size_t>(side)] = reach;
     }
   }
-  const WallPair wx = findWallPair(along_x, ray_xs, edges[0], planes.has_ceiling, params, "x");
-  const WallPair wy = findWallPair(along_y, ray_ys, edges[1], planes.has_ceiling, params, "y");
+  WallPair wx = findWallPair(along_x, ray_xs, edges[0], planes.has_ceiling, params, "x");
+  WallPair wy = findWallPair(along_y, ray_ys, edges[1], planes.has_ceiling, params, "y");
+  // A wall at the ceiling's edge with no plane there: the edge may be where the ceiling's
+  // range ends rather than the ceiling (ray_stops.h).
+  std::optional<RayStops> stops;  // made only when a wall needs it
+  for (int axis = 0; axis < 2 && planes.has_ceiling; ++axis) {
+    WallPair& pair = axis == 0 ? wx : wy;
+    for (int side = 0; side < 2; ++side) {
+      WallChoice& choice = side == 0 ? pair.lo : pair.hi;
+      if (choice.basis != WallBasis::kEdge) continue;
+      if (!stops) stops.emplace(raw);
+      const double edge = std::abs(choice.position_m);
+      const double tolerance = std::max(params.edge_tolerance_m, spread.halfWidth(edge));
+      const std::optional<double> wall = wallWhereCeilingRaysStop(*stops, axis, side == 0, edge, planes.ceiling_z,
+                                                                  lateralExtent(axis == 0 ? along_x : along_y), tolerance);
+      if (wall) choice = {(side == 0 ? -1.0 : 1.0) * *wall, WallBasis::kRayStop, 0.5, 0.0};
+    }
+  }
 
   // A room open on one side (a courtyard, an open-plan room) is a room; a floor with
   // walls on two sides or none is not.
@@ -326,7 +344,7 @@ AlignedBox fitAlignedBox(const std::vector<Eigen::Vector3d>& voxels, const std::
         const int face = 2 + 2 * axis + side;
         // A wall placed at an edge has no plane of its own to refine on.
         const WallBasis basis = box.choice[static_cast<std::size_t>(face)].basis;
-        if (basis == WallBasis::kEdge || basis == WallBasis::kOpen) continue;
+        if (basis == WallBasis::kEdge || basis == WallBasis::kOpen || basis == WallBasis::kRayStop) continue;
         double& position = axis == 0 ? (side == 0 ? box.x_lo : box.x_hi) : (side == 0 ? box.y_lo : box.y_hi);
         position = refinePlanePosition(values, weights, position, spread.halfWidth(position), &box.support[face]);
       }

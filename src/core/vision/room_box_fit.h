@@ -53,6 +53,7 @@ enum class WallBasis {
   kPlaneAtEdge,  // a dense vertical plane where the ceiling or floor ends
   kPlane,        // a dense vertical plane, no horizontal surface's edge to confirm it
   kEdge,         // the ceiling's or floor's edge; the wall itself is hidden or cluttered
+  kRayStop,      // beyond the ceiling's ranged edge, where the rays aimed past it stop (ray_stops.h)
   kOpen,         // nothing stands where the floor ends: an open side
 };
 
@@ -129,7 +130,9 @@ struct WeightedPoint {
   float weight = 0.0f;
 };
 
-// Walls from peaks of the voxel centroids' histograms (`voxels`, aligned frame), then
+// Walls from peaks of the voxel centroids' histograms (`voxels`, aligned frame; a wall
+// findWallPair places at the ceiling's edge moves out to where the rays aimed past that
+// edge stop, when they stop beyond it: wallWhereCeilingRaysStop), then
 // refined as weighted medians of the raw points (`raw`) in centred windows, each wall's
 // points taken only between the two walls across it so that corners do not pull it
 // inwards; floor and ceiling refined likewise from the points between the walls.

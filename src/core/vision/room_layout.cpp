@@ -163,6 +163,12 @@ void recordFaceEvidence(const AlignedBox& box, RoomLayout& result) {
         result.warnings.push_back(name + ": no wall plane where the ceiling or floor ends; placed at that edge, " +
                                   where + " (furniture or clutter hides the wall)");
         break;
+      case layout::WallBasis::kRayStop:
+        evidence.basis = "where the rays aimed past the ceiling's ranged edge stop";
+        result.warnings.push_back(name + ": no wall plane where the ceiling's range ends; placed where the rays aimed "
+                                  "past that edge stop, " + where + " (the ceiling near the wall has no range: a light "
+                                  "panel or a plain surface)");
+        break;
       case layout::WallBasis::kOpen:
         evidence.basis = "open side";
         evidence.open = true;
