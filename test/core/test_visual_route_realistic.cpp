@@ -16,7 +16,7 @@
 //   [ROOM_REVERB_STEREO_STATS=1] (the stereo's range error by surface)
 //   [ROOM_REVERB_PRINT_FACES=1] (where each face of the box lies against the truth)
 //   [ROOM_REVERB_PRINT_OBJECTS=1] (the fitted objects: label, centre, size, yaw, material)
-//   [ROOM_REVERB_ROUTE_WITHOUT=exposure,noise,subpixel,planes,joints] (routeOptions)
+//   [ROOM_REVERB_ROUTE_WITHOUT=exposure,noise,subpixel,planes,joints,patch_cap] (routeOptions)
 //   .ws/devel/lib/room_reverb/test_visual_route_realistic --gtest_filter='*Report*'
 #include <gtest/gtest.h>
 
@@ -130,10 +130,10 @@ const VisualRouteOptions& routeOptions() {
   static const VisualRouteOptions options = [] {
     VisualRouteOptions o;
     loadDefaultMaterialModels(o);
-    // ROOM_REVERB_ROUTE_WITHOUT=exposure,noise,subpixel,planes,joints: the stereo without
-    // matching the cameras' exposures, without its sub-pixel refinement or without the
-    // tiles' planes, the layout without its noisier retries, the materials without the
-    // tiles' joints, to measure what each gives.
+    // ROOM_REVERB_ROUTE_WITHOUT=exposure,noise,subpixel,planes,joints,patch_cap: the stereo
+    // without matching the cameras' exposures, without its sub-pixel refinement or without
+    // the tiles' planes, the layout without its noisier retries, the materials without the
+    // tiles' joints or with every patch of a face, to measure what each gives.
     const char* without_env = std::getenv("ROOM_REVERB_ROUTE_WITHOUT");
     const std::string without = without_env != nullptr ? without_env : "";
     if (without.find("exposure") != std::string::npos) o.stereo.match_exposure = false;
@@ -141,6 +141,7 @@ const VisualRouteOptions& routeOptions() {
     if (without.find("subpixel") != std::string::npos) o.stereo.subpixel_refinement = false;
     if (without.find("planes") != std::string::npos) o.stereo.planar_refinement = false;
     if (without.find("joints") != std::string::npos) o.materials.tile_joints = false;
+    if (without.find("patch_cap") != std::string::npos) o.materials.max_patches_per_face = 0;
     const char* threshold = std::getenv("ROOM_REVERB_MIN_CONFIDENCE");
     if (threshold != nullptr && *threshold != '\0') {
       auto families = std::make_shared<MaterialFamilyTable>(*o.families);
