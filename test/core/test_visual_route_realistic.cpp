@@ -9,7 +9,7 @@
 // suite runs 201-202 through an ideal camera and 251-252 through a consumer one.
 // The report over many rooms:
 //   ROOM_REVERB_REALISTIC_ROOMS=20 [ROOM_REVERB_FIRST_ROOM=201] [ROOM_REVERB_PHOTO_SOURCE=sweethome3d]
-//   [ROOM_REVERB_CAPTURE_WIDTH=2048] [ROOM_REVERB_ROOM_SET=development]
+//   [ROOM_REVERB_CAPTURE_WIDTH=2048] [ROOM_REVERB_ROOM_SET=development|development_large]
 //   [ROOM_REVERB_MIN_CONFIDENCE=0.35] (the material fallback's threshold)
 //   [ROOM_REVERB_CAMERA=consumer] (consumerCamera: lenses, seams, exposure, JPEG, lights)
 //   [ROOM_REVERB_SAVE_PAIRS=DIR] (each room's two images as DIR/roomN_top.png, _bottom.png)
@@ -374,6 +374,7 @@ TEST(VisualRouteRealistic, Report) {
   const int width = envInt("ROOM_REVERB_CAPTURE_WIDTH", 2048);
   const char* set_env = std::getenv("ROOM_REVERB_ROOM_SET");
   const bool development = set_env != nullptr && std::string(set_env) == "development";
+  const bool large = set_env != nullptr && std::string(set_env) == "development_large";
   const char* source_env = std::getenv("ROOM_REVERB_PHOTO_SOURCE");
   const std::string source = source_env != nullptr && *source_env != '\0' ? source_env : "sweethome3d";
   const char* camera_env = std::getenv("ROOM_REVERB_CAMERA");
@@ -381,7 +382,8 @@ TEST(VisualRouteRealistic, Report) {
   int refused = 0, within1 = 0, within5 = 0, materials90 = 0;
   std::vector<double> errors, shares, yaws;
   for (int i = first; i < first + rooms; ++i) {
-    const ClutteredRoom room = clutteredRoom(development ? ClutterSet::kDevelopment : ClutterSet::kHeldOut, i);
+    const ClutteredRoom room =
+        clutteredRoom(large ? ClutterSet::kDevelopmentLarge : development ? ClutterSet::kDevelopment : ClutterSet::kHeldOut, i);
     const RouteScore s = scoreRoom(room, i, source, width, consumer);
     print(room, s);
     if (s.refused) {
@@ -404,7 +406,7 @@ TEST(VisualRouteRealistic, Report) {
   std::printf("[ measured ] %d %s rooms from %d, %d px, %s camera, photographs of %s: %d refused; box within 1 %%: %d, within 5 %%: %d, "
               "worst dimension median %.2f %%, max %.2f %%; yaw error median %.2f deg, max %.2f deg; materials right over "
               "the box: mean %.1f %%, median %.1f %%, min %.1f %%, rooms >= 90 %%: %d\n",
-              rooms, development ? "development" : "held-out", first, width, consumer ? "consumer" : "ideal", source.c_str(), refused, within1, within5, errors.empty() ? 0.0 : errors[errors.size() / 2],
+              rooms, large ? "large development" : development ? "development" : "held-out", first, width, consumer ? "consumer" : "ideal", source.c_str(), refused, within1, within5, errors.empty() ? 0.0 : errors[errors.size() / 2],
               errors.empty() ? 0.0 : errors.back(), yaws.empty() ? 0.0 : yaws[yaws.size() / 2], yaws.empty() ? 0.0 : yaws.back(),
               100.0 * mean_share, shares.empty() ? 0.0 : 100.0 * shares[shares.size() / 2],
               shares.empty() ? 0.0 : 100.0 * shares.front(), materials90);

@@ -7,9 +7,11 @@
 // (capture_generator.h) can photograph it. Each room comes with its truth: the box of its main wall planes (what
 // the paper's Table 1 measures) and the furniture a user would name.
 //
-// Two families of rooms from disjoint seeds and ranges: `kDevelopment` rooms are the ones
-// the fit's parameters may be tuned on; `kHeldOut` rooms (larger and narrower rooms,
-// higher ceilings, deeper recesses, more clutter) are only ever reported.
+// Three families of rooms from disjoint seeds: `kDevelopment` rooms are the ones the fit's
+// parameters may be tuned on; `kHeldOut` rooms (larger and narrower rooms, higher ceilings,
+// deeper recesses, more clutter) are only ever reported; `kDevelopmentLarge` rooms are
+// drawn from the held-out set's ranges with seeds of their own, to tune on what only large
+// rooms show (faces of more than a hundred material patches).
 #include <string>
 #include <vector>
 
@@ -17,7 +19,7 @@
 
 namespace room_reverb::core {
 
-enum class ClutterSet { kDevelopment, kHeldOut };
+enum class ClutterSet { kDevelopment, kHeldOut, kDevelopmentLarge };
 
 struct ClutteredRoom {
   std::string name;
@@ -37,7 +39,7 @@ struct ClutteredRoom {
   std::vector<int> furnished_walls;
 };
 
-// One room of the set; `index` picks the seed (the two sets never share one).
+// One room of the set; `index` picks the seed (no two sets share one).
 ClutteredRoom clutteredRoom(ClutterSet set, int index);
 
 }  // namespace room_reverb::core

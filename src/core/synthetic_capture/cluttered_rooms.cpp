@@ -28,10 +28,20 @@ Ranges rangesOf(ClutterSet set) {
   return {5.0, 11.0, 2.6, 7.0, 2.4, 3.6, 0.10, 0.30, 2, 0.6, 0.6, 0.5, 0.5, 0.7, 0.6, 9};
 }
 
+std::uint32_t seedOf(ClutterSet set, int index) {
+  const auto i = static_cast<std::uint32_t>(index);
+  switch (set) {
+    case ClutterSet::kDevelopment: return 1000u + i;
+    case ClutterSet::kHeldOut: return 777000u + i;
+    case ClutterSet::kDevelopmentLarge: return 4242000u + i;
+  }
+  return 0u;
+}
+
 class RoomBuilder {
  public:
   RoomBuilder(ClutterSet set, int index)
-      : ranges_(rangesOf(set)), rng_(set == ClutterSet::kDevelopment ? 1000u + index : 777000u + index) {}
+      : ranges_(rangesOf(set)), rng_(seedOf(set, index)) {}
 
   ClutteredRoom build(const std::string& name) {
     ClutteredRoom room;
@@ -346,8 +356,8 @@ class RoomBuilder {
 }  // namespace
 
 ClutteredRoom clutteredRoom(ClutterSet set, int index) {
-  const std::string name = std::string(set == ClutterSet::kDevelopment ? "development" : "held-out") + " room " +
-                           std::to_string(index);
+  const char* family = set == ClutterSet::kDevelopment ? "development" : set == ClutterSet::kHeldOut ? "held-out" : "large development";
+  const std::string name = std::string(family) + " room " + std::to_string(index);
   return RoomBuilder(set, index).build(name);
 }
 
