@@ -6,10 +6,10 @@
 // plain ceiling seen at a grazing angle near a far wall, gives the stereo nothing to match,
 // and the ceiling's density steps down there as it would at a wall. Where no wall plane
 // stands at that edge (the wall behind a fridge, shelving or a table), the edge alone puts
-// the wall 0.3-1 m short (cluttered development rooms 7 and 10 at 1024 x 512). The rays
-// the rig aims past the edge at the ceiling's height tell the two apart: past a wall they
-// stop on it (a point nearer than the ceiling would be); past an unranged stretch of
-// ceiling they return nothing, or the ceiling itself, until they pass the wall.
+// the wall short (cluttered development room 7 at 1024 x 512: 0.86 m, behind a hanging
+// light panel). The rays the rig aims well past the edge at the ceiling's height tell the
+// two apart: past a wall they stop on it (a point nearer than the ceiling would be); past
+// an unranged stretch of ceiling they fly on to the wall beyond it.
 #include <Eigen/Core>
 #include <optional>
 #include <utility>
