@@ -182,7 +182,7 @@ TEST(ReflectionRecall, MatchedPursuitLevelsAreTheArrivalsOwn) {
 // pulses are flat to 20 kHz in the shoeboxes). A 2 ms window resolves nothing below about
 // 500 Hz, and in a dense early part it holds its neighbours' low frequencies, coherently:
 // the paper's fit of the whole window puts +2.1 dB at 125 Hz into the median tap; held below
-// 1/D, +0.7 dB. Development shoeboxes, every estimated arrival within 0.1 ms of one.
+// 1/D, +0.6 dB. Development shoeboxes, every estimated arrival within 0.1 ms of one.
 TEST(ReflectionRecall, TapsCarryTheArrivalsLowFrequencies) {
   const BandFilterBank bank = [] {
     std::vector<FrequencyBand> bands;

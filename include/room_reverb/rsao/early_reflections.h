@@ -70,7 +70,7 @@ struct EarlyReflectionOptions {
   // early part too much low-frequency energy (the development shoeboxes of
   // reflection_rooms.h, whose reflections are flat: +2.1, +2.0 and +1.7 dB at 125, 250 and
   // 500 Hz in the median tap). The fit takes the segment's power spectrum held at its value
-  // at lpc_flat_below_hz below it instead (this project's extension: +0.7, +0.7 and +0.5 dB;
+  // at lpc_flat_below_hz below it instead (this project's extension: +0.6, +0.6 and +0.4 dB;
   // docs/rsao.md). Unset: 1 / analysis_window_s; 0: the paper's fit of the whole segment.
   std::optional<double> lpc_flat_below_hz;
   double speed_of_sound_m_s = 343.0;
