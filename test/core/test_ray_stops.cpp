@@ -16,30 +16,34 @@ constexpr double kCeilingZ = 1.2;
 constexpr double kWallX = 5.0;
 
 // What a rig at the origin ranges: the ceiling up to `ceiling_to` (x), the far wall at
-// kWallX from the floor (-1.4) to the ceiling, both across y in [-2, 2]; each point where a
-// ray through a fine grid of directions meets the first of them.
+// kWallX from the floor (-1.4) to the ceiling (only where `wall`), both across y in
+// [-2, 2], and a light panel hanging 5 cm below the ceiling between panel_x0 and panel_x1;
+// for each ray through a fine grid of directions, the first surface it meets, which gives
+// a point where that surface is ranged and none where it is not.
 std::vector<WeightedPoint> scan(double ceiling_to, bool wall, double panel_x0 = 0.0, double panel_x1 = 0.0) {
+  struct Hit {
+    double t = 1e9;
+    bool ranged = false;
+  };
   std::vector<WeightedPoint> points;
   for (double azimuth = -0.7; azimuth <= 0.7; azimuth += 0.002) {
     for (double elevation = -0.4; elevation <= 0.6; elevation += 0.002) {
       const Eigen::Vector3d d(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
                               std::sin(elevation));
-      double best = 1e9;
-      // A light panel hanging 5 cm below the ceiling between panel_x0 and panel_x1.
-      if (panel_x1 > panel_x0 && d.z() > 0.0) {
-        const double t = (kCeilingZ - 0.05) / d.z();
-        const Eigen::Vector3d p = t * d;
-        if (p.x() >= panel_x0 && p.x() <= panel_x1 && std::abs(p.y()) < 2.0) best = t;
-      }
+      Hit first;
+      const auto meet = [&](double t, bool ranged, const auto& on) {
+        if (t > 0.0 && t < first.t && on(t * d)) first = {t, ranged};
+      };
+      const auto across = [](const Eigen::Vector3d& p) { return std::abs(p.y()) < 2.0; };
       if (d.z() > 0.0) {
+        meet((kCeilingZ - 0.05) / d.z(), true, [&](const Eigen::Vector3d& p) {
+          return panel_x1 > panel_x0 && p.x() >= panel_x0 && p.x() <= panel_x1 && across(p);
+        });
         const double t = kCeilingZ / d.z();
-        const Eigen::Vector3d p = t * d;
-        if (p.x() < kWallX && std::abs(p.y()) < 2.0 && t < best) best = p.x() <= ceiling_to ? t : -t;  // unranged: no point
+        meet(t, (t * d).x() <= ceiling_to, [&](const Eigen::Vector3d& p) { return p.x() < kWallX && across(p); });
       }
-      const double t = kWallX / d.x();
-      const Eigen::Vector3d p = t * d;
-      if (p.z() >= -1.4 && p.z() <= kCeilingZ && std::abs(p.y()) < 2.0 && t < std::abs(best)) best = wall ? t : -t;
-      if (best > 0.0 && best < 1e8) points.push_back({(best * d).cast<float>(), 1.0f});
+      meet(kWallX / d.x(), wall, [&](const Eigen::Vector3d& p) { return p.z() >= -1.4 && p.z() <= kCeilingZ && across(p); });
+      if (first.ranged) points.push_back({(first.t * d).cast<float>(), 1.0f});
     }
   }
   return points;

@@ -191,7 +191,6 @@ TEST(ReflectionRecall, TapsCarryTheArrivalsLowFrequencies) {
     }
     return BandFilterBank(bands, kFs);
   }();
-  // The share of a flat pulse's energy in each band.
   const auto bandEnergies = [&](const std::vector<float>& x) {
     std::vector<double> energy;
     for (const std::vector<float>& band : bank.split(x)) {
@@ -201,14 +200,14 @@ TEST(ReflectionRecall, TapsCarryTheArrivalsLowFrequencies) {
     }
     return energy;
   };
+  // The share of a flat arrival's energy in each band, from the rooms' own pulse.
+  const room_reverb::test::ArrivalPulse truth = room_reverb::test::renderArrivalPulse(4800.0, 1.0, 0, 0.0);
   std::vector<float> pulse(9600, 0.0f);
-  for (int i = -32; i <= 32; ++i) {  // reflection_rooms.cpp's pulse: a 20 kHz sinc under a Blackman window
-    const double x = 2.0 * 20000.0 / kFs * i, sinc = i == 0 ? 1.0 : std::sin(M_PI * x) / (M_PI * x);
-    const double u = (i + 32) / 64.0, blackman = 0.42 - 0.5 * std::cos(2.0 * M_PI * u) + 0.08 * std::cos(4.0 * M_PI * u);
-    pulse[4800 + i] = static_cast<float>(2.0 * 20000.0 / kFs * sinc * blackman);
-  }
   double pulse_energy = 0.0;
-  for (float v : pulse) pulse_energy += static_cast<double>(v) * v;
+  for (std::size_t i = 0; i < truth.samples.size(); ++i) {
+    pulse[static_cast<std::size_t>(truth.first) + i] = static_cast<float>(truth.samples[i]);
+    pulse_energy += truth.samples[i] * truth.samples[i];
+  }
   const std::vector<double> share = bandEnergies(pulse);
   const auto medianErrors = [&](const RsaoOptions& options) {
     std::vector<std::vector<double>> errors(share.size());

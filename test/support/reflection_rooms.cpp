@@ -165,40 +165,7 @@ Geometry drawGeometry(const Recipe& recipe, std::mt19937& rng) {
   return g;
 }
 
-// The rendered pulse of one arrival (W), starting at sample `first`: a fractional-delay
-// band-limited impulse, then `bounces` one-pole low-passes at cutoff_hz (dull walls).
-struct Pulse {
-  long first = 0;
-  std::vector<double> samples;
-};
-
-Pulse renderPulse(double delay_samples, double amplitude, int bounces, double cutoff_hz) {
-  Pulse pulse;
-  const long centre = static_cast<long>(std::floor(delay_samples));
-  pulse.first = centre - kPulseHalfLength;
-  const double fc = kPulseCutoffHz / kFs;
-  const int tail = bounces > 0 && cutoff_hz > 0.0 ? 600 : 0;
-  pulse.samples.assign(2 * kPulseHalfLength + 2 + tail, 0.0);
-  for (std::size_t i = 0; i < 2 * kPulseHalfLength + 2; ++i) {
-    const double t = static_cast<double>(pulse.first + static_cast<long>(i)) - delay_samples;
-    if (std::abs(t) > kPulseHalfLength) continue;
-    const double x = 2.0 * fc * t;
-    const double sinc = std::abs(x) < 1e-12 ? 1.0 : std::sin(kPi * x) / (kPi * x);
-    const double u = (t + kPulseHalfLength) / (2.0 * kPulseHalfLength);
-    const double blackman = 0.42 - 0.5 * std::cos(2.0 * kPi * u) + 0.08 * std::cos(4.0 * kPi * u);
-    pulse.samples[i] = amplitude * 2.0 * fc * sinc * blackman;
-  }
-  if (tail > 0) {
-    const double a = std::exp(-2.0 * kPi * cutoff_hz / kFs);
-    for (int b = 0; b < bounces; ++b) {
-      double y = 0.0;
-      for (double& v : pulse.samples) v = y = (1.0 - a) * v + a * y;
-    }
-  }
-  return pulse;
-}
-
-void addPulse(core::AudioBuffer& ambix, const Pulse& pulse, const Eigen::Vector3d& u) {
+void addPulse(core::AudioBuffer& ambix, const ArrivalPulse& pulse, const Eigen::Vector3d& u) {
   // SN3D first order: a plane wave from u gives W = p, (X, Y, Z) = u p.
   const std::array<double, 4> gains{1.0, u.y(), u.z(), u.x()};
   for (std::size_t i = 0; i < pulse.samples.size(); ++i) {
@@ -263,7 +230,7 @@ std::vector<ImageArrival> arrivals(const Geometry& g, const Recipe& recipe) {
     a.order = image.order;
     a.time_s = distance / kSpeedOfSound;
     a.direction = path / distance;
-    const Pulse pulse = renderPulse(a.time_s * kFs, image.gain / distance, recipe.dull_cutoff_hz > 0.0 ? image.order : 0,
+    const ArrivalPulse pulse = renderArrivalPulse(a.time_s * kFs, image.gain / distance, recipe.dull_cutoff_hz > 0.0 ? image.order : 0,
                                     recipe.dull_cutoff_hz);
     double e = 0.0;
     for (double v : pulse.samples) e += v * v;
@@ -297,6 +264,33 @@ bool holdsItsKind(const std::vector<ImageArrival>& images, Kind kind) {
 }
 
 }  // namespace
+
+ArrivalPulse renderArrivalPulse(double delay_samples, double amplitude, int bounces, double cutoff_hz) {
+  ArrivalPulse pulse;
+  const long centre = static_cast<long>(std::floor(delay_samples));
+  pulse.first = centre - kPulseHalfLength;
+  const double fc = kPulseCutoffHz / kFs;
+  const int tail = bounces > 0 && cutoff_hz > 0.0 ? 600 : 0;
+  pulse.samples.assign(2 * kPulseHalfLength + 2 + tail, 0.0);
+  for (std::size_t i = 0; i < 2 * kPulseHalfLength + 2; ++i) {
+    const double t = static_cast<double>(pulse.first + static_cast<long>(i)) - delay_samples;
+    if (std::abs(t) > kPulseHalfLength) continue;
+    const double x = 2.0 * fc * t;
+    const double sinc = std::abs(x) < 1e-12 ? 1.0 : std::sin(kPi * x) / (kPi * x);
+    const double u = (t + kPulseHalfLength) / (2.0 * kPulseHalfLength);
+    const double blackman = 0.42 - 0.5 * std::cos(2.0 * kPi * u) + 0.08 * std::cos(4.0 * kPi * u);
+    pulse.samples[i] = amplitude * 2.0 * fc * sinc * blackman;
+  }
+  if (tail > 0) {
+    const double a = std::exp(-2.0 * kPi * cutoff_hz / kFs);
+    for (int b = 0; b < bounces; ++b) {
+      double y = 0.0;
+      for (double& v : pulse.samples) v = y = (1.0 - a) * v + a * y;
+    }
+  }
+  return pulse;
+}
+
 
 core::RoomModel roomModelOf(const ReflectionRoomGeometry& g) {
   core::RoomModel model;
@@ -354,7 +348,7 @@ ReflectionRoom reflectionRoom(ReflectionRoomSet set, std::size_t index, const Ei
     const Eigen::Vector3d path = image.position - g.receiver;
     const double distance = path.norm();
     addPulse(room.ambix,
-             renderPulse(distance / kSpeedOfSound * kFs, image.gain / distance,
+             renderArrivalPulse(distance / kSpeedOfSound * kFs, image.gain / distance,
                          recipe.dull_cutoff_hz > 0.0 ? image.order : 0, recipe.dull_cutoff_hz),
              path / distance);
   }

@@ -51,6 +51,15 @@ struct ReflectionRoom {
   ReflectionRoomGeometry geometry;
 };
 
+// The pulse of one arrival in W as the rooms render it, starting at sample `first`: a
+// 20 kHz band-limited impulse at the fractional sample `delay_samples` under a Blackman
+// window, then `bounces` one-pole low-passes at cutoff_hz (dull walls; 0: none).
+struct ArrivalPulse {
+  long first = 0;
+  std::vector<double> samples;
+};
+ArrivalPulse renderArrivalPulse(double delay_samples, double amplitude, int bounces, double cutoff_hz);
+
 // The room model of a room's geometry: its box (every surface "plaster_smooth") with the panel as
 // a 2 cm cuboid whose lit face is the panel's plane, the rig at the receiver.
 core::RoomModel roomModelOf(const ReflectionRoomGeometry& geometry);

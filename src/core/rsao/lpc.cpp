@@ -32,6 +32,8 @@ std::vector<double> autocorrelationFlatBelow(const std::vector<double>& x, int m
   // |X|^2 sampled at M >= 2 |x| points round the circle: its inverse DFT is then x's
   // autocorrelation exactly, and that of the held spectrum, a DFT of non-negative samples,
   // stays a valid (positive semi-definite) autocorrelation whatever the spectrum's range.
+  // In double and directly rather than by RealFft (single precision): only max_lag + 1
+  // lags of a segment of about a hundred samples are needed.
   std::size_t m = 64;
   while (m < 2 * x.size() || 2.0 * kPi / static_cast<double>(m) > cutoff_rad / 8.0) m *= 2;
   const std::size_t bins = m / 2 + 1;
