@@ -354,6 +354,7 @@ ReflectionRoom reflectionRoom(ReflectionRoomSet set, std::size_t index, const Ei
   }
   const ImageArrival& direct = images.front();
   addDiffuseTail(room.ambix, g, recipe, direct.time_s, room_direct.time_s, room_direct.level * room_direct.level, rng);
+  room.noiseless = room.ambix;
   float peak = 0.0f;
   for (float v : room.ambix.channels[0]) peak = std::max(peak, std::abs(v));
   const double floor = peak * std::pow(10.0, -recipe.snr_db / 20.0);

@@ -47,6 +47,10 @@ struct ReflectionRoomGeometry {
 struct ReflectionRoom {
   std::string name;                  // kind and seed, e.g. "dull 3"
   core::AudioBuffer ambix;           // first-order AmbiX (SN3D), 48 kHz
+  // The same response without the measurement's noise floor: the room's own levels, which
+  // an estimate is scored against (at 45 dB SNR the noise holds as much energy after
+  // 0.2 s as the tail).
+  core::AudioBuffer noiseless;
   std::vector<ImageArrival> images;  // every rendered image source, orders 0..3, by time
   ReflectionRoomGeometry geometry;
 };
