@@ -31,6 +31,11 @@ SimulationServer::SimulationServer(::ros::NodeHandle& private_nh) {
   if (!(defaults_.fast_rays.track_radius_m > 0.0 && defaults_.fast_rays.track_radius_m <= 100.0)) {
     throw core::InputError("parameter ~fast_track_radius must be a positive number of metres (at most 100)");
   }
+  typedParam(private_nh, "fast_launch_mixture", defaults_.fast_rays.late_launch_mixture,
+             defaults_.fast_rays.late_launch_mixture);
+  if (!(defaults_.fast_rays.late_launch_mixture >= 0.0 && defaults_.fast_rays.late_launch_mixture <= 0.9)) {
+    throw core::InputError("parameter ~fast_launch_mixture must be a share from 0 to 0.9");
+  }
   max_rays_ = positiveIntParam(private_nh, "max_rays", 10000000);
   if (defaults_.rays.ray_count > static_cast<std::size_t>(max_rays_) ||
       defaults_.fast_ray_count > static_cast<std::size_t>(max_rays_)) {

@@ -21,6 +21,8 @@ const char* const kSimulationOptionsHelp = R"(  --mode MODE          accurate (i
                        million reflections at the pilot's rate; 0: always --rays rays
   --fast-track-radius M  that run's receiver: the track the rays run within M metres of
                        the listener (default 2; docs/simulation.md)
+  --fast-launch-mixture X  that run's share of rays launched where the pilot's late
+                       energy was launched (default 0.5; 0: uniform; docs/simulation.md)
   --seed N             random seed (default 1); same seed and threads, same output
   --threads N          worker threads (default: all cores)
   --ambisonic-order N  0 to 3 (default 1)
@@ -50,7 +52,7 @@ const char* const kSimulationOptionsHelp = R"(  --mode MODE          accurate (i
 
 std::set<std::string> simulationValueOptions() {
   return {"mode", "order", "rays", "seed", "threads", "ambisonic-order", "duration", "materials", "temperature",
-          "humidity", "scattering", "receiver-radius", "fast-tolerance", "fast-track-radius", "low-band", "crossover", "bands"};
+          "humidity", "scattering", "receiver-radius", "fast-tolerance", "fast-track-radius", "fast-launch-mixture", "low-band", "crossover", "bands"};
 }
 
 std::set<std::string> simulationFlags() { return {"no-air", "trace-to-end", "diffraction-scattering"}; }
@@ -70,6 +72,10 @@ SimulationSettings simulationSettingsFrom(const Arguments& args) {
   settings.fast_rays.track_radius_m = args.doubleValue("fast-track-radius", settings.fast_rays.track_radius_m);
   if (!(settings.fast_rays.track_radius_m > 0.0 && settings.fast_rays.track_radius_m <= 100.0)) {
     throw InputError("--fast-track-radius must be a positive number of metres (at most 100)");
+  }
+  settings.fast_rays.late_launch_mixture = args.doubleValue("fast-launch-mixture", settings.fast_rays.late_launch_mixture);
+  if (!(settings.fast_rays.late_launch_mixture >= 0.0 && settings.fast_rays.late_launch_mixture <= 0.9)) {
+    throw InputError("--fast-launch-mixture must be a share from 0 to 0.9");
   }
   settings.rays.seed = static_cast<std::uint32_t>(args.intValue("seed", 1));
   settings.rays.threads = args.intValue("threads", 0);

@@ -107,13 +107,17 @@ TEST(FastModeRays, GrazingPathsBetweenAnAbsorbingFloorAndCeilingTakeEveryRay) {
   // The decay that lasts is carried by the few rays that travel between the walls.
   const AcousticScene scene = roomModelToScene(unevenAbsorptionRoom(), MaterialLibrary::loadDefault(), {});
   const Eigen::Vector3d source(1.8, 1.6, 1.5), listener(5.1, 3.4, 1.3);
-  const Traced adaptive = trace(scene, source, listener, 8000, FastRayOptions{}, 1);
+  FastRayOptions uniform;
+  uniform.late_launch_mixture = 0.0;
+  const Traced adaptive = trace(scene, source, listener, 8000, uniform, 1);
   FastRayOptions fixed;
   fixed.rate_tolerance = 0.0;
   const Traced all = trace(scene, source, listener, 8000, fixed, 1);
   std::cout << "[ measured ] grazing room: " << adaptive.trace.stats.rays << " rays in " << adaptive.trace.batches
             << " batches\n";
-  // The pilot did not know the rates: every ray in one run, exactly what a fixed count gives.
+  // The pilot did not know the rates: every ray in one run, launched uniformly, exactly
+  // what a fixed count gives.
+  EXPECT_FALSE(adaptive.trace.launch_density);
   EXPECT_EQ(adaptive.trace.stats.rays, 8000u);
   EXPECT_EQ(adaptive.trace.batches, 1u);
   ASSERT_TRUE(adaptive.trace.receiver && all.trace.receiver);
@@ -140,6 +144,30 @@ TEST(FastModeRays, GrazingPathsBetweenAnAbsorbingFloorAndCeilingTakeEveryRay) {
   EXPECT_NEAR(static_cast<double>(bought.trace.stats.reflections) / budget.reflection_budget, 1.0, 0.15);
 }
 
+// The run after an unsettled pilot launches half its rays where the pilot's late energy
+// was launched: in a room whose floor and ceiling absorb, near the horizon.
+TEST(FastModeRays, TheRunLaunchesWhereThePilotsLateEnergyWasLaunched) {
+  const AcousticScene scene = roomModelToScene(unevenAbsorptionRoom(), MaterialLibrary::loadDefault(), {});
+  const Traced run = trace(scene, {1.8, 1.6, 1.5}, {5.1, 3.4, 1.3}, 8000, FastRayOptions{}, 1);
+  ASSERT_TRUE(run.trace.launch_density);
+  const auto& p = run.trace.launch_density->probabilities();
+  double horizon = 0.0, top = 0.0, heaviest = 0.0;  // within 15 degrees of horizontal; steeper than 60 degrees up
+  for (int c = 0; c < kLaunchCells; ++c) {
+    const double z = 1.0 - 2.0 * (c / kLaunchSectors + 0.5) / kLaunchZones;
+    if (std::abs(z) < std::sin(15.0 * M_PI / 180.0)) horizon += p[static_cast<std::size_t>(c)];
+    if (z > std::sin(60.0 * M_PI / 180.0)) top += p[static_cast<std::size_t>(c)];
+    heaviest = std::max(heaviest, 1.0 / (kLaunchCells * p[static_cast<std::size_t>(c)]));
+  }
+  std::cout << "[ measured ] grazing room's launch density: " << 100.0 * horizon << " % within 15 degrees of the horizon (uniform "
+            << 100.0 * std::sin(15.0 * M_PI / 180.0) << " %), " << 100.0 * top << " % above 60 degrees\n";
+  EXPECT_GT(horizon, 1.5 * std::sin(15.0 * M_PI / 180.0));
+  EXPECT_LT(top, 0.9 * 0.5 * (1.0 - std::sin(60.0 * M_PI / 180.0)));
+  EXPECT_LE(heaviest, 2.0 + 1e-9);  // the defensive half bounds every ray's weight
+  // A settled pilot launches nothing more.
+  const AcousticScene diffuse(shoeboxMesh({6, 5, 3}), uniformLibrary(0.15, 0.5));
+  EXPECT_FALSE(trace(diffuse, {1.5, 1.2, 1.4}, {4.2, 3.1, 1.3}, 32000, FastRayOptions{}, 1).trace.launch_density);
+}
+
 TEST(FastModeRays, BadCountsAreClearErrors) {
   const AcousticScene scene(shoeboxMesh({5, 4, 3}), uniformLibrary(0.2, 0.2));
   RayTracingOptions rays;
@@ -152,6 +180,11 @@ TEST(FastModeRays, BadCountsAreClearErrors) {
   FastRayOptions no_budget;
   no_budget.reflection_budget = 0.0;
   EXPECT_THROW(traceFastModeDecay(scene, {1, 1, 1}, {3, 2, 1}, model, rays, 5000, no_budget), InputError);
+  for (double mixture : {-0.1, 1.0, std::nan("")}) {
+    FastRayOptions bad_mixture;
+    bad_mixture.late_launch_mixture = mixture;
+    EXPECT_THROW(traceFastModeDecay(scene, {1, 1, 1}, {3, 2, 1}, model, rays, 5000, bad_mixture), InputError);
+  }
   for (double radius : {0.0, -2.0, std::nan("")}) {
     FastRayOptions no_track;
     no_track.track_radius_m = radius;

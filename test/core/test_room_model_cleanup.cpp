@@ -296,3 +296,16 @@ TEST(RoomModelCleanup, AFittedKitchenSimulatesFromTheRigOnceCleanedUp) {
   EXPECT_EQ(result.stats.leaked_rays, 0u);
   EXPECT_GT(result.stats.sphere_detections, 0u);
 }
+
+#include "room_reverb/synthetic_capture/cluttered_rooms.h"
+TEST(Scratch, DumpClutteredRooms) {
+  for (int i = 1; i <= 8; ++i) {
+    for (auto set : {room_reverb::core::ClutterSet::kDevelopment, room_reverb::core::ClutterSet::kHeldOut}) {
+      const int index = set == room_reverb::core::ClutterSet::kHeldOut ? 200 + i : i;
+      const auto room = room_reverb::core::clutteredRoom(set, index);
+      const std::string base = "/tmp/clutter/" + std::string(set == room_reverb::core::ClutterSet::kHeldOut ? "h" : "d") + std::to_string(index);
+      room_reverb::core::saveRoomModel(base + "_scanned.yaml", room.scanned);
+      room_reverb::core::saveRoomModel(base + "_truth.yaml", room.truth);
+    }
+  }
+}

@@ -87,6 +87,8 @@ materials:
   expectExit2("simulate --mesh " + good + kInside + " --mode quantum" + out, "quantum");
   expectExit2("simulate --mesh " + good + kInside + " --mode fast --fast-track-radius 0" + out, "--fast-track-radius");
   expectExit2("simulate --mesh " + good + kInside + " --mode fast --fast-tolerance 1.5" + out, "--fast-tolerance");
+  expectExit2("simulate --mesh " + good + kInside + " --mode fast --fast-launch-mixture 1" + out, "--fast-launch-mixture");
+  expectExit2("simulate --mesh " + good + kInside + " --mode fast --fast-launch-mixture -0.2" + out, "--fast-launch-mixture");
   expectExit2("simulate --mesh " + good + kInside + " --order 60" + out, "candidate paths");
   expectExit2("simulate --mesh " + good + " --source 1 1 --listener 3 2 1.5" + out, "--source");
   expectExit2("simulate --mesh " + good + kInside + " --low-band fdtd" + out, "fdtd");

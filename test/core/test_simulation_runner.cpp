@@ -58,6 +58,11 @@ SimulationRequest unusualRequest() {
   s.rays.roulette_db = -50.0;
   s.rays.continuation.bend_db = 0.7;
   s.diffraction_scattering = true;  // not the default, so a lost flag shows
+  std::array<double, kLaunchCells> weights{};
+  for (int c = 0; c < kLaunchCells; ++c) weights[static_cast<std::size_t>(c)] = 1.0 + c % 7;
+  s.rays.launch_density = std::make_shared<LaunchDensity>(weights);
+  s.rays.record_launch_cells = true;
+  s.fast_rays.late_launch_mixture = 0.3;
   s.rays.seed = 42;
   s.rays.threads = 2;
   s.fast_ray_count = 700;
@@ -81,6 +86,10 @@ TEST(SimulationWire, ADecodedJobSimulatesToTheSameBits) {
   const std::vector<std::uint8_t> request_bytes = encodeRequest(request);
   EXPECT_EQ(encodeRequest(decodeRequest(request_bytes.data(), request_bytes.size())), request_bytes);
   EXPECT_TRUE(decodeRequest(request_bytes.data(), request_bytes.size()).settings.diffraction_scattering);
+  const SimulationSettings settings_back = decodeRequest(request_bytes.data(), request_bytes.size()).settings;
+  ASSERT_TRUE(settings_back.rays.launch_density);
+  EXPECT_EQ(settings_back.rays.launch_density->probabilities(), request.settings.rays.launch_density->probabilities());
+  EXPECT_DOUBLE_EQ(settings_back.fast_rays.late_launch_mixture, 0.3);
 
   const SimulationResult here = simulateRoom(scene, request.source_m, request.listener_m, request.settings);
   SimulationJobExecutor executor;

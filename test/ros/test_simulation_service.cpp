@@ -5,6 +5,8 @@
 
 #include <cmath>
 
+#include "tool_run.h"
+
 namespace {
 
 room_reverb::RoomModel shoebox() {
@@ -177,6 +179,19 @@ TEST_F(SimulationService, BadInputAnswersWithAReason) {
   auto bad_mode = request();
   bad_mode.mode = "quantum";
   expectFailure(bad_mode, "quantum");
+}
+
+// The fast mode's parameters out of range stop a second simulator node with one line.
+TEST(RoomSimulatorNode, FastModeParametersOutOfRangeStopItWithOneLine) {
+  ros::param::set("/simulator_bad_mixture/fast_launch_mixture", 1.5);
+  using room_reverb::test::runSiblingNode;
+  room_reverb::test::ToolRun run = runSiblingNode("room_simulator", "simulator_bad_mixture", 20);
+  EXPECT_NE(run.err.find("parameter ~fast_launch_mixture must be a share from 0 to 0.9"), std::string::npos) << run.err;
+  EXPECT_EQ(run.exit_code, 2) << run.err;
+  ros::param::set("/simulator_bad_track/fast_track_radius", 0.0);
+  run = runSiblingNode("room_simulator", "simulator_bad_track", 20);
+  EXPECT_NE(run.err.find("parameter ~fast_track_radius must be a positive number of metres"), std::string::npos) << run.err;
+  EXPECT_EQ(run.exit_code, 2) << run.err;
 }
 
 }  // namespace

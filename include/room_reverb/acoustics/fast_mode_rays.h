@@ -14,6 +14,7 @@
 // the long-lived energy rests on few paths and its estimate is heavy-tailed: ten seeds in
 // a carpeted room spread T20 by 5-11 % at 8000 rays, 4-8 % at 32 000 and 1-4 % at 64 000
 // (docs/simulation.md), so the run takes all the rays the budget buys.
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -42,6 +43,11 @@ struct FastRayOptions {
   // reaches the listener in pulses along its length, and in every room it misses the
   // diffuse energy of the first reflections (docs/simulation.md).
   double track_radius_m = 2.0;
+  // That run's launch directions: this share of its rays follows where the pilot's late
+  // energy was launched (launch_density.h: per cell of the sphere, the mean over the bands
+  // 125 Hz-4 kHz of the cell's share of the energy in flight while it falls from 5 to 25
+  // dB down), the rest is uniform. 0: uniform, as the accurate mode launches.
+  double late_launch_mixture = 0.5;
 };
 
 // The decay rate (dB/s, negative) of one band's energy in flight: the least-squares line
@@ -61,11 +67,14 @@ struct FastModeTrace {
   // Otherwise: the track receiver of the run that follows (or of the one run with a rate
   // tolerance of 0), which records no energy in flight.
   std::optional<EnergyHistogram> receiver;
+  // The density that run's rays were launched from (null: uniform).
+  std::shared_ptr<const LaunchDensity> launch_density;
 };
 
 // The fast mode's rays: `rays` as the fast mode sets them up (energy in flight recorded):
 // the pilot (options.min_rays in batches, batch b > 0 with a seed of its own drawn from
-// rays.seed and b) when it knows every band's rate, else one run with rays.seed of
+// rays.seed and b) when it knows every band's rate, else one run (its launch density drawn
+// from the pilot's late energy, options.late_launch_mixture) with rays.seed of
 // `max_rays` or, when that would cost more than options.reflection_budget at the pilot's
 // reflections per ray, of as many as it buys (never fewer than the pilot's), with the
 // track receiver of options.track_radius_m. With a rate tolerance of 0, exactly `max_rays`

@@ -2,7 +2,8 @@
 // Stochastic ray tracing for the late part (Krokstad et al. 1968; Vorländer 2008 ch. 11).
 //
 // Rays leave the source in stratified directions (weighted by its directivity) each
-// carrying 1/N of a joule per band. At a wall a ray loses the absorbed share, then
+// carrying 1/N of a joule per band, or drawn from a launch density (launch_density.h) and
+// weighted to undo it. At a wall a ray loses the absorbed share, then
 // reflects specularly or diffusely (Lambert) with the probability given by the scattering
 // coefficient: one or the other, never a blend of the two directions (a blend shortens
 // the mean free path and the decay). Bands share a ray's path until their scattering
@@ -21,6 +22,7 @@
 #include "room_reverb/acoustics/acoustic_scene.h"
 #include "room_reverb/acoustics/decay_continuation.h"
 #include "room_reverb/acoustics/energy_histogram.h"
+#include "room_reverb/acoustics/launch_density.h"
 #include "room_reverb/acoustics/path_ledger.h"
 #include "room_reverb/acoustics/propagation.h"
 
@@ -64,6 +66,16 @@ struct RayTracingOptions {
   // receiver had over the fitted stretch. Bands whose decay still bends are traced on.
   bool continue_established_decays = true;
   DecayContinuationOptions continuation;
+  // Launch directions drawn from this density (launch_density.h) instead of uniformly,
+  // each ray carrying its share of the emission times the uniform density over this one:
+  // every expected energy is unchanged. The rays stay stratified (ray i takes the i-th of
+  // `ray_count` equal steps of the density's cumulative over its zones), with azimuths on
+  // the golden-angle sequence turned by one random offset per seed. Null: uniform, from a
+  // Fibonacci sphere turned by one random rotation per seed.
+  std::shared_ptr<const LaunchDensity> launch_density;
+  // Also sum the energy in flight per launch cell (RayTracingResult::
+  // energy_in_flight_by_launch_cell), which a density for a later run is drawn from.
+  bool record_launch_cells = false;
   std::uint32_t seed = 1;
   int threads = 0;                  // 0: all hardware threads
 };
@@ -97,9 +109,15 @@ struct RayTracingResult {
   // The same less what the specular paths up to image_source_order carry: the part the
   // image sources do not hold (a continued band's line is both).
   std::vector<OctaveBandValues> late_energy_in_flight;
+  // With record_launch_cells: the energy in flight of the rays launched in each cell
+  // (launchCellOf), per kLaunchCellBinS of time: element cell * bins + bin.
+  std::vector<OctaveBandValues> energy_in_flight_by_launch_cell;
   // With a ledger budget: the paths, when they fit and could be kept (null otherwise).
   std::shared_ptr<const PathLedger> ledger;
 };
+
+// The time bins of RayTracingResult::energy_in_flight_by_launch_cell.
+constexpr double kLaunchCellBinS = 0.025;
 
 // Adds `part`'s counts (rays, reflections, leaked, escaped, stopped by time and by
 // energy, sphere detections) to `total`'s.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/hash_mix.h"
@@ -57,6 +58,47 @@ bool ratesKnown(const std::vector<std::array<std::optional<double>, kOctaveBandC
   return true;
 }
 
+// Where each judged band's mean energy in flight falls from 5 to 25 dB below its start
+// (or to the lowest it reaches): the cells' shares of the energy launched there, averaged
+// over the bands that fall that far.
+std::optional<std::array<double, kLaunchCells>> lateShares(const std::vector<OctaveBandValues>& in_flight, double bin_s,
+                                                         const std::vector<OctaveBandValues>& by_cell) {
+  const std::size_t cell_bins = by_cell.size() / kLaunchCells;
+  std::array<double, kLaunchCells> shares{};
+  int bands = 0;
+  for (int b = kFirstJudgedBand; b <= kLastJudgedBand; ++b) {
+    if (in_flight.empty() || !(in_flight.front()[b] > 0.0)) continue;
+    const double start = in_flight.front()[b];
+    double from_s = -1.0, to_s = -1.0;
+    for (std::size_t k = 0; k < in_flight.size(); ++k) {
+      const double e = in_flight[k][b];
+      if (!(e > 0.0)) break;
+      const double level = 10.0 * std::log10(e / start);
+      const double t = (static_cast<double>(k) + 0.5) * bin_s;
+      if (level <= -5.0 && from_s < 0.0) from_s = t;
+      if (from_s >= 0.0) to_s = t;
+      if (level < -25.0) break;
+    }
+    if (!(to_s > from_s) || from_s < 0.0) continue;
+    const auto first = static_cast<std::size_t>(from_s / kLaunchCellBinS);
+    const auto last = std::min(cell_bins - 1, static_cast<std::size_t>(to_s / kLaunchCellBinS));
+    std::array<double, kLaunchCells> energy{};
+    double total = 0.0;
+    for (std::size_t c = 0; c < kLaunchCells; ++c) {
+      for (std::size_t k = first; k <= last; ++k) energy[c] += by_cell[c * cell_bins + k][b];
+      total += energy[c];
+    }
+    if (!(total > 0.0)) continue;
+    for (std::size_t c = 0; c < kLaunchCells; ++c) shares[c] += energy[c] / total;
+    ++bands;
+  }
+  if (bands == 0) return std::nullopt;
+  double sum = 0.0;
+  for (double v : shares) sum += v;
+  for (double& v : shares) v /= sum;
+  return shares;
+}
+
 }  // namespace
 
 std::optional<double> energyDecayRateDbPerS(const std::vector<OctaveBandValues>& energy_in_flight, int band,
@@ -96,8 +138,12 @@ FastModeTrace traceFastModeDecay(const AcousticScene& scene, const Eigen::Vector
   if (!(options.track_radius_m > 0.0) || !std::isfinite(options.track_radius_m)) {
     throw InputError("the fast mode's track receiver needs a positive radius in metres");
   }
-  const auto one_run = [&](std::size_t count) {
+  if (!(options.late_launch_mixture >= 0.0 && options.late_launch_mixture < 1.0)) {
+    throw InputError("the fast mode's late launch mixture must be in [0, 1)");
+  }
+  const auto one_run = [&](std::size_t count, std::shared_ptr<const LaunchDensity> density = nullptr) {
     RayTracingOptions all = rays;
+    all.launch_density = std::move(density);
     all.ray_count = count;
     all.track_radius_m = options.track_radius_m;
     all.record_energy_in_flight = false;  // its receiver is heard, not the room's mean
@@ -106,6 +152,7 @@ FastModeTrace traceFastModeDecay(const AcousticScene& scene, const Eigen::Vector
     out.stats = traced.stats;
     out.batches = 1;
     out.receiver = std::move(traced.histogram);
+    out.launch_density = all.launch_density;
     return out;
   };
   if (!(options.rate_tolerance > 0.0) || max_rays <= options.min_rays) return one_run(max_rays);
@@ -115,14 +162,18 @@ FastModeTrace traceFastModeDecay(const AcousticScene& scene, const Eigen::Vector
   FastModeTrace pilot;
   std::vector<std::array<std::optional<double>, kOctaveBandCount>> rates;
   std::size_t traced_rays = 0;
+  std::vector<OctaveBandValues> by_cell;
   while (traced_rays < options.min_rays) {
     RayTracingOptions batch = rays;
+    batch.record_launch_cells = options.late_launch_mixture > 0.0;
+    batch.launch_density = nullptr;  // the pilot launches uniformly
     batch.ray_count = std::min(options.batch_rays, options.min_rays - traced_rays);
     batch.seed = batchSeed(rays.seed, pilot.batches);
     RayTracingResult traced = traceRays(scene, source, listener, model, batch);
     const double before = static_cast<double>(traced_rays), added = static_cast<double>(batch.ray_count);
     averageIn(pilot.energy_in_flight, traced.energy_in_flight, before, added);
     averageIn(pilot.late_energy_in_flight, traced.late_energy_in_flight, before, added);
+    if (batch.record_launch_cells) averageIn(by_cell, traced.energy_in_flight_by_launch_cell, before, added);
     std::array<std::optional<double>, kOctaveBandCount> batch_rates;
     for (int b = 0; b < kOctaveBandCount; ++b) batch_rates[b] = energyDecayRateDbPerS(traced.energy_in_flight, b, batch.bin_s);
     rates.push_back(batch_rates);
@@ -140,7 +191,13 @@ FastModeTrace traceFastModeDecay(const AcousticScene& scene, const Eigen::Vector
   if (per_ray * static_cast<double>(max_rays) > options.reflection_budget) {
     count = std::max(traced_rays, static_cast<std::size_t>(options.reflection_budget / per_ray));
   }
-  return one_run(count);
+  std::shared_ptr<const LaunchDensity> density;
+  if (options.late_launch_mixture > 0.0) {
+    if (const auto shares = lateShares(pilot.energy_in_flight, rays.bin_s, by_cell)) {
+      density = std::make_shared<LaunchDensity>(lateEnergyDensity(*shares, options.late_launch_mixture));
+    }
+  }
+  return one_run(count, density);
 }
 
 }  // namespace room_reverb::core

@@ -50,6 +50,8 @@ double keyedUniform(std::uint64_t key, int order, DrawSlot slot) {
   return unitFromBits(mixBits(key ^ mixBits(counter)));
 }
 
+constexpr double kGoldenFraction = 0.61803398874989484820;  // 1 / golden ratio
+
 // Launch direction of ray `index` of `count`: stratified rather than independent. Ray i
 // takes z uniform in the i-th of `count` equal-area zones (z = 1 - 2 (i + u) / count) and
 // the golden-angle azimuth of a Fibonacci sphere; the whole set is turned by one random
@@ -60,9 +62,8 @@ double keyedUniform(std::uint64_t key, int order, DrawSlot slot) {
 // drove most of the seed-to-seed spread of T20 (measured in docs/simulation.md).
 Eigen::Vector3d stratifiedDirection(std::size_t index, std::size_t count, const Eigen::Matrix3d& rotation,
                                     double jitter) {
-  const double golden_fraction = 0.61803398874989484820;  // 1 / golden ratio
   const double z = 1.0 - 2.0 * (static_cast<double>(index) + jitter) / static_cast<double>(count);
-  const double turns = static_cast<double>(index) * golden_fraction;
+  const double turns = static_cast<double>(index) * kGoldenFraction;
   const double phi = 2.0 * kPi * (turns - std::floor(turns));
   const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
   return rotation * Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), z);
@@ -104,6 +105,7 @@ struct RayBranch {
   std::uint64_t key = 0;  // of its random numbers (keyedUniform)
   double travelled = 0.0;
   int order = 0;
+  int launch_cell = 0;  // launchCellOf its ray's launch direction (recorded with record_launch_cells)
   bool specular_only = true;
   bool last_specular = true;
 };
@@ -122,6 +124,7 @@ struct Slice {
   std::vector<RayBranch>* parked = nullptr;
   std::vector<OctaveBandValues>* fine = nullptr;
   std::vector<OctaveBandValues>* late = nullptr;  // the same, without the image sources' paths
+  std::vector<OctaveBandValues>* by_cell = nullptr;  // the same per launch cell (record_launch_cells)
   std::vector<OctaveBandValues>* losses = nullptr;
   std::vector<LedgerEvent>* ledger = nullptr;  // the chunk's, when paths are kept
 };
@@ -152,6 +155,7 @@ struct Tracer {
   double bin_length_m;
   double roulette_level;  // J: below it a branch plays Russian roulette
   Eigen::Matrix3d launch_rotation;
+  double launch_azimuth_offset = 0.0;  // with a launch density: the azimuths' turn, in turns
   std::uint64_t seed_key;  // every ray's key derives from it and the ray's index
   double loss_bin_m;        // kFlightBinS of travel
   double mean_free_path_m;  // 4V/S of a closed room, 0 for an open one
@@ -188,6 +192,7 @@ struct Tracer {
       visibility = TriangleVisibility(mesh, listener);
     }
     launch_rotation = randomRotation(options.seed);
+    launch_azimuth_offset = unitFromBits(mixBits(0xa21ull ^ static_cast<std::uint64_t>(options.seed)));
     seed_key = mixBits(0x7ace5eedull ^ static_cast<std::uint64_t>(options.seed));
   }
 
@@ -260,10 +265,21 @@ struct Tracer {
     RayBranch start;
     start.position = source;
     start.key = mixBits(seed_key ^ mixBits(index));
-    start.direction = stratifiedDirection(index, options.ray_count, launch_rotation, keyedUniform(start.key, 0, kLaunch));
+    const double jitter = keyedUniform(start.key, 0, kLaunch);
+    double weight = 1.0;
+    if (options.launch_density) {
+      const double turns = static_cast<double>(index) * kGoldenFraction + launch_azimuth_offset;
+      const LaunchDensity::Draw draw = options.launch_density->draw(
+          (static_cast<double>(index) + jitter) / static_cast<double>(options.ray_count), turns - std::floor(turns));
+      start.direction = draw.direction;
+      weight = draw.weight;
+    } else {
+      start.direction = stratifiedDirection(index, options.ray_count, launch_rotation, jitter);
+    }
+    if (slice.by_cell) start.launch_cell = launchCellOf(start.direction);
     const double gain = model.directivity.pressureGain(start.direction);
-    start.energy.fill(ray_energy * gain * gain);
-    note(slice, LedgerEvent::kLaunch, 0, 0.0, ray_energy * gain * gain, start.direction);
+    start.energy.fill(ray_energy * gain * gain * weight);
+    note(slice, LedgerEvent::kLaunch, 0, 0.0, ray_energy * gain * gain * weight, start.direction);
 
     ++stats.rays;
     if (slice.losses) {
@@ -318,6 +334,26 @@ struct Tracer {
     }
   }
 
+  // The same into the branch's launch cell's bins of kLaunchCellBinS (air at each bin's
+  // middle).
+  void addInFlightByCell(std::vector<OctaveBandValues>& by_cell, const RayBranch& ray, double from_m, double to_m) const {
+    const std::size_t bins = by_cell.size() / kLaunchCells;
+    const double bin_m = kLaunchCellBinS * model.speed_of_sound_m_s;
+    const double last_m = std::min(to_m, static_cast<double>(bins) * bin_m);
+    if (!(last_m > from_m)) return;
+    const auto first_bin = static_cast<std::size_t>(from_m / bin_m);
+    const auto last_bin = std::min(bins - 1, static_cast<std::size_t>(last_m / bin_m));
+    OctaveBandValues* cell = &by_cell[static_cast<std::size_t>(ray.launch_cell) * bins];
+    for (std::size_t k = first_bin; k <= last_bin; ++k) {
+      const double lower = static_cast<double>(k) * bin_m;
+      const double share = (std::min(last_m, lower + bin_m) - std::max(from_m, lower)) / bin_m;
+      if (!(share > 0.0)) continue;
+      forEachBand(ray.bands, [&](int b) {
+        cell[k][b] += share * ray.energy[b] * std::exp(-model.air_attenuation_per_m[b] * (lower + 0.5 * bin_m));
+      });
+    }
+  }
+
   // Follows one branch until it leaves, runs out of time or energy. At a wall every band
   // of the branch goes diffuse when one uniform number u falls below its scattering
   // coefficient and specular otherwise: each band's choice has exactly its own
@@ -358,6 +394,7 @@ struct Tracer {
         }
       }
       const double leg_end = std::min(ray.travelled + leg, max_distance);
+      if (slice.by_cell) addInFlightByCell(*slice.by_cell, ray, ray.travelled, leg_end);
       if (slice.fine) {
         addInFlight(*slice.fine, ray, ray.travelled, leg_end);
         if (!(ray.specular_only && ray.order <= options.image_source_order)) addInFlight(*slice.late, ray, ray.travelled, leg_end);
@@ -533,6 +570,9 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
   std::vector<std::vector<OctaveBandValues>> in_flight(
       options.record_energy_in_flight ? static_cast<std::size_t>(threads) : 0, std::vector<OctaveBandValues>(bins, OctaveBandValues{}));
   std::vector<std::vector<OctaveBandValues>> late_in_flight = in_flight;
+  const auto cell_bins = static_cast<std::size_t>(std::ceil(options.max_time_s / kLaunchCellBinS));
+  std::vector<std::vector<OctaveBandValues>> by_cell(options.record_launch_cells ? static_cast<std::size_t>(threads) : 0,
+                                                     std::vector<OctaveBandValues>(kLaunchCells * cell_bins, OctaveBandValues{}));
   const bool continuing = options.continue_established_decays;
   const std::size_t flight_bins = Tracer::flightBins(options.max_time_s);
   std::vector<std::vector<OctaveBandValues>> losses(continuing ? static_cast<std::size_t>(threads) : 0,
@@ -561,6 +601,7 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
       slice.active = active;
       slice.fine = in_flight.empty() ? nullptr : &in_flight[t];
       slice.late = late_in_flight.empty() ? nullptr : &late_in_flight[t];
+      slice.by_cell = by_cell.empty() ? nullptr : &by_cell[t];
       slice.losses = losses.empty() ? nullptr : &losses[t];
       for (std::size_t chunk = t; chunk < chunks; chunk += static_cast<std::size_t>(threads)) {
         slice.parked = &parked[chunk];
@@ -642,7 +683,7 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
     next_end_s = kFlightBinS * std::ceil((end_s + wait_s) / kFlightBinS - 1e-9);
   }
 
-  RayTracingResult result{EnergyHistogram(options.bin_s, bins), {}, {}, {}, nullptr};
+  RayTracingResult result{EnergyHistogram(options.bin_s, bins), {}, {}, {}, {}, nullptr};
   for (int t = 0; t < threads; ++t) result.histogram.merge(histograms[static_cast<std::size_t>(t)]);
   for (int t = 0; t < threads; ++t) addStats(result.stats, stats[t]);
   result.stats.receiver_radius_m = options.track_radius_m > 0.0 ? options.track_radius_m : radius;
@@ -684,6 +725,14 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
   };
   sum_parts(in_flight, result.energy_in_flight);
   sum_parts(late_in_flight, result.late_energy_in_flight);
+  if (!by_cell.empty()) {
+    result.energy_in_flight_by_launch_cell.assign(kLaunchCells * cell_bins, OctaveBandValues{});
+    for (const auto& part : by_cell) {
+      for (std::size_t k = 0; k < part.size(); ++k) {
+        for (int b = 0; b < kOctaveBandCount; ++b) result.energy_in_flight_by_launch_cell[k][b] += part[k][b];
+      }
+    }
+  }
   for (int b = 0; b < kOctaveBandCount; ++b) {
     if (!lines[b]) continue;
     const EstablishedDecay& line = *lines[b];

@@ -1,6 +1,8 @@
 #include "room_reverb/acoustics/simulation_wire.h"
 
+#include <array>
 #include <cmath>
+#include <memory>
 #include <string>
 
 #include "room_reverb/common/byte_stream.h"
@@ -12,7 +14,7 @@ namespace {
 // Magic numbers with the encoding's version in the low byte; read back in another byte
 // order they do not match, so a foreign machine's bytes are refused, not misread.
 constexpr std::uint32_t kSceneMarker = 0x52525302;    // "RRS" 2
-constexpr std::uint32_t kRequestMarker = 0x52525106;  // "RRQ" 6
+constexpr std::uint32_t kRequestMarker = 0x52525107;  // "RRQ" 7
 constexpr std::uint32_t kResultMarker = 0x52525202;   // "RRR" 2
 constexpr std::uint32_t kJobMarker = 0x52524a01;      // "RRJ" 1
 
@@ -21,9 +23,9 @@ constexpr std::uint32_t kJobMarker = 0x52524a01;      // "RRJ" 1
 static_assert(sizeof(AirConditions) == 32, "AirConditions changed: encode the new field");
 static_assert(sizeof(SourceDirectivity) == 32, "SourceDirectivity changed: encode the new field");
 static_assert(sizeof(DecayContinuationOptions) == 40, "DecayContinuationOptions changed: encode the new field");
-static_assert(sizeof(RayTracingOptions) == 112, "RayTracingOptions changed: encode the new field");
-static_assert(sizeof(SimulationSettings) == 288, "SimulationSettings changed: encode the new field");
-static_assert(sizeof(FastRayOptions) == 40, "FastRayOptions changed: encode the new field");
+static_assert(sizeof(RayTracingOptions) == 136, "RayTracingOptions changed: encode the new field");
+static_assert(sizeof(SimulationSettings) == 320, "SimulationSettings changed: encode the new field");
+static_assert(sizeof(FastRayOptions) == 48, "FastRayOptions changed: encode the new field");
 static_assert(sizeof(WaveLowBandOptions) == 24, "WaveLowBandOptions changed: encode the new field");  // bands fills the padding
 static_assert(sizeof(WaveLowBandStats) == 56, "WaveLowBandStats changed: encode the new field");
 static_assert(sizeof(RayTracingStats) == 208, "RayTracingStats changed: encode the new field");
@@ -72,6 +74,11 @@ void putSettings(ByteWriter& w, const SimulationSettings& s) {
   w.putBool(o.diffraction_scattering);
   w.putBool(o.record_energy_in_flight);
   w.putBool(o.continue_established_decays);
+  w.putBool(o.record_launch_cells);
+  w.putBool(o.launch_density != nullptr);
+  if (o.launch_density) {
+    for (double p : o.launch_density->probabilities()) w.put<double>(p);
+  }
   w.put<double>(o.continuation.decayed_db);
   w.put<double>(o.continuation.straight_span_db);
   w.put<double>(o.continuation.bend_horizon_db);
@@ -85,6 +92,7 @@ void putSettings(ByteWriter& w, const SimulationSettings& s) {
   w.put<std::uint64_t>(s.fast_rays.batch_rays);
   w.put<double>(s.fast_rays.reflection_budget);
   w.put<double>(s.fast_rays.track_radius_m);
+  w.put<double>(s.fast_rays.late_launch_mixture);
   w.putBool(s.diffraction_scattering);
   w.put<std::int32_t>(static_cast<std::int32_t>(s.low_band));
   w.put<double>(s.wave.crossover_hz);
@@ -127,6 +135,16 @@ SimulationSettings getSettings(ByteReader& r) {
   o.diffraction_scattering = r.getBool();
   o.record_energy_in_flight = r.getBool();
   o.continue_established_decays = r.getBool();
+  o.record_launch_cells = r.getBool();
+  if (r.getBool()) {
+    std::array<double, kLaunchCells> probabilities{};
+    for (double& p : probabilities) p = r.get<double>();
+    try {
+      o.launch_density = std::make_shared<LaunchDensity>(LaunchDensity::fromProbabilities(probabilities));
+    } catch (const InputError& e) {
+      r.fail(e.what());
+    }
+  }
   o.continuation.decayed_db = r.get<double>();
   o.continuation.straight_span_db = r.get<double>();
   o.continuation.bend_horizon_db = r.get<double>();
@@ -140,6 +158,7 @@ SimulationSettings getSettings(ByteReader& r) {
   s.fast_rays.batch_rays = static_cast<std::size_t>(r.get<std::uint64_t>());
   s.fast_rays.reflection_budget = r.get<double>();
   s.fast_rays.track_radius_m = r.get<double>();
+  s.fast_rays.late_launch_mixture = r.get<double>();
   s.diffraction_scattering = r.getBool();
   const auto low_band = r.get<std::int32_t>();
   if (low_band < 0 || low_band > static_cast<std::int32_t>(LowBandMethod::kWave)) r.fail("unknown low-band method " + std::to_string(low_band));
