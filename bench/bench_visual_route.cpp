@@ -153,7 +153,6 @@ void BM_PointCloudToRoomModel(benchmark::State& state) {
   state.SetLabel(name);
   VisualRouteOptions options;
   loadDefaultMaterialModels(options);
-  if (const char* cap = std::getenv("CAP")) options.materials.max_patches_per_face = std::atoi(cap);
   RoomLayout layout;
   std::vector<double> layout_s, materials_s;
   for (auto _ : state) {

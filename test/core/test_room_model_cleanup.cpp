@@ -6,9 +6,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <optional>
 
 #include "room_reverb/acoustics/room_model.h"
 #include "room_reverb/acoustics/room_simulation.h"
+#include "room_reverb/metrics/impulse_response_metrics.h"
+#include "room_reverb/synthetic_capture/cluttered_rooms.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/vision/room_model_cleanup.h"
 #include "test_files.h"
@@ -297,15 +302,48 @@ TEST(RoomModelCleanup, AFittedKitchenSimulatesFromTheRigOnceCleanedUp) {
   EXPECT_GT(result.stats.sphere_detections, 0u);
 }
 
-#include "room_reverb/synthetic_capture/cluttered_rooms.h"
-TEST(Scratch, DumpClutteredRooms) {
-  for (int i = 1; i <= 8; ++i) {
-    for (auto set : {room_reverb::core::ClutterSet::kDevelopment, room_reverb::core::ClutterSet::kHeldOut}) {
-      const int index = set == room_reverb::core::ClutterSet::kHeldOut ? 200 + i : i;
-      const auto room = room_reverb::core::clutteredRoom(set, index);
-      const std::string base = "/tmp/clutter/" + std::string(set == room_reverb::core::ClutterSet::kHeldOut ? "h" : "d") + std::to_string(index);
-      room_reverb::core::saveRoomModel(base + "_scanned.yaml", room.scanned);
-      room_reverb::core::saveRoomModel(base + "_truth.yaml", room.truth);
+// What drawing a room's clutter as cuboids does to its simulated decay: each cluttered
+// room as the rig sees it (recesses, skirting, radiators, shelves and books, units, all as
+// cuboids) and as the box of its main walls with its furniture, simulated from the rig to
+// a source 2 m away at the rig's height (the first direction from 0.3 rad on, in 5 degree
+// steps, with the source 0.5 m inside the box and 0.3 m from every surface of both
+// models), accurate mode with its defaults, omni: T30 over 500 Hz-2 kHz of each. The
+// figures in docs/visual-route.md ("The decay a model of a furnished room gives"):
+//   ROOM_REVERB_CLUTTER_DECAY_REPORT=1 .ws/devel/lib/room_reverb/test_room_model_cleanup --gtest_filter='*Report*'
+TEST(ClutteredRoomsDecayReport, DetailDrawnAsCuboids) {
+  if (!std::getenv("ROOM_REVERB_CLUTTER_DECAY_REPORT")) GTEST_SKIP() << "set ROOM_REVERB_CLUTTER_DECAY_REPORT=1 for the report";
+  const MaterialLibrary library = MaterialLibrary::loadDefault();
+  SimulationSettings settings;
+  settings.ambisonic_order = 0;
+  settings.rays.threads = 2;
+  const auto t30 = [](const SimulationResult& r) {
+    const MetricsReport m = analyseImpulseResponse(r.impulse_response, 0, {});
+    double sum = 0.0;
+    for (std::size_t b = 3; b <= 5; ++b) sum += m.bands[b].t30_s.value_or(std::nan(""));
+    return sum / 3.0;
+  };
+  for (const auto& [set, first] : {std::pair{ClutterSet::kDevelopment, 1}, std::pair{ClutterSet::kHeldOut, 201}}) {
+    for (int index = first; index < first + 4; ++index) {
+      const ClutteredRoom room = clutteredRoom(set, index);
+      const AcousticScene scanned = roomModelToScene(room.scanned, library);
+      const AcousticScene truth = roomModelToScene(room.truth, library);
+      const Eigen::Vector3d rig = room.scanned.rig_position_m;
+      std::optional<Eigen::Vector3d> source;
+      for (int k = 0; k < 72 && !source; ++k) {
+        const double a = 0.3 + k * M_PI / 36.0;
+        const Eigen::Vector3d p = rig + 2.0 * Eigen::Vector3d(std::cos(a), std::sin(a), 0.0);
+        bool free = true;
+        for (const AcousticScene* scene : {&scanned, &truth}) {
+          free = free && scene->isInside(p) && scene->distanceToNearestSurface(p) > 0.3;
+        }
+        for (int axis = 0; axis < 2; ++axis) free = free && p[axis] > 0.5 && p[axis] < room.truth.size_m[axis] - 0.5;
+        if (free) source = p;
+      }
+      ASSERT_TRUE(source) << room.name;
+      const double detailed = t30(simulateRoom(scanned, *source, rig, settings));
+      const double boxed = t30(simulateRoom(truth, *source, rig, settings));
+      std::printf("[ measured ] %-16s T30 500 Hz-2 kHz: as seen %.3f s, box and furniture %.3f s (%+.0f %%)\n",
+                  room.name.c_str(), detailed, boxed, 100.0 * (boxed / detailed - 1.0));
     }
   }
 }
