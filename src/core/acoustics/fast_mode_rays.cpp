@@ -58,6 +58,35 @@ bool ratesKnown(const std::vector<std::array<std::optional<double>, kOctaveBandC
   return true;
 }
 
+// The stretch of a band's energy in flight that T20 reads: from the first bin 5 dB below
+// where it starts to the bin before the first one more than 25 dB below it (or the trace's
+// end, or a bin with no energy), and the lowest level before that, dB.
+struct FallSpan {
+  std::size_t first = 0, end = 0;
+  double lowest_db = 0.0;
+};
+std::optional<FallSpan> fallFrom5To25Db(const std::vector<OctaveBandValues>& energy_in_flight, int band) {
+  if (energy_in_flight.empty() || !(energy_in_flight.front()[band] > 0.0)) return std::nullopt;
+  const double start = energy_in_flight.front()[band];
+  FallSpan span;
+  bool found = false;
+  std::size_t bin = 0;
+  for (; bin < energy_in_flight.size(); ++bin) {
+    const double e = energy_in_flight[bin][band];
+    if (!(e > 0.0)) break;
+    const double level = 10.0 * std::log10(e / start);
+    if (level < -25.0) break;
+    span.lowest_db = std::min(span.lowest_db, level);
+    if (level <= -5.0 && !found) {
+      span.first = bin;
+      found = true;
+    }
+  }
+  if (!found) return std::nullopt;
+  span.end = bin;
+  return span;
+}
+
 // Where each judged band's mean energy in flight falls from 5 to 25 dB below its start
 // (or to the lowest it reaches): the cells' shares of the energy launched there, averaged
 // over the bands that fall that far.
@@ -67,21 +96,10 @@ std::optional<std::array<double, kLaunchCells>> lateShares(const std::vector<Oct
   std::array<double, kLaunchCells> shares{};
   int bands = 0;
   for (int b = kFirstJudgedBand; b <= kLastJudgedBand; ++b) {
-    if (in_flight.empty() || !(in_flight.front()[b] > 0.0)) continue;
-    const double start = in_flight.front()[b];
-    double from_s = -1.0, to_s = -1.0;
-    for (std::size_t k = 0; k < in_flight.size(); ++k) {
-      const double e = in_flight[k][b];
-      if (!(e > 0.0)) break;
-      const double level = 10.0 * std::log10(e / start);
-      const double t = (static_cast<double>(k) + 0.5) * bin_s;
-      if (level <= -5.0 && from_s < 0.0) from_s = t;
-      if (from_s >= 0.0) to_s = t;
-      if (level < -25.0) break;
-    }
-    if (!(to_s > from_s) || from_s < 0.0) continue;
-    const auto first = static_cast<std::size_t>(from_s / kLaunchCellBinS);
-    const auto last = std::min(cell_bins - 1, static_cast<std::size_t>(to_s / kLaunchCellBinS));
+    const std::optional<FallSpan> span = fallFrom5To25Db(in_flight, b);
+    if (!span || span->end <= span->first + 1) continue;
+    const auto first = static_cast<std::size_t>((static_cast<double>(span->first) + 0.5) * bin_s / kLaunchCellBinS);
+    const auto last = std::min(cell_bins - 1, static_cast<std::size_t>((static_cast<double>(span->end) - 0.5) * bin_s / kLaunchCellBinS));
     std::array<double, kLaunchCells> energy{};
     double total = 0.0;
     for (std::size_t c = 0; c < kLaunchCells; ++c) {
@@ -103,17 +121,14 @@ std::optional<std::array<double, kLaunchCells>> lateShares(const std::vector<Oct
 
 std::optional<double> energyDecayRateDbPerS(const std::vector<OctaveBandValues>& energy_in_flight, int band,
                                             double bin_s) {
-  if (energy_in_flight.empty() || !(energy_in_flight.front()[band] > 0.0)) return std::nullopt;
-  const double start = energy_in_flight.front()[band];
   // The levels from 5 dB down to 25 dB down (or the lowest reached), in dB against time.
-  double sum_t = 0.0, sum_l = 0.0, sum_tt = 0.0, sum_tl = 0.0, lowest = 0.0;
+  const std::optional<FallSpan> span = fallFrom5To25Db(energy_in_flight, band);
+  if (!span || span->lowest_db > -15.0) return std::nullopt;
+  const double start = energy_in_flight.front()[band];
+  double sum_t = 0.0, sum_l = 0.0, sum_tt = 0.0, sum_tl = 0.0;
   std::size_t n = 0;
-  for (std::size_t bin = 0; bin < energy_in_flight.size(); ++bin) {
-    const double e = energy_in_flight[bin][band];
-    if (!(e > 0.0)) break;
-    const double level = 10.0 * std::log10(e / start);
-    if (level < -25.0) break;
-    lowest = std::min(lowest, level);
+  for (std::size_t bin = span->first; bin < span->end; ++bin) {
+    const double level = 10.0 * std::log10(energy_in_flight[bin][band] / start);
     if (level > -5.0) continue;
     const double t = (static_cast<double>(bin) + 0.5) * bin_s;
     sum_t += t;
@@ -122,7 +137,7 @@ std::optional<double> energyDecayRateDbPerS(const std::vector<OctaveBandValues>&
     sum_tl += t * level;
     ++n;
   }
-  if (lowest > -15.0 || n < 3) return std::nullopt;
+  if (n < 3) return std::nullopt;
   const double denominator = static_cast<double>(n) * sum_tt - sum_t * sum_t;
   if (!(denominator > 0.0)) return std::nullopt;
   const double slope = (static_cast<double>(n) * sum_tl - sum_t * sum_l) / denominator;

@@ -23,7 +23,7 @@ int launchCellOf(const Eigen::Vector3d& direction) {
 
 LaunchDensity::LaunchDensity() {
   probability_.fill(1.0 / kLaunchCells);
-  for (int k = 0; k <= kLaunchZones; ++k) zone_cdf_[static_cast<std::size_t>(k)] = static_cast<double>(k) / kLaunchZones;
+  buildZones();
 }
 
 LaunchDensity::LaunchDensity(const std::array<double, kLaunchCells>& cell_weights) {

@@ -141,6 +141,21 @@ void note(const Slice& slice, LedgerEvent::Kind kind, std::uint32_t index = 0, d
   slice.ledger->push_back(e);
 }
 
+// Calls add(k, share) for each of `bins` bins of `bin_m` that the stretch [from_m, to_m)
+// of travel covers, `share` the part of the bin it covers.
+template <class Add>
+void forBinsCovered(double from_m, double to_m, double bin_m, std::size_t bins, Add add) {
+  const double last_m = std::min(to_m, static_cast<double>(bins) * bin_m);
+  if (!(last_m > from_m)) return;
+  const auto first_bin = static_cast<std::size_t>(from_m / bin_m);
+  const auto last_bin = std::min(bins - 1, static_cast<std::size_t>(last_m / bin_m));
+  for (std::size_t k = first_bin; k <= last_bin; ++k) {
+    const double lower = static_cast<double>(k) * bin_m;
+    const double share = (std::min(last_m, lower + bin_m) - std::max(from_m, lower)) / bin_m;
+    if (share > 0.0) add(k, share);
+  }
+}
+
 struct Tracer {
   const AcousticScene& scene;
   const Eigen::Vector3d& source;
@@ -320,18 +335,10 @@ struct Tracer {
   // Adds the branch's energy, air included, to every bin it spends travelling between
   // `from_m` and `to_m` along its path, weighted by the share of the bin it covers.
   void addInFlight(std::vector<OctaveBandValues>& in_flight, const RayBranch& ray, double from_m, double to_m) const {
-    const double bin_m = bin_length_m;
-    const double last_m = std::min(to_m, static_cast<double>(in_flight.size()) * bin_m);
-    if (!(last_m > from_m)) return;
-    const auto first_bin = static_cast<std::size_t>(from_m / bin_m);
-    const auto last_bin = std::min(in_flight.size() - 1, static_cast<std::size_t>(last_m / bin_m));
-    for (std::size_t k = first_bin; k <= last_bin; ++k) {
-      const double lower = static_cast<double>(k) * bin_m;
-      const double share = (std::min(last_m, lower + bin_m) - std::max(from_m, lower)) / bin_m;
-      if (!(share > 0.0)) continue;
+    forBinsCovered(from_m, to_m, bin_length_m, in_flight.size(), [&](std::size_t k, double share) {
       const double* loss = air.atBin(k);
       for (int b = 0; b < kOctaveBandCount; ++b) in_flight[k][b] += share * ray.energy[b] * loss[b];
-    }
+    });
   }
 
   // The same into the branch's launch cell's bins of kLaunchCellBinS (air at each bin's
@@ -339,19 +346,13 @@ struct Tracer {
   void addInFlightByCell(std::vector<OctaveBandValues>& by_cell, const RayBranch& ray, double from_m, double to_m) const {
     const std::size_t bins = by_cell.size() / kLaunchCells;
     const double bin_m = kLaunchCellBinS * model.speed_of_sound_m_s;
-    const double last_m = std::min(to_m, static_cast<double>(bins) * bin_m);
-    if (!(last_m > from_m)) return;
-    const auto first_bin = static_cast<std::size_t>(from_m / bin_m);
-    const auto last_bin = std::min(bins - 1, static_cast<std::size_t>(last_m / bin_m));
     OctaveBandValues* cell = &by_cell[static_cast<std::size_t>(ray.launch_cell) * bins];
-    for (std::size_t k = first_bin; k <= last_bin; ++k) {
-      const double lower = static_cast<double>(k) * bin_m;
-      const double share = (std::min(last_m, lower + bin_m) - std::max(from_m, lower)) / bin_m;
-      if (!(share > 0.0)) continue;
-      forEachBand(ray.bands, [&](int b) {
-        cell[k][b] += share * ray.energy[b] * std::exp(-model.air_attenuation_per_m[b] * (lower + 0.5 * bin_m));
-      });
-    }
+    forBinsCovered(from_m, to_m, bin_m, bins, [&](std::size_t k, double share) {
+      const double middle_m = (static_cast<double>(k) + 0.5) * bin_m;
+      for (int b = 0; b < kOctaveBandCount; ++b) {
+        cell[k][b] += share * ray.energy[b] * std::exp(-model.air_attenuation_per_m[b] * middle_m);
+      }
+    });
   }
 
   // Follows one branch until it leaves, runs out of time or energy. At a wall every band
@@ -716,23 +717,16 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
   }
   const auto sum_parts = [&](const std::vector<std::vector<OctaveBandValues>>& parts, std::vector<OctaveBandValues>& out) {
     if (parts.empty()) return;
-    out.assign(bins, OctaveBandValues{});
+    out.assign(parts.front().size(), OctaveBandValues{});
     for (const auto& part : parts) {
-      for (std::size_t k = 0; k < bins; ++k) {
+      for (std::size_t k = 0; k < out.size(); ++k) {
         for (int b = 0; b < kOctaveBandCount; ++b) out[k][b] += part[k][b];
       }
     }
   };
   sum_parts(in_flight, result.energy_in_flight);
   sum_parts(late_in_flight, result.late_energy_in_flight);
-  if (!by_cell.empty()) {
-    result.energy_in_flight_by_launch_cell.assign(kLaunchCells * cell_bins, OctaveBandValues{});
-    for (const auto& part : by_cell) {
-      for (std::size_t k = 0; k < part.size(); ++k) {
-        for (int b = 0; b < kOctaveBandCount; ++b) result.energy_in_flight_by_launch_cell[k][b] += part[k][b];
-      }
-    }
-  }
+  sum_parts(by_cell, result.energy_in_flight_by_launch_cell);
   for (int b = 0; b < kOctaveBandCount; ++b) {
     if (!lines[b]) continue;
     const EstablishedDecay& line = *lines[b];
