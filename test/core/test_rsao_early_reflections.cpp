@@ -516,6 +516,22 @@ TEST(EarlyReflections, LevelIsTheHammingWindowedEnergyOfW) {
   EXPECT_NEAR(estimates[1].level, std::sqrt(0.16 + w36 * w36), 1e-6);
 }
 
+TEST(EarlyReflections, TheDirectSoundsLevelLeavesOutAReflectionInsideItsWindow) {
+  // The same pair as above with the pursuit (the default): the reflection 0.75 ms after the
+  // direct sound is its own arrival, so neither level holds the other. The window level of
+  // the direct sound reads sqrt(1 + r^2 w36^2): 1.004 for r = 0.4, 1.023 for a reflection
+  // as loud as the direct sound, more the closer it comes (w(t) rises to 1 at the centre).
+  for (const float reflection : {0.4f, 1.0f}) {
+    AudioBuffer b = makeSilentBuffer(4, 4800, kFs);
+    b.channels[0][1234] = b.channels[3][1234] = 1.0f;
+    b.channels[0][1270] = b.channels[1][1270] = reflection;
+    const auto estimates = estimateEarlyReflections(b);
+    ASSERT_EQ(estimates.size(), 2u) << reflection;
+    EXPECT_NEAR(estimates[0].level, 1.0, 1e-3) << reflection;
+    EXPECT_NEAR(estimates[1].level, reflection, 1e-3) << reflection;
+  }
+}
+
 TEST(EarlyReflections, ALoneImpulseIsTheDirectSoundOnly) {
   const auto estimates = estimateEarlyReflections(impulseBuffer(4800, 1234));
   ASSERT_EQ(estimates.size(), 1u);

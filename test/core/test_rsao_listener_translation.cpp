@@ -899,14 +899,17 @@ TEST(ListenerTranslation, MovedLowBandsStayNearTheTruth) {
 }
 
 // The report of docs/six_dof.md over both sets; ROOM_REVERB_PER_ROOM=1 adds each room's
-// levels, ROOM_REVERB_PER_POSITION=1 each moved position's.
+// levels, ROOM_REVERB_PER_POSITION=1 each moved position's; ROOM_REVERB_PAPER_LPC=1 fits
+// each tap's shape on its whole window (docs/rsao.md's comparison).
 TEST(ListenerTranslationReport, BothSets) {
   if (!std::getenv("ROOM_REVERB_SIX_DOF_REPORT")) GTEST_SKIP() << "set ROOM_REVERB_SIX_DOF_REPORT=1 for the report";
   for (const ReflectionRoomSet set : {ReflectionRoomSet::kDevelopment, ReflectionRoomSet::kHeldOut}) {
     if (set == ReflectionRoomSet::kHeldOut && std::getenv("ROOM_REVERB_DEVELOPMENT_ONLY")) continue;
     MovedScore total;
     for (std::size_t i = 0; i < reflectionRoomCount(set); ++i) {
-      const MovedScore room = scoreMovedRoom(set, i, 4, true);
+      RsaoOptions estimation;
+      if (std::getenv("ROOM_REVERB_PAPER_LPC")) estimation.early.lpc_flat_below_hz = 0.0;
+      const MovedScore room = scoreMovedRoom(set, i, 4, true, estimation);
       if (std::getenv("ROOM_REVERB_PER_ROOM")) {
         std::printf("  %-14s capture early, 125 Hz-4 kHz:", reflectionRoom(set, i).name.c_str());
         for (double e : room.capture_early_db) std::printf(" %+.1f", e);

@@ -73,12 +73,29 @@ struct MatchedArrival {
   double directness = 0.0;
   double snr_db = 0.0;      // matched-filter peak power over the local residual power
   std::size_t atom = 0;     // 0: the direct sound's own shape; more: low-passed copies
+  // The arrival in W as the pursuit took it out (its amplitude times its shifted atom),
+  // sample w_first + i of the RIR at w_model[i].
+  std::vector<double> w_model;
+  std::size_t w_first = 0;
+};
+
+// The pursuit's arrivals and what it leaves of W: the RIR's W less every arrival's
+// w_model, sample residual_first + i at w_residual[i] (the span the pursuit searched).
+// An arrival alone is w_residual plus its own w_model: its neighbours taken out, the rest
+// (the diffuse part, what no atom explains of its own shape) kept.
+struct MatchedPursuit {
+  std::vector<MatchedArrival> arrivals;
+  std::vector<double> w_residual;
+  std::size_t residual_first = 0;
 };
 
 // result[0] is the direct sound at direct_time_s; the rest are arrivals after it up to
 // end_s, by time. InputError for fewer than 4 channels or bad options.
 std::vector<MatchedArrival> matchedPursuitArrivals(const AudioBuffer& ambix_first_order, double direct_time_s,
                                                    double end_s, const MatchedArrivalOptions& options = {});
+// The same, with W's residual.
+MatchedPursuit matchedPursuit(const AudioBuffer& ambix_first_order, double direct_time_s, double end_s,
+                              const MatchedArrivalOptions& options = {});
 
 // InputError naming the bad field unless the options are usable.
 void validateMatchedArrivalOptions(const MatchedArrivalOptions& options);

@@ -50,6 +50,15 @@ void validateInput(const AudioBuffer& ambix, const EarlyReflectionOptions& optio
                "the W channel (ACN 0) is silent, every sample is zero; check the recording and the channel order");
 }
 
+// sqrt of the energy of W under the analysis window at time_s, W's sample n being w_at(n).
+template <class WAt>
+double windowLevel(double time_s, std::size_t frames, const EarlyReflectionOptions& options, const WAt& w_at) {
+  const SampleWindow window = hammingWindowAt(time_s * kInternalSampleRateHz, options.analysis_window_s * kInternalSampleRateHz, frames);
+  double energy = 0.0;
+  for (std::size_t i = 0; i < window.weights.size(); ++i) energy += std::pow(window.weights[i] * w_at(window.first + i), 2);
+  return std::sqrt(energy);
+}
+
 // Level, direction and spectral shape of the arrival at time_s, over the analysis window.
 EarlyReflection analyseArrival(const AudioBuffer& ambix, double time_s, const EarlyReflectionOptions& options) {
   const double fs = ambix.sample_rate_hz;
@@ -144,12 +153,15 @@ std::vector<EarlyReflection> selectReflections(std::vector<EarlyReflection> late
 // parts arrivals 0.2 ms apart, and a 2 ms window around each holds its neighbours too, so
 // window levels count the direct sound again in an arrival kept 0.2 ms after it, and a
 // cluster of close reflections once per member (on the measured RIRs that lengthens the
-// resynthesis's EDT by several per cent, docs/rsao.md). The direct sound keeps its window
-// level: the window also holds the loudspeaker's response after the atom's 0.25 ms, which
-// belongs to the direct sound.
+// resynthesis's EDT by several per cent, docs/rsao.md). The direct sound's level is its
+// window's, with the pursuit's other arrivals taken out of W: the window also holds the
+// loudspeaker's response after the atom's 0.25 ms, which belongs to the direct sound, but
+// a floor reflection 0.5 ms after it does not (it put the direct sound up to 1.1 dB too
+// loud on the near-direct rooms of reflection_rooms.h, and the DRR with it).
 std::vector<EarlyReflection> matchedReflections(const AudioBuffer& ambix, double direct_time_s, double limit_s,
                                                 const EarlyReflectionOptions& options) {
-  const std::vector<MatchedArrival> arrivals = matchedPursuitArrivals(ambix, direct_time_s, limit_s, options.matched);
+  const MatchedPursuit pursuit = matchedPursuit(ambix, direct_time_s, limit_s, options.matched);
+  const std::vector<MatchedArrival>& arrivals = pursuit.arrivals;
   const auto analyse = [&](const MatchedArrival& m) {
     EarlyReflection r = analyseArrival(ambix, m.time_s, options);
     const DirectionOfArrival doa = directionFromVector(m.direction);
@@ -161,6 +173,19 @@ std::vector<EarlyReflection> matchedReflections(const AudioBuffer& ambix, double
     return r;
   };
   std::vector<EarlyReflection> result{analyse(arrivals.front())};
+  {
+    // W with every arrival but the direct sound taken out: the pursuit's residual plus the
+    // direct sound's own atom, within the span the pursuit searched.
+    const MatchedArrival& direct = arrivals.front();
+    const std::vector<float>& w = ambix.channels[kAcnW];
+    const std::size_t residual_end = pursuit.residual_first + pursuit.w_residual.size();
+    const auto direct_alone = [&](std::size_t n) {
+      if (n < pursuit.residual_first || n >= residual_end) return static_cast<double>(w[n]);
+      const bool in_atom = n >= direct.w_first && n < direct.w_first + direct.w_model.size();
+      return pursuit.w_residual[n - pursuit.residual_first] + (in_atom ? direct.w_model[n - direct.w_first] : 0.0);
+    };
+    result.front().level = windowLevel(direct.time_s, ambix.frameCount(), options, direct_alone);
+  }
   // Strongest by the arrival's own amplitude in the pursuit: the window's level also holds
   // its neighbours, which would rank a weak reflection beside a strong one above a lone
   // reflection stronger than it.

@@ -260,6 +260,18 @@ class Pursuit {
   }
 
   const Atom& atom(std::size_t a) const { return atoms_[a]; }
+  const std::vector<double>& residualW() const { return residual_[0]; }
+  std::size_t first() const { return first_; }
+  // The W the arrival's subtraction took out: amplitude times the shifted atom's W shape,
+  // clipped to the span, and the RIR sample it starts at.
+  std::vector<double> modelW(const ShiftedAtom& atom, long lag, double amplitude, std::size_t& first_sample) const {
+    const long start = std::max(0L, lag - kShiftHalfWidth);
+    const long stop = std::min(static_cast<long>(size()), lag - kShiftHalfWidth + static_cast<long>(atom.w.size()));
+    first_sample = first_ + static_cast<std::size_t>(start);
+    std::vector<double> out;
+    for (long n = start; n < stop; ++n) out.push_back(amplitude * atom.w[static_cast<std::size_t>(n - lag + kShiftHalfWidth)]);
+    return out;
+  }
   std::size_t longestAtom() const {
     std::size_t n = 0;
     for (const Atom& a : atoms_) n = std::max(n, a.samples.size());
@@ -324,6 +336,11 @@ void validateMatchedArrivalOptions(const MatchedArrivalOptions& o) {
 
 std::vector<MatchedArrival> matchedPursuitArrivals(const AudioBuffer& ambix, double direct_time_s, double end_s,
                                                    const MatchedArrivalOptions& options) {
+  return matchedPursuit(ambix, direct_time_s, end_s, options).arrivals;
+}
+
+MatchedPursuit matchedPursuit(const AudioBuffer& ambix, double direct_time_s, double end_s,
+                              const MatchedArrivalOptions& options) {
   validateMatchedArrivalOptions(options);
   if (ambix.channelCount() < 4) {
     throw InputError("matched arrivals: needs first-order B-format (4 channels, AmbiX W, Y, Z, X), got " +
@@ -388,6 +405,7 @@ std::vector<MatchedArrival> matchedPursuitArrivals(const AudioBuffer& ambix, dou
     m.directness = projectionDirectness(a);
     const double noise = pursuit.localPower(static_cast<double>(direct_lag) + pursuit.reference(), span);
     m.snr_db = noise > 0.0 ? 10.0 * std::log10(m.amplitude * m.amplitude / noise) : 300.0;
+    m.w_model = pursuit.modelW(shifted_atom, direct_lag, a[0], m.w_first);
     result.push_back(m);
   }
   const double floor = std::abs(result.front().amplitude) * std::pow(10.0, options.relative_threshold_db / 20.0);
@@ -464,11 +482,12 @@ std::vector<MatchedArrival> matchedPursuitArrivals(const AudioBuffer& ambix, dou
     m.directness = projectionDirectness(a);
     m.snr_db = noise > 0.0 ? 10.0 * std::log10(peak / noise) : 300.0;
     m.atom = atom;
+    m.w_model = pursuit.modelW(shifted_atom, lag, a[0], m.w_first);
     result.push_back(m);
   }
   std::sort(result.begin() + 1, result.end(),
             [](const MatchedArrival& x, const MatchedArrival& y) { return x.time_s < y.time_s; });
-  return result;
+  return {std::move(result), pursuit.residualW(), pursuit.first()};
 }
 
 }  // namespace room_reverb::core
