@@ -14,6 +14,7 @@
 #include "room_reverb/acoustics/impulse_response_synthesis.h"
 #include "room_reverb/rsao/analysis_window.h"
 #include "room_reverb/rsao/early_reflections.h"
+#include "room_reverb/rsao/matched_arrivals.h"
 #include "shoebox.h"
 #include "synthetic_rir.h"
 #include "test_files.h"
@@ -530,6 +531,35 @@ TEST(EarlyReflections, TheDirectSoundsLevelLeavesOutAReflectionInsideItsWindow) 
     EXPECT_NEAR(estimates[0].level, 1.0, 1e-3) << reflection;
     EXPECT_NEAR(estimates[1].level, reflection, 1e-3) << reflection;
   }
+}
+
+TEST(MatchedPursuit, ItsArrivalsAndItsResidualAddUpToW) {
+  // What the pursuit took out and what it left are the RIR's W again, sample by sample, over
+  // the span it searched; each arrival's own part is its amplitude times a unit-energy atom.
+  const auto& rir = syntheticRirs()[0];
+  const double direct_s = rir.truth.front().time_s;
+  const MatchedPursuit pursuit = matchedPursuit(rir.ambix, direct_s, direct_s + 0.03);
+  ASSERT_GE(pursuit.arrivals.size(), 5u);
+  ASSERT_FALSE(pursuit.w_residual.empty());
+  std::vector<double> sum = pursuit.w_residual;
+  for (const MatchedArrival& m : pursuit.arrivals) {
+    ASSERT_GE(m.w_first, pursuit.residual_first);
+    ASSERT_LE(m.w_first + m.w_model.size(), pursuit.residual_first + sum.size());
+    double energy = 0.0;
+    for (std::size_t i = 0; i < m.w_model.size(); ++i) {
+      sum[m.w_first - pursuit.residual_first + i] += m.w_model[i];
+      energy += m.w_model[i] * m.w_model[i];
+    }
+    EXPECT_NEAR(std::sqrt(energy), std::abs(m.amplitude), 0.01 * std::abs(m.amplitude));
+  }
+  double worst = 0.0;
+  for (std::size_t i = 0; i < sum.size(); ++i) {
+    worst = std::max(worst, std::abs(sum[i] - rir.ambix.channels[0][pursuit.residual_first + i]));
+  }
+  EXPECT_LT(worst, 1e-6);
+  const std::vector<MatchedArrival> arrivals = matchedPursuitArrivals(rir.ambix, direct_s, direct_s + 0.03);
+  ASSERT_EQ(arrivals.size(), pursuit.arrivals.size());
+  for (std::size_t k = 0; k < arrivals.size(); ++k) EXPECT_EQ(arrivals[k].time_s, pursuit.arrivals[k].time_s);
 }
 
 TEST(EarlyReflections, ALoneImpulseIsTheDirectSoundOnly) {
