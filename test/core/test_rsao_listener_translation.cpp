@@ -871,6 +871,21 @@ double bandMedian(const std::vector<double>& early_db, std::size_t band) {
   return quantileLinear(values, 0.5);
 }
 
+TEST(ListenerTranslation, TheDirectSoundKeepsItsLevelWhereAReflectionFollowsItClosely) {
+  // The near-direct development rooms: a reflection within the direct sound's 2 ms window.
+  // Their DRR at the capture point is within 0.6 dB of the room's (+0.3, +0.2 and +0.5 dB;
+  // with the window's whole energy as the direct sound's level +0.6, +0.8 and +0.8 dB).
+  int rooms = 0;
+  for (std::size_t index = 0; index < reflectionRoomCount(ReflectionRoomSet::kDevelopment); ++index) {
+    if (reflectionRoom(ReflectionRoomSet::kDevelopment, index).name.rfind("near-direct", 0) != 0) continue;
+    const MovedScore score = scoreMovedRoom(ReflectionRoomSet::kDevelopment, index, 0, true);
+    ASSERT_EQ(score.capture_drr_db.size(), 1u);
+    EXPECT_LT(std::abs(score.capture_drr_db.front()), 0.6) << index;
+    ++rooms;
+  }
+  EXPECT_EQ(rooms, 3);
+}
+
 TEST(ListenerTranslation, MovedLowBandsStayNearTheTruth) {
   // The early energy at the moved positions, 125 and 250 Hz: each tap's LPC fitted with the
   // spectrum held below the window's resolution (early_reflections.h) against the paper's
