@@ -156,8 +156,8 @@ std::vector<EarlyReflection> selectReflections(std::vector<EarlyReflection> late
 // resynthesis's EDT by several per cent, docs/rsao.md). The direct sound's level is its
 // window's, with the pursuit's other arrivals taken out of W: the window also holds the
 // loudspeaker's response after the atom's 0.25 ms, which belongs to the direct sound, but
-// a floor reflection 0.5 ms after it does not (it put the direct sound up to 1.1 dB too
-// loud on the near-direct rooms of reflection_rooms.h, and the DRR with it).
+// a floor reflection 0.5 ms after it does not (counted, it makes the direct sound up to
+// 1.1 dB too loud in the near-direct rooms of reflection_rooms.h, and the DRR with it).
 std::vector<EarlyReflection> matchedReflections(const AudioBuffer& ambix, double direct_time_s, double limit_s,
                                                 const EarlyReflectionOptions& options) {
   const MatchedPursuit pursuit = matchedPursuit(ambix, direct_time_s, limit_s, options.matched);
