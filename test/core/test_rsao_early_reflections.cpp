@@ -330,23 +330,42 @@ TEST(EarlyReflections, ReflectionsAreOrderedAndCarryTheirSpectralModel) {
     EXPECT_GT(estimates[i].time_of_arrival_s, estimates[i - 1].time_of_arrival_s);
     EXPECT_LE(estimates[i].time_of_arrival_s, estimates[0].time_of_arrival_s + 0.08 + 1e-9);
   }
-  for (const auto& r : estimates) {
+  // Gain matching: the SOS impulse response has the energy of W under the analysis window
+  // (the paper's E_k), of the arrival alone for a reflection (W less the pursuit's other
+  // arrivals) and of the RIR for the direct sound; matching pursuit's level is the
+  // arrival's own amplitude, which the renderer scales the tap to.
+  const MatchedPursuit pursuit = matchedPursuit(rir.ambix, estimates[0].time_of_arrival_s,
+                                                estimates[0].time_of_arrival_s + options.default_early_duration_s,
+                                                options.matched);
+  const auto windowEnergy = [&](double time_s, const MatchedArrival* alone) {
+    const SampleWindow window = hammingWindowAt(time_s * kFs, 0.002 * kFs, rir.ambix.frameCount());
+    double energy = 0.0;
+    for (std::size_t i = 0; i < window.weights.size(); ++i) {
+      const std::size_t n = window.first + i;
+      double w = rir.ambix.channels[0][n];
+      if (alone && n >= pursuit.residual_first && n < pursuit.residual_first + pursuit.w_residual.size()) {
+        w = pursuit.w_residual[n - pursuit.residual_first];
+        if (n >= alone->w_first && n < alone->w_first + alone->w_model.size()) w += alone->w_model[n - alone->w_first];
+      }
+      energy += std::pow(window.weights[i] * w, 2);
+    }
+    return energy;
+  };
+  for (std::size_t k = 0; k < estimates.size(); ++k) {
+    const EarlyReflection& r = estimates[k];
     ASSERT_EQ(r.lpc.size(), 10u);
     EXPECT_EQ(r.lpc[0], 1.0);
     EXPECT_EQ(r.sos.size(), 5u);
-    // Gain matching: the SOS impulse response has the energy of W under the analysis
-    // window (the paper's E_k; matching pursuit's level is the arrival's own amplitude,
-    // which the renderer scales the tap to).
     std::vector<double> x(20000, 0.0);
     x[0] = 1.0;
     double energy = 0.0;
     for (double v : filterSections(r.sos, x)) energy += v * v;
-    const SampleWindow window = hammingWindowAt(r.time_of_arrival_s * kFs, 0.002 * kFs, rir.ambix.frameCount());
-    double window_energy = 0.0;
-    for (std::size_t i = 0; i < window.weights.size(); ++i) {
-      window_energy += std::pow(window.weights[i] * rir.ambix.channels[0][window.first + i], 2);
+    const MatchedArrival* alone = nullptr;
+    for (const MatchedArrival& m : pursuit.arrivals) {
+      if (k > 0 && m.time_s == r.time_of_arrival_s) alone = &m;
     }
-    EXPECT_NEAR(energy / window_energy, 1.0, 1e-3);
+    ASSERT_TRUE(k == 0 || alone) << k;
+    EXPECT_NEAR(energy / windowEnergy(r.time_of_arrival_s, alone), 1.0, 1e-3) << k;
   }
 }
 
@@ -560,6 +579,15 @@ TEST(MatchedPursuit, ItsArrivalsAndItsResidualAddUpToW) {
   const std::vector<MatchedArrival> arrivals = matchedPursuitArrivals(rir.ambix, direct_s, direct_s + 0.03);
   ASSERT_EQ(arrivals.size(), pursuit.arrivals.size());
   for (std::size_t k = 0; k < arrivals.size(); ++k) EXPECT_EQ(arrivals[k].time_s, pursuit.arrivals[k].time_s);
+}
+
+TEST(MatchedPursuit, BadSeparationsAreRefusedInOneLine) {
+  for (const auto& [field, value] : {std::pair{"min_separation_s", -1e-4}, std::pair{"min_separation_s", 0.5},
+                                     std::pair{"direct_guard_s", -1e-4}, std::pair{"direct_guard_s", std::nan("")}}) {
+    MatchedArrivalOptions options;
+    (std::string(field) == "min_separation_s" ? options.min_separation_s : options.direct_guard_s) = value;
+    expectInputError([&] { validateMatchedArrivalOptions(options); }, {field, "use 0 to 0.01 s"});
+  }
 }
 
 TEST(EarlyReflections, ALoneImpulseIsTheDirectSoundOnly) {

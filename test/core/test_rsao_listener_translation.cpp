@@ -887,11 +887,12 @@ TEST(ListenerTranslation, TheDirectSoundKeepsItsLevelWhereAReflectionFollowsItCl
 }
 
 TEST(ListenerTranslation, MovedLowBandsStayNearTheTruth) {
-  // The early energy at the moved positions, 125 and 250 Hz: each tap's LPC fitted with the
-  // spectrum held below the window's resolution (early_reflections.h) against the paper's
-  // fit of the whole window, whose taps carry their neighbours' low frequencies once each.
-  // The eight development shoeboxes, four steps each (measured: +0.41 and +0.91 dB, |error|
-  // median 0.62 dB over 125 Hz-4 kHz; the paper's fit +1.33, +1.51 and 0.72 dB).
+  // The early energy at the moved positions, 125 and 250 Hz, of the eight development
+  // shoeboxes, four steps each: each tap fitted on its arrival alone (early_reflections.h),
+  // its spectrum held below the window's resolution (the default) or fitted whole (the
+  // paper's). Measured: +0.41 and +0.57 dB, |error| median 0.50 dB over 125 Hz-4 kHz; the
+  // paper's fit +0.36, +0.50 and 0.47 dB. Fitted on the RIR's window, whose taps carry their
+  // neighbours' low frequencies once each, the paper's fit gives +1.33, +1.51 and 0.72 dB.
   RsaoOptions paper;
   paper.early.lpc_flat_below_hz = 0.0;
   MovedScore held, whole;
@@ -907,10 +908,11 @@ TEST(ListenerTranslation, MovedLowBandsStayNearTheTruth) {
               bandMedian(held.moved_early_db, 0), bandMedian(held.moved_early_db, 1), quantileLinear(held_abs, 0.5),
               bandMedian(whole.moved_early_db, 0), bandMedian(whole.moved_early_db, 1), quantileLinear(whole_abs, 0.5));
   for (std::size_t band : {0u, 1u}) {
-    EXPECT_LT(bandMedian(held.moved_early_db, band), bandMedian(whole.moved_early_db, band) - 0.4) << band;
-    EXPECT_LT(std::abs(bandMedian(held.moved_early_db, band)), 1.5) << band;
+    EXPECT_LT(std::abs(bandMedian(held.moved_early_db, band)), 0.8) << band;
+    EXPECT_LT(std::abs(bandMedian(whole.moved_early_db, band)), 0.8) << band;
   }
-  EXPECT_LT(quantileLinear(held_abs, 0.5), quantileLinear(whole_abs, 0.5));
+  EXPECT_LT(quantileLinear(held_abs, 0.5), 0.6);
+  EXPECT_LT(quantileLinear(whole_abs, 0.5), 0.6);
 }
 
 // The report of docs/six_dof.md over both sets; ROOM_REVERB_PER_ROOM=1 adds each room's

@@ -179,10 +179,13 @@ TEST(ReflectionRecall, MatchedPursuitLevelsAreTheArrivalsOwn) {
 
 // Each tap's spectral shape against its arrival's, per octave 125 Hz-4 kHz: the band energy
 // of the tap as the resynthesis plays it (reflection_tap.h) over the truth's (the rooms'
-// pulses are flat to 20 kHz in the shoeboxes). A 2 ms window resolves nothing below about
-// 500 Hz, and in a dense early part it holds its neighbours' low frequencies, coherently:
-// the paper's fit of the whole window puts +2.1 dB at 125 Hz into the median tap; held below
-// 1/D, +0.6 dB. Development shoeboxes, every estimated arrival within 0.1 ms of one.
+// pulses are flat to 20 kHz in the shoeboxes). A 2 ms window of the RIR holds the
+// arrival's neighbours, whose low frequencies add there coherently (the paper's fit of it
+// puts +2.1 dB at 125 Hz into the median tap); each tap is fitted on its arrival alone (W
+// less the pursuit's other arrivals, early_reflections.h): +0.60, +0.56 and +0.42 dB at 125,
+// 250 and 500 Hz with the spectrum held below 1/D, +0.46, +0.42 and +0.32 dB with the
+// paper's fit of that window. Development shoeboxes, every estimated arrival within 0.1 ms
+// of one.
 TEST(ReflectionRecall, TapsCarryTheArrivalsLowFrequencies) {
   const BandFilterBank bank = [] {
     std::vector<FrequencyBand> bands;
@@ -247,7 +250,7 @@ TEST(ReflectionRecall, TapsCarryTheArrivalsLowFrequencies) {
   std::printf(" dB)\n");
   for (std::size_t b = 0; b < 3; ++b) {  // 125-500 Hz
     EXPECT_LT(std::abs(held[b]), 1.0) << b;
-    EXPECT_GT(whole[b], 1.5) << b;
+    EXPECT_LT(std::abs(whole[b]), 1.0) << b;
   }
   for (std::size_t b = 3; b < held.size(); ++b) EXPECT_LT(std::abs(held[b]), 1.0) << b;
 }

@@ -59,14 +59,17 @@ double windowLevel(double time_s, std::size_t frames, const EarlyReflectionOptio
   return std::sqrt(energy);
 }
 
-// Level, direction and spectral shape of the arrival at time_s, over the analysis window.
-EarlyReflection analyseArrival(const AudioBuffer& ambix, double time_s, const EarlyReflectionOptions& options) {
+// Level, direction and spectral shape of the arrival at time_s, over the analysis window;
+// `w_at(n)` gives sample n of the W it is measured on (the RIR's, or one arrival alone).
+template <class WAt>
+EarlyReflection analyseArrival(const AudioBuffer& ambix, double time_s, const EarlyReflectionOptions& options,
+                               const WAt& w_at) {
   const double fs = ambix.sample_rate_hz;
   const SampleWindow window = hammingWindowAt(time_s * fs, options.analysis_window_s * fs, ambix.frameCount());
   std::vector<double> segment(window.weights.size());
   double energy = 0.0;
   for (std::size_t i = 0; i < segment.size(); ++i) {
-    segment[i] = window.weights[i] * ambix.channels[kAcnW][window.first + i];
+    segment[i] = window.weights[i] * w_at(window.first + i);
     energy += segment[i] * segment[i];
   }
   const CardioidSteeringStatistics stats = steeringStatistics(ambix, window);
@@ -86,6 +89,11 @@ EarlyReflection analyseArrival(const AudioBuffer& ambix, double time_s, const Ea
   r.lpc_gain = lpc.gain;
   r.sos = allPoleToSections(lpc.a, lpc.gain);
   return r;
+}
+
+EarlyReflection analyseArrival(const AudioBuffer& ambix, double time_s, const EarlyReflectionOptions& options) {
+  const std::vector<float>& w = ambix.channels[kAcnW];
+  return analyseArrival(ambix, time_s, options, [&w](std::size_t n) { return static_cast<double>(w[n]); });
 }
 
 // The direct sound, the first strong arrival: of the group-delay arrivals near the ISO
@@ -147,23 +155,36 @@ std::vector<EarlyReflection> selectReflections(std::vector<EarlyReflection> late
 }
 
 // The arrivals by matching pursuit (matched_arrivals.h): times, directions and the
-// reflections' levels from the pursuit, spectra over the analysis window as the paper takes
-// them. A reflection's level is its own amplitude in W (the square root of its energy, the
-// paper's A_k for an isolated arrival), not the energy of the window around it: the pursuit
-// parts arrivals 0.2 ms apart, and a 2 ms window around each holds its neighbours too, so
-// window levels count the direct sound again in an arrival kept 0.2 ms after it, and a
-// cluster of close reflections once per member (on the measured RIRs that lengthens the
-// resynthesis's EDT by several per cent, docs/rsao.md). The direct sound's level is its
-// window's, with the pursuit's other arrivals taken out of W: the window also holds the
-// loudspeaker's response after the atom's 0.25 ms, which belongs to the direct sound, but
-// a floor reflection 0.5 ms after it does not (counted, it makes the direct sound up to
-// 1.1 dB too loud in the near-direct rooms of reflection_rooms.h, and the DRR with it).
+// reflections' levels from the pursuit. A reflection's level is its own amplitude in W (the
+// square root of its energy, the paper's A_k for an isolated arrival), not the energy of
+// the window around it, and its spectrum is fitted on the window of the arrival alone (W
+// with the pursuit's other arrivals taken out): the pursuit parts arrivals 0.1 ms apart,
+// and a 2 ms window round each holds its neighbours too, so window levels count the direct
+// sound again in an arrival kept just after it and a cluster of close reflections once per
+// member (on the measured RIRs that lengthens the resynthesis's EDT by several per cent,
+// docs/rsao.md), and a window's spectrum holds the neighbours' low frequencies, which add
+// coherently there, and their comb. The direct sound's level is its window's, its other
+// arrivals taken out too: the window holds the loudspeaker's response after the atom's
+// 0.25 ms, which belongs to the direct sound (and which the pursuit's guard keeps there),
+// but a floor reflection 0.5 ms after it does not (counted, it makes the direct sound up to
+// 1.1 dB too loud in the near-direct rooms of reflection_rooms.h, and the DRR with it). Its
+// spectrum is its window's: the loudspeaker's response is its spectrum.
 std::vector<EarlyReflection> matchedReflections(const AudioBuffer& ambix, double direct_time_s, double limit_s,
                                                 const EarlyReflectionOptions& options) {
   const MatchedPursuit pursuit = matchedPursuit(ambix, direct_time_s, limit_s, options.matched);
   const std::vector<MatchedArrival>& arrivals = pursuit.arrivals;
-  const auto analyse = [&](const MatchedArrival& m) {
-    EarlyReflection r = analyseArrival(ambix, m.time_s, options);
+  const std::vector<float>& w = ambix.channels[kAcnW];
+  const std::size_t residual_end = pursuit.residual_first + pursuit.w_residual.size();
+  // W with every arrival but m taken out: the pursuit's residual plus m's own atom, within
+  // the span the pursuit searched.
+  const auto alone = [&](const MatchedArrival& m) {
+    return [&](std::size_t n) {
+      if (n < pursuit.residual_first || n >= residual_end) return static_cast<double>(w[n]);
+      const bool in_atom = n >= m.w_first && n < m.w_first + m.w_model.size();
+      return pursuit.w_residual[n - pursuit.residual_first] + (in_atom ? m.w_model[n - m.w_first] : 0.0);
+    };
+  };
+  const auto withOwnDirection = [&](EarlyReflection r, const MatchedArrival& m) {
     const DirectionOfArrival doa = directionFromVector(m.direction);
     r.azimuth_rad = doa.azimuth_rad;
     r.elevation_rad = doa.elevation_rad;
@@ -172,20 +193,9 @@ std::vector<EarlyReflection> matchedReflections(const AudioBuffer& ambix, double
     r.confidence = m.directness;
     return r;
   };
-  std::vector<EarlyReflection> result{analyse(arrivals.front())};
-  {
-    // W with every arrival but the direct sound taken out: the pursuit's residual plus the
-    // direct sound's own atom, within the span the pursuit searched.
-    const MatchedArrival& direct = arrivals.front();
-    const std::vector<float>& w = ambix.channels[kAcnW];
-    const std::size_t residual_end = pursuit.residual_first + pursuit.w_residual.size();
-    const auto direct_alone = [&](std::size_t n) {
-      if (n < pursuit.residual_first || n >= residual_end) return static_cast<double>(w[n]);
-      const bool in_atom = n >= direct.w_first && n < direct.w_first + direct.w_model.size();
-      return pursuit.w_residual[n - pursuit.residual_first] + (in_atom ? direct.w_model[n - direct.w_first] : 0.0);
-    };
-    result.front().level = windowLevel(direct.time_s, ambix.frameCount(), options, direct_alone);
-  }
+  const MatchedArrival& direct = arrivals.front();
+  std::vector<EarlyReflection> result{withOwnDirection(analyseArrival(ambix, direct.time_s, options), direct)};
+  result.front().level = windowLevel(direct.time_s, ambix.frameCount(), options, alone(direct));
   // Strongest by the arrival's own amplitude in the pursuit: the window's level also holds
   // its neighbours, which would rank a weak reflection beside a strong one above a lone
   // reflection stronger than it.
@@ -193,7 +203,7 @@ std::vector<EarlyReflection> matchedReflections(const AudioBuffer& ambix, double
   const double floor = result.front().level * std::pow(10.0, options.level_threshold_db / 20.0);
   std::vector<EarlyReflection> reflections(arrivals.size());
   for (std::size_t k = 1; k < arrivals.size(); ++k) {
-    reflections[k] = analyse(arrivals[k]);
+    reflections[k] = withOwnDirection(analyseArrival(ambix, arrivals[k].time_s, options, alone(arrivals[k])), arrivals[k]);
     reflections[k].level = std::abs(arrivals[k].amplitude);
     if (options.selection == ReflectionSelection::kAboveLevelThreshold && reflections[k].level < floor) continue;
     order.push_back(k);

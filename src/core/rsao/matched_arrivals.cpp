@@ -325,7 +325,9 @@ void validateMatchedArrivalOptions(const MatchedArrivalOptions& o) {
   } else if (!(o.noise_span_s > 0.0 && o.noise_span_s <= 0.05)) {
     os << "noise_span_s = " << o.noise_span_s << " s; use (0, 0.05] s, e.g. 0.002";
   } else if (!(o.min_separation_s >= 0.0 && o.min_separation_s <= 0.01)) {
-    os << "min_separation_s = " << o.min_separation_s << " s; use 0 to 0.01 s, e.g. 0.0002";
+    os << "min_separation_s = " << o.min_separation_s << " s; use 0 to 0.01 s, e.g. 0.0001";
+  } else if (!(o.direct_guard_s >= 0.0 && o.direct_guard_s <= 0.01)) {
+    os << "direct_guard_s = " << o.direct_guard_s << " s; use 0 to 0.01 s, e.g. 0.0002";
   } else if (!(o.relative_threshold_db <= 0.0) || !std::isfinite(o.relative_threshold_db)) {
     os << "relative_threshold_db = " << o.relative_threshold_db << "; use a finite level at or below 0 dB, e.g. -30";
   } else {
@@ -412,11 +414,13 @@ MatchedPursuit matchedPursuit(const AudioBuffer& ambix, double direct_time_s, do
   const double min_snr = std::pow(10.0, options.min_detection_snr_db / 10.0);
   const long separation = static_cast<long>(std::ceil(options.min_separation_s * fs));
 
-  // Lags whose arrival time lies after the direct sound (by the separation) and by end_s.
+  // Lags whose arrival time lies after the direct sound (by its guard and the separation)
+  // and by end_s.
+  const double first_s = direct_time_s + std::max(options.min_separation_s, options.direct_guard_s);
   std::vector<bool> open(pursuit.size(), false);
   for (std::size_t i = 0; i < open.size(); ++i) {
     const double t = pursuit.timeOfLag(static_cast<double>(i)) / fs;
-    open[i] = t >= direct_time_s + options.min_separation_s && t <= end_s;
+    open[i] = t >= first_s && t <= end_s;
   }
   const auto close = [&](long lag) {
     for (long i = std::max(0L, lag - separation); i <= std::min(static_cast<long>(open.size()) - 1, lag + separation); ++i)
@@ -442,7 +446,7 @@ MatchedPursuit matchedPursuit(const AudioBuffer& ambix, double direct_time_s, do
       for (long i = std::max(0L, r.lag - separation); i <= std::min(static_cast<long>(open.size()) - 1, r.lag + separation); ++i) {
         const double t = pursuit.timeOfLag(static_cast<double>(i)) / fs;
         const bool near_accepted = std::any_of(accepted.begin(), accepted.end(), [&](long a) { return std::abs(a - i) <= separation; });
-        open[static_cast<std::size_t>(i)] = !near_accepted && t >= direct_time_s + options.min_separation_s && t <= end_s;
+        open[static_cast<std::size_t>(i)] = !near_accepted && t >= first_s && t <= end_s;
       }
     }
   };
