@@ -177,6 +177,9 @@ struct Tracer {
   bool tracking = false;      // the receiver is the track receiver (RayTracingOptions::track_radius_m)
   double track_weight = 0.0;  // then 1 / its free volume (m^-3)
   TriangleVisibility visibility;  // where on each triangle the listener is seen (the rain needs no ray)
+  // With record_launch_cells: the air's loss at the middle of each bin of kLaunchCellBinS,
+  // per band (kOctaveBandCount values a bin).
+  std::vector<double> cell_air;
 
   Tracer(const AcousticScene& scene_, const Eigen::Vector3d& source_, const Eigen::Vector3d& listener_,
          const PropagationModel& model_, const RayTracingOptions& options_, double receiver_radius_m_,
@@ -195,6 +198,14 @@ struct Tracer {
     const TriangleMesh& mesh = scene.mesh();
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) plane_offset.push_back(mesh.normal(t).dot(mesh.vertices[mesh.triangles[t][0]]));
     bin_length_m = options.bin_s * model.speed_of_sound_m_s;
+    if (options.record_launch_cells) {
+      const auto cell_bins = static_cast<std::size_t>(std::ceil(options.max_time_s / kLaunchCellBinS));
+      const double cell_bin_m = kLaunchCellBinS * model.speed_of_sound_m_s;
+      for (std::size_t k = 0; k < cell_bins; ++k) {
+        const double middle_m = (static_cast<double>(k) + 0.5) * cell_bin_m;
+        for (int b = 0; b < kOctaveBandCount; ++b) cell_air.push_back(std::exp(-model.air_attenuation_per_m[b] * middle_m));
+      }
+    }
     loss_bin_m = kFlightBinS * model.speed_of_sound_m_s;
     mean_free_path_m = scene.closed() && scene.volumeM3() > 0.0 ? 4.0 * scene.volumeM3() / scene.surfaceM2() : 0.0;
     roulette_level = ray_energy * std::pow(10.0, options.roulette_db / 10.0);
@@ -348,10 +359,8 @@ struct Tracer {
     const double bin_m = kLaunchCellBinS * model.speed_of_sound_m_s;
     OctaveBandValues* cell = &by_cell[static_cast<std::size_t>(ray.launch_cell) * bins];
     forBinsCovered(from_m, to_m, bin_m, bins, [&](std::size_t k, double share) {
-      const double middle_m = (static_cast<double>(k) + 0.5) * bin_m;
-      for (int b = 0; b < kOctaveBandCount; ++b) {
-        cell[k][b] += share * ray.energy[b] * std::exp(-model.air_attenuation_per_m[b] * middle_m);
-      }
+      const double* loss = &cell_air[k * kOctaveBandCount];
+      for (int b = 0; b < kOctaveBandCount; ++b) cell[k][b] += share * ray.energy[b] * loss[b];
     });
   }
 
@@ -571,7 +580,7 @@ RayTracingResult traceRays(const AcousticScene& scene, const Eigen::Vector3d& so
   std::vector<std::vector<OctaveBandValues>> in_flight(
       options.record_energy_in_flight ? static_cast<std::size_t>(threads) : 0, std::vector<OctaveBandValues>(bins, OctaveBandValues{}));
   std::vector<std::vector<OctaveBandValues>> late_in_flight = in_flight;
-  const auto cell_bins = static_cast<std::size_t>(std::ceil(options.max_time_s / kLaunchCellBinS));
+  const std::size_t cell_bins = tracer.cell_air.size() / kOctaveBandCount;  // 0 unless record_launch_cells
   std::vector<std::vector<OctaveBandValues>> by_cell(options.record_launch_cells ? static_cast<std::size_t>(threads) : 0,
                                                      std::vector<OctaveBandValues>(kLaunchCells * cell_bins, OctaveBandValues{}));
   const bool continuing = options.continue_established_decays;

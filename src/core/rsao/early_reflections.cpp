@@ -50,15 +50,6 @@ void validateInput(const AudioBuffer& ambix, const EarlyReflectionOptions& optio
                "the W channel (ACN 0) is silent, every sample is zero; check the recording and the channel order");
 }
 
-// sqrt of the energy of W under the analysis window at time_s, W's sample n being w_at(n).
-template <class WAt>
-double windowLevel(double time_s, std::size_t frames, const EarlyReflectionOptions& options, const WAt& w_at) {
-  const SampleWindow window = hammingWindowAt(time_s * kInternalSampleRateHz, options.analysis_window_s * kInternalSampleRateHz, frames);
-  double energy = 0.0;
-  for (std::size_t i = 0; i < window.weights.size(); ++i) energy += std::pow(window.weights[i] * w_at(window.first + i), 2);
-  return std::sqrt(energy);
-}
-
 // Level, direction and spectral shape of the arrival at time_s, over the analysis window;
 // `w_at(n)` gives sample n of the W it is measured on (the RIR's, or one arrival alone).
 template <class WAt>
@@ -195,7 +186,7 @@ std::vector<EarlyReflection> matchedReflections(const AudioBuffer& ambix, double
   };
   const MatchedArrival& direct = arrivals.front();
   std::vector<EarlyReflection> result{withOwnDirection(analyseArrival(ambix, direct.time_s, options), direct)};
-  result.front().level = windowLevel(direct.time_s, ambix.frameCount(), options, alone(direct));
+  result.front().level = analyseArrival(ambix, direct.time_s, options, alone(direct)).level;
   // Strongest by the arrival's own amplitude in the pursuit: the window's level also holds
   // its neighbours, which would rank a weak reflection beside a strong one above a lone
   // reflection stronger than it.
