@@ -10,8 +10,8 @@
 // BM_PairToPointCloudExposedApart does the same with the bottom camera exposed apart from
 // the top one, as every real pair is; BM_PairToPointCloudWithoutPlanes without the tiles'
 // planes (SphericalStereoOptions::planar_refinement), for their cost in the same run. BM_PointCloudToRoomModel times the second half, the
-// point cloud to a room model with materials (roomLayoutFromCloud: layout fit plus
-// material step), with its accuracy as counters:
+// point cloud to a room model with materials (roomLayoutFromCloud: layout fit, material
+// step and relief), with its accuracy as counters:
 //   size_err_cm    largest error of the room's three dimensions [cm] (ceiling-less: two)
 //   yaw_err_deg    rig yaw error [deg]
 //   iou_min        lowest 3D IoU of a true object at least 0.5 m in its largest side with
@@ -24,6 +24,7 @@
 //                  (texture family) [%]
 //   layout_s       median wall-clock time of the layout fit (cloud -> cuboids) [s]
 //   materials_s    median wall-clock time of the material step [s]
+//   relief_s       median wall-clock time of the relief step [s]
 // Run: scripts/bench (all benchmarks) or .ws/devel/lib/room_reverb/bench_visual_route
 #include <benchmark/benchmark.h>
 
@@ -154,7 +155,7 @@ void BM_PointCloudToRoomModel(benchmark::State& state) {
   VisualRouteOptions options;
   loadDefaultMaterialModels(options);
   RoomLayout layout;
-  std::vector<double> layout_s, materials_s;
+  std::vector<double> layout_s, materials_s, relief_s;
   for (auto _ : state) {
     VisualRouteTimes times;
     try {
@@ -166,6 +167,7 @@ void BM_PointCloudToRoomModel(benchmark::State& state) {
     benchmark::DoNotOptimize(layout.model.objects.data());
     layout_s.push_back(times.layout_s);
     materials_s.push_back(times.materials_s);
+    relief_s.push_back(times.relief_s);
   }
   const RoomModel& got = layout.model;
   double size_err = 0.0;
@@ -200,6 +202,7 @@ void BM_PointCloudToRoomModel(benchmark::State& state) {
   state.counters["material_pct"] = 100.0 * right / std::max(total, 1e-9);
   state.counters["layout_s"] = median(layout_s);
   state.counters["materials_s"] = median(materials_s);
+  state.counters["relief_s"] = median(relief_s);
 }
 BENCHMARK(BM_PointCloudToRoomModel)->DenseRange(0, static_cast<int>(kScenes.size()) - 1)->Unit(benchmark::kMillisecond)
     ->Iterations(3)->UseRealTime();

@@ -1,5 +1,6 @@
 #include "room_reverb/ros/room_conversions.h"
 
+#include <algorithm>
 #include <array>
 #include <string>
 
@@ -25,6 +26,10 @@ core::OctaveBandValues bandValues(const std::vector<double>& values, const std::
   return out;
 }
 
+bool hasRelief(const core::OctaveBandValues& relief) {
+  return std::any_of(relief.begin(), relief.end(), [](double s) { return s > 0.0; });
+}
+
 }  // namespace
 
 core::RoomModel fromMessage(const room_reverb::RoomModel& msg) {
@@ -37,11 +42,18 @@ core::RoomModel fromMessage(const room_reverb::RoomModel& msg) {
   if (!msg.surface_confidence.empty() && msg.surface_confidence.size() != 6) {
     throw core::InputError("surface_confidence needs 6 values (floor, ceiling, walls x-, x+, y-, y+) or none");
   }
+  if (!msg.surface_relief_scattering.empty() && msg.surface_relief_scattering.size() != 6 * core::kOctaveBandCount) {
+    throw core::InputError("surface_relief_scattering needs 6 x 9 values (face by face, 63 Hz-16 kHz) or none");
+  }
   const auto faces = faceMaterials(msg);
   for (std::size_t i = 0; i < faces.size(); ++i) {
     if (!msg.has_ceiling && i == 1 && faces[i]->empty()) continue;
     if (faces[i]->empty()) throw core::InputError(std::string(core::kRoomSurfaceNames[i]) + " has no material");
-    model.surfaces[core::kRoomSurfaceNames[i]] = {*faces[i], msg.surface_confidence.empty() ? 1.0 : msg.surface_confidence[i]};
+    core::SurfaceAssignment& surface = model.surfaces[core::kRoomSurfaceNames[i]];
+    surface = {*faces[i], msg.surface_confidence.empty() ? 1.0 : msg.surface_confidence[i]};
+    for (int b = 0; b < core::kOctaveBandCount && !msg.surface_relief_scattering.empty(); ++b) {
+      surface.relief_scattering[b] = msg.surface_relief_scattering[i * core::kOctaveBandCount + b];
+    }
   }
   for (std::size_t i = 0; i < msg.objects.size(); ++i) {
     const auto& o = msg.objects[i];
@@ -52,6 +64,9 @@ core::RoomModel fromMessage(const room_reverb::RoomModel& msg) {
     object.size_m = {o.size.x, o.size.y, o.size.z};
     object.yaw_rad = o.yaw;
     object.confidence = o.confidence;
+    if (!o.relief_scattering.empty()) {
+      object.relief_scattering = bandValues(o.relief_scattering, "object " + object.label + " relief_scattering");
+    }
     model.objects.push_back(object);
   }
   for (const auto& m : msg.materials) {
@@ -83,6 +98,14 @@ room_reverb::RoomModel toMessage(const core::RoomModel& model) {
     *faces[i] = it == model.surfaces.end() ? "" : it->second.material;
     msg.surface_confidence.push_back(it == model.surfaces.end() ? 0.0 : it->second.confidence);
   }
+  const bool relief = std::any_of(model.surfaces.begin(), model.surfaces.end(),
+                                  [](const auto& entry) { return hasRelief(entry.second.relief_scattering); });
+  for (std::size_t i = 0; relief && i < faces.size(); ++i) {
+    const auto it = model.surfaces.find(core::kRoomSurfaceNames[i]);
+    for (int b = 0; b < core::kOctaveBandCount; ++b) {
+      msg.surface_relief_scattering.push_back(it == model.surfaces.end() ? 0.0 : it->second.relief_scattering[b]);
+    }
+  }
   for (const auto& o : model.objects) {
     room_reverb::Cuboid c;
     c.label = o.label;
@@ -95,6 +118,7 @@ room_reverb::RoomModel toMessage(const core::RoomModel& model) {
     c.size.z = o.size_m.z();
     c.yaw = o.yaw_rad;
     c.confidence = o.confidence;
+    if (hasRelief(o.relief_scattering)) c.relief_scattering.assign(o.relief_scattering.begin(), o.relief_scattering.end());
     msg.objects.push_back(c);
   }
   for (const auto& m : model.inline_materials) {

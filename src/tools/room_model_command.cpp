@@ -2,6 +2,7 @@
 // images -> spherical depth -> point cloud -> room model of labelled cuboids with
 // materials, written as the room.yaml that `room_reverb simulate --room` reads.
 #include <cmath>
+#include <iomanip>
 #include <iostream>
 #include <sstream>
 #include <opencv2/imgproc.hpp>
@@ -24,7 +25,7 @@ using namespace room_reverb::core;
 const char* kHelp = R"(usage: room_reverb room-model --top TOP.png (--bottom BOTTOM.png | --depth FILE) --out ROOM.yaml
                               [--baseline M] [--fisheye] [--calibration FILE] [--width W]
                               [--leveling image|none] [--cloud CLOUD.pcd] [--range RANGE.tiff]
-                              [--materials-override FILE.yaml]
+                              [--materials-override FILE.yaml] [--no-relief]
 
 The paper's visual route on a capture from two vertically aligned 360° cameras: spherical
 stereo along the image columns, the point cloud in the rig frame, the room box (walls,
@@ -55,9 +56,13 @@ or dual-fisheye with --fisheye. `room_reverb make-capture` renders test pairs.
                                           {label: sofa, material: fabric_upholstered_seat}]
                               names from config/materials.yaml; an overridden face or object
                               gets confidence 1 (see docs/visual-route.md)
+  --no-relief                 plain faces: no relief scattering from what the cloud shows
+                              standing on the faces or inside the objects' boxes (by default
+                              each gets one, as relief_scattering in the model)
 
 Prints the room's size, the objects, each face's and object's material with its
-confidence and runner-up (the next likeliest), where a close vote fell back to the
+confidence and runner-up (the next likeliest) and its relief (the share of its seen area
+off its plane and the scattering that gives at 500 Hz / 1 kHz / 2 kHz), where a close vote fell back to the
 commonest material of the kind and where the override file replaced what was found, and
 the time of each step.
 Exit status: 0 on success, 2 with one line on stderr for bad input (unreadable or
@@ -92,6 +97,15 @@ std::string materialNote(const SurfaceMaterialDecision& d, double confidence) {
   return out.str();
 }
 
+// The relief a face was given: what was seen of it and the scattering at 500 Hz-2 kHz.
+std::string reliefNote(const ReliefEstimate& relief) {
+  std::ostringstream out;
+  out << std::setprecision(2) << "relief: " << 100.0 * relief.relief_share << " % of " << relief.seen_m2
+      << " m^2 seen off its plane(s), rms " << relief.rms_height_m << " m; scattering " << relief.scattering[3] << " / "
+      << relief.scattering[4] << " / " << relief.scattering[5] << " at 500 Hz / 1 kHz / 2 kHz";
+  return out.str();
+}
+
 void printRoom(const RoomLayout& layout, const std::vector<SurfaceMaterialDecision>& decisions, const VisualRouteTimes& t,
                std::size_t points) {
   const RoomModel& m = layout.model;
@@ -101,7 +115,8 @@ void printRoom(const RoomLayout& layout, const std::vector<SurfaceMaterialDecisi
   // Decisions come faces first (kRoomSurfaceNames order, without a missing ceiling), then
   // objects in the model's order.
   std::size_t next = 0;
-  for (const char* name : kRoomSurfaceNames) {
+  for (std::size_t f = 0; f < kRoomSurfaceNames.size(); ++f) {
+    const char* name = kRoomSurfaceNames[f];
     const auto it = m.surfaces.find(name);
     if (it == m.surfaces.end()) continue;
     std::cout << "  " << name << ": " << it->second.material;
@@ -110,8 +125,11 @@ void printRoom(const RoomLayout& layout, const std::vector<SurfaceMaterialDecisi
     } else {
       std::cout << " (confidence " << it->second.confidence << ")\n";
     }
+    const ReliefEstimate& relief = layout.face_relief[f];
+    if (relief.estimated) std::cout << "    " << reliefNote(relief) << "\n";
   }
-  for (const CuboidObject& o : m.objects) {
+  for (std::size_t k = 0; k < m.objects.size(); ++k) {
+    const CuboidObject& o = m.objects[k];
     std::cout << "  object " << o.label << ": " << o.size_m.x() << " x " << o.size_m.y() << " x " << o.size_m.z()
               << " m at (" << o.center_m.transpose() << "), " << o.material;
     if (next < decisions.size()) {
@@ -119,16 +137,19 @@ void printRoom(const RoomLayout& layout, const std::vector<SurfaceMaterialDecisi
     } else {
       std::cout << " (confidence " << o.confidence << ")\n";
     }
+    if (k < layout.object_relief.size() && layout.object_relief[k].estimated) {
+      std::cout << "    " << reliefNote(layout.object_relief[k]) << "\n";
+    }
   }
   std::cout << "time: stereo " << t.stereo_s << " s, cloud " << t.cloud_s << " s, layout " << t.layout_s
-            << " s, materials " << t.materials_s << " s\n";
+            << " s, materials " << t.materials_s << " s, relief " << t.relief_s << " s\n";
 }
 
 int runRoomModel(const std::vector<std::string>& raw) {
   const Arguments args(raw,
                        {"top", "bottom", "depth", "out", "baseline", "calibration", "width", "leveling", "cloud", "range",
                         "materials-override"},
-                       {"fisheye"});
+                       {"fisheye", "no-relief"});
   if (!args.positional().empty()) throw UsageError("unexpected argument '" + args.positional().front() + "'");
   for (const char* required : {"top", "out"}) {
     if (!args.has(required)) throw UsageError(std::string("--") + required + " is required");
@@ -167,6 +188,7 @@ int runRoomModel(const std::vector<std::string>& raw) {
   VisualRouteOptions options;
   loadDefaultMaterialModels(options);
   options.materials.override_file = override_file;
+  options.relief.enabled = !args.has("no-relief");
   options.level_from_cloud = pair.level_from_cloud;
   VisualRoute route;
   if (depth_given) {

@@ -392,6 +392,12 @@ std::vector<room_reverb::RoomModel> hostileRooms() {
   room_reverb::RoomModel bad_confidence = roomOfSize(4, 3, 3);
   bad_confidence.surface_confidence = {1.0, 2.0};
   out.push_back(bad_confidence);
+  room_reverb::RoomModel short_relief = roomOfSize(4, 3, 3);
+  short_relief.surface_relief_scattering = {0.1, 0.2};
+  out.push_back(short_relief);
+  room_reverb::RoomModel relief_out_of_range = roomOfSize(4, 3, 3);
+  relief_out_of_range.surface_relief_scattering.assign(54, 1.5);
+  out.push_back(relief_out_of_range);
   return out;
 }
 

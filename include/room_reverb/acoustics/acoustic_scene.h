@@ -24,6 +24,15 @@ struct MaterialOverrides {
   std::optional<double> global_scattering;
 };
 
+// Triangles whose surface has a relief: their material's scattering is combined with
+// `scattering` (relief_scattering.h) in a material of their own, named after the
+// material and `surface` ("plaster_smooth, wall_x_min's relief"), after any override.
+struct SurfaceRelief {
+  std::string surface;
+  std::vector<std::size_t> triangles;
+  OctaveBandValues scattering{};
+};
+
 struct ScenePlane {
   Eigen::Vector3d normal;  // unit
   double offset = 0.0;     // plane: normal . x = offset
@@ -34,13 +43,15 @@ class AcousticScene {
  public:
   // Throws InputError for an invalid mesh, an unknown material name, or an override out
   // of [0, 1]. `closed`: the room should hold every ray (rays that leave are leaks).
+  // A global scattering override replaces the reliefs' too (every surface's scattering).
   AcousticScene(TriangleMesh mesh, const MaterialLibrary& library,
-                const MaterialOverrides& overrides = {}, bool closed = true);
+                const MaterialOverrides& overrides = {}, bool closed = true,
+                const std::vector<SurfaceRelief>& reliefs = {});
   // A scene whose mesh is the triangles of `shape` (roomModelToScene): whether a point is
   // in the room, and the volume of a closed room, come from the solids, exactly, not from
   // the triangles. Closed when the shape has a ceiling.
   AcousticScene(TriangleMesh mesh, const MaterialLibrary& library, const MaterialOverrides& overrides,
-                RoomShape shape);
+                RoomShape shape, const std::vector<SurfaceRelief>& reliefs = {});
 
   // The same room whose nine bands stand for the `third`-th third of every octave (0
   // lower, 1 centre, 2 upper): each material's third-octave coefficients where it has

@@ -5,6 +5,8 @@
 #include <array>
 #include <string>
 
+#include "room_reverb/acoustics/material.h"
+
 namespace room_reverb::core {
 
 struct CuboidObject {
@@ -18,6 +20,10 @@ struct CuboidObject {
   // its confidence; not simulated.
   std::string runner_up{};
   double runner_up_confidence = 0.0;
+  // As SurfaceAssignment's (room_model.h): the scattering the object's relief adds (what
+  // its box does not follow: shelves' contents, the gap under a worktop, a table's chairs
+  // held in one box), per octave band 63 Hz-16 kHz. Zero: a plain box.
+  OctaveBandValues relief_scattering{};
 };
 
 // `point` in the cuboid's own frame: origin at its centre, axes along its sides.

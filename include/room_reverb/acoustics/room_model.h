@@ -23,6 +23,10 @@ struct SurfaceAssignment {
   // route's second choice). Informative only; the simulation uses `material`.
   std::string runner_up{};
   double runner_up_confidence = 0.0;
+  // The scattering the surface's relief adds per octave band, 63 Hz-16 kHz (what stands
+  // on it or is set into it and is no object of the model; acoustics/relief_scattering.h),
+  // combined with the material's own as 1 - (1 - s_m)(1 - s_r). Zero: a plane face.
+  OctaveBandValues relief_scattering{};
 };
 
 // Names of the six box faces, as in room.yaml.
@@ -59,9 +63,14 @@ void appendCuboid(TriangleMesh& mesh, const CuboidObject& object);
 // object names a material neither defines.
 MaterialLibrary materialsFor(const RoomModel& model, const MaterialLibrary& library);
 
+// The relief of each used box face and each object: its triangles in roomModelToMesh's
+// mesh and its relief_scattering; faces in kRoomSurfaceNames order, then the objects.
+std::vector<SurfaceRelief> surfaceReliefs(const RoomModel& model);
+
 // The scene the simulator traces: the model's mesh with its materials (library plus inline
-// ones), closed unless the room has no ceiling, and the model's box and objects as its room
-// shape (inside tests and volume exact, objects named in errors). The model's air
+// ones; each face's and object's relief scattering combined with its material's), closed unless the
+// room has no ceiling, and the model's box and objects as its room shape (inside tests
+// and volume exact, objects named in errors). The model's air
 // conditions are not part of the scene; the caller passes model.air to the simulation.
 AcousticScene roomModelToScene(const RoomModel& model, const MaterialLibrary& library,
                                const MaterialOverrides& overrides = {});

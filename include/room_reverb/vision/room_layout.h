@@ -152,6 +152,16 @@ struct FaceEvidence {
   bool open = false;        // an open side: its material is the library's open_window
 };
 
+// The relief of a face or an object (vision/surface_relief.h): how much of it the cloud
+// shows, how much of that stands off its plane(s), and the scattering that gives.
+struct ReliefEstimate {
+  bool estimated = false;     // false: not seen enough, an open side, or absent
+  double seen_m2 = 0.0;       // area of the seen cells
+  double relief_share = 0.0;  // of the seen cells, those off the face's plane
+  double rms_height_m = 0.0;  // over the seen cells (0 for a plane face)
+  OctaveBandValues scattering{};
+};
+
 struct RoomLayout {
   // size_m, has_ceiling (size_m.z() is then the walls' top), objects (label, centre, size,
   // yaw, confidence; material empty), the rig pose in the room frame, and all six surfaces
@@ -169,6 +179,10 @@ struct RoomLayout {
   std::array<double, 6> surface_support{};
   // Per face (kRoomSurfaceNames order): what its position rests on.
   std::array<FaceEvidence, 6> face_evidence{};
+  // Per face (kRoomSurfaceNames order) and per object: its relief, where the visual route
+  // estimated it (fitRoomLayout leaves them empty).
+  std::array<ReliefEstimate, 6> face_relief{};
+  std::vector<ReliefEstimate> object_relief;
   // One line per thing a user should check: a wall placed without a plane of its own, an
   // open side, an object changed to keep the model simulable.
   std::vector<std::string> warnings;

@@ -13,6 +13,7 @@
 #include "room_reverb/vision/room_layout.h"
 #include "room_reverb/vision/spherical_stereo.h"
 #include "room_reverb/vision/surface_materials.h"
+#include "room_reverb/vision/surface_relief.h"
 
 #include <memory>
 
@@ -23,6 +24,9 @@ struct VisualRouteOptions {
   DepthCloudOptions cloud;
   RoomLayoutOptions layout;
   SurfaceMaterialOptions materials;
+  // Each face's and object's relief scattering from the cloud (layout.face_relief,
+  // object_relief and the model's relief_scattering); needs layout.assign_points.
+  SurfaceReliefOptions relief;
   // Level the cloud by its own floor and ceiling (vision/cloud_leveling.h) before the fit,
   // where the images could not (IngestedCapture::level_from_cloud); applied after `tilt`.
   bool level_from_cloud = false;
@@ -43,6 +47,7 @@ struct VisualRouteTimes {
   double cloud_s = 0.0;      // range image -> point cloud
   double layout_s = 0.0;     // cloud -> cuboids
   double materials_s = 0.0;  // cuboids -> materials
+  double relief_s = 0.0;     // cloud and cuboids -> each face's and object's relief
 };
 
 struct VisualRoute {

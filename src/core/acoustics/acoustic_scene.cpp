@@ -1,11 +1,13 @@
 #include "room_reverb/acoustics/acoustic_scene.h"
 
 #include <algorithm>
-#include <limits>
 #include <cmath>
+#include <limits>
+#include <map>
 #include <sstream>
 #include <utility>
 
+#include "room_reverb/acoustics/relief_scattering.h"
 #include "room_reverb/common/error.h"
 
 namespace room_reverb::core {
@@ -24,10 +26,37 @@ void checkCoefficients(const OctaveBandValues& values, const std::string& what) 
   }
 }
 
+// Each relief's triangles get a material of their own: their material (as resolved, with
+// the overrides) with the relief's scattering combined, octave and third-octave values
+// alike (the relief's octave value stands for its thirds).
+void applyReliefs(TriangleMesh& mesh, std::vector<AcousticMaterial>& materials, const std::vector<SurfaceRelief>& reliefs) {
+  for (const SurfaceRelief& relief : reliefs) {
+    checkCoefficients(relief.scattering, "relief scattering of " + relief.surface);
+    if (std::all_of(relief.scattering.begin(), relief.scattering.end(), [](double s) { return s == 0.0; })) continue;
+    std::map<int, int> derived;  // base material index -> the relief's material index
+    for (std::size_t t : relief.triangles) {
+      if (t >= mesh.triangleCount()) throw InputError("relief of " + relief.surface + ": triangle index out of range");
+      int& base = mesh.triangle_material[t];
+      auto [it, added] = derived.emplace(base, static_cast<int>(materials.size()));
+      if (added) {
+        AcousticMaterial material = materials[static_cast<std::size_t>(base)];
+        material.name += ", " + relief.surface + "'s relief";
+        material.scattering = combinedScattering(material.scattering, relief.scattering);
+        if (material.scattering_thirds) {
+          for (OctaveBandValues& third : *material.scattering_thirds) third = combinedScattering(third, relief.scattering);
+        }
+        mesh.material_names.push_back(material.name);
+        materials.push_back(std::move(material));
+      }
+      base = it->second;
+    }
+  }
+}
+
 }  // namespace
 
 AcousticScene::AcousticScene(TriangleMesh mesh, const MaterialLibrary& library,
-                             const MaterialOverrides& overrides, bool closed)
+                             const MaterialOverrides& overrides, bool closed, const std::vector<SurfaceRelief>& reliefs)
     : closed_(closed) {
   validateMesh(mesh, "room mesh");
   for (const auto& name : mesh.material_names) {
@@ -61,6 +90,7 @@ AcousticScene::AcousticScene(TriangleMesh mesh, const MaterialLibrary& library,
   };
   requireUsed(overrides.absorption, "absorption");
   requireUsed(overrides.scattering, "scattering");
+  if (!overrides.global_scattering) applyReliefs(mesh, materials_, reliefs);
 
   // Volume (divergence theorem) and area.
   for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
@@ -111,8 +141,8 @@ bool AcousticScene::hasThirdOctaveMaterials() const {
 }
 
 AcousticScene::AcousticScene(TriangleMesh mesh, const MaterialLibrary& library, const MaterialOverrides& overrides,
-                             RoomShape shape)
-    : AcousticScene(std::move(mesh), library, overrides, shape.has_ceiling) {
+                             RoomShape shape, const std::vector<SurfaceRelief>& reliefs)
+    : AcousticScene(std::move(mesh), library, overrides, shape.has_ceiling, reliefs) {
   // Faces of objects that overlap, stick out or lie against a wall make the divergence sum
   // count some volume twice or outside the room; the solids do not.
   if (closed_) volume_m3_ = shape.freeVolumeM3();

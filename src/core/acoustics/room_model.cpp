@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -90,6 +91,11 @@ void checkModel(const RoomModel& model, const std::string& source) {
   auto checkConfidence = [&](double confidence, const std::string& key) {
     if (!(confidence >= 0.0 && confidence <= 1.0)) fail(key + ".confidence", "must be in [0, 1]");
   };
+  auto checkRelief = [&](const OctaveBandValues& relief, const std::string& key) {
+    for (double s : relief) {
+      if (!(s >= 0.0 && s <= 1.0)) fail(key + ".relief_scattering", "coefficients must be in [0, 1]");
+    }
+  };
   for (const char* name : kRoomSurfaceNames) {
     if (!surfaceIsUsed(model, name)) continue;
     const auto it = model.surfaces.find(name);
@@ -103,6 +109,7 @@ void checkModel(const RoomModel& model, const std::string& source) {
     if (!(surface.runner_up_confidence >= 0.0 && surface.runner_up_confidence <= 1.0)) {
       fail("surfaces." + name + ".runner_up_confidence", "must be in [0, 1]");
     }
+    checkRelief(surface.relief_scattering, "surfaces." + name);
   }
   for (std::size_t i = 0; i < model.objects.size(); ++i) {
     const CuboidObject& object = model.objects[i];
@@ -116,6 +123,7 @@ void checkModel(const RoomModel& model, const std::string& source) {
       fail(key + ".size_m", "must be three positive, finite lengths in metres, at most " + largest);
     }
     if (!std::isfinite(object.yaw_rad)) fail(key + ".yaw_rad", "must be finite");
+    checkRelief(object.relief_scattering, key);
     checkConfidence(object.confidence, key);
     if (!(object.runner_up_confidence >= 0.0 && object.runner_up_confidence <= 1.0)) fail(key + ".runner_up_confidence", "must be in [0, 1]");
   }
@@ -174,6 +182,12 @@ class Reader : public YamlReader {
     return {name, name.empty() ? 0.0 : confidenceOr(parent, key, "runner_up_confidence", 0.0)};
   }
 
+  // The optional relief_scattering of a surface or object; zero where absent.
+  OctaveBandValues reliefOr(const YAML::Node& parent, const std::string& key) const {
+    const YAML::Node node = parent["relief_scattering"];
+    return node.IsDefined() ? bandCoefficients(node, key + ".relief_scattering") : OctaveBandValues{};
+  }
+
   OctaveBandValues bandCoefficients(const YAML::Node& node, const std::string& key) const {
     const auto v = numbers(node, key, kOctaveBandCount);
     OctaveBandValues out{};
@@ -218,6 +232,7 @@ class Reader : public YamlReader {
                                  key + ".material");
       assignment.confidence = confidenceOr(entry.second, key);
       std::tie(assignment.runner_up, assignment.runner_up_confidence) = runnerUp(entry.second, key);
+      assignment.relief_scattering = reliefOr(entry.second, key);
       model.surfaces[name] = assignment;
     }
     for (const char* name : kRoomSurfaceNames) {
@@ -244,6 +259,7 @@ class Reader : public YamlReader {
         object.yaw_rad = numberOr(node, "yaw_rad", key + ".yaw_rad", 0.0);
         object.confidence = confidenceOr(node, key);
         std::tie(object.runner_up, object.runner_up_confidence) = runnerUp(node, key);
+        object.relief_scattering = reliefOr(node, key);
         model.objects.push_back(object);
       }
     }
@@ -344,6 +360,12 @@ std::string runnerUpText(const std::string& runner_up, double confidence) {
   return ", runner_up: " + nameText(runner_up) + ", runner_up_confidence: " + number(confidence);
 }
 
+// The optional relief key of a surface or object, written only where there is a relief.
+std::string reliefText(const OctaveBandValues& relief) {
+  if (std::none_of(relief.begin(), relief.end(), [](double s) { return s > 0.0; })) return "";
+  return ", relief_scattering: " + numberList(relief.data(), relief.size());
+}
+
 }  // namespace
 
 RoomModel parseRoomModel(const std::string& yaml_text) { return Reader("room model").parse(yaml_text); }
@@ -365,7 +387,7 @@ std::string roomModelToYaml(const RoomModel& model) {
     if (it == model.surfaces.end()) continue;  // only an unused ceiling can be absent
     out << "  " << name << ": {material: " << nameText(it->second.material)
         << ", confidence: " << number(it->second.confidence) << runnerUpText(it->second.runner_up, it->second.runner_up_confidence)
-        << "}\n";
+        << reliefText(it->second.relief_scattering) << "}\n";
   }
   if (model.objects.empty()) {
     out << "objects: []\n";
@@ -375,7 +397,7 @@ std::string roomModelToYaml(const RoomModel& model) {
       out << "  - {label: " << nameText(object.label) << ", material: " << nameText(object.material)
           << ", center_m: " << vectorText(object.center_m) << ", size_m: " << vectorText(object.size_m)
           << ", yaw_rad: " << number(object.yaw_rad) << ", confidence: " << number(object.confidence)
-          << runnerUpText(object.runner_up, object.runner_up_confidence) << "}\n";
+          << runnerUpText(object.runner_up, object.runner_up_confidence) << reliefText(object.relief_scattering) << "}\n";
     }
   }
   if (!model.inline_materials.empty()) {
@@ -460,13 +482,31 @@ MaterialLibrary materialsFor(const RoomModel& model, const MaterialLibrary& libr
   return result;
 }
 
+std::vector<SurfaceRelief> surfaceReliefs(const RoomModel& model) {
+  std::vector<SurfaceRelief> reliefs;
+  std::size_t first_triangle = 0;  // roomModelToMesh: two triangles per used face, in order, first
+  for (const char* name : kRoomSurfaceNames) {
+    if (!surfaceIsUsed(model, name)) continue;
+    reliefs.push_back({name, {first_triangle, first_triangle + 1}, model.surfaces.at(name).relief_scattering});
+    first_triangle += 2;
+  }
+  for (std::size_t i = 0; i < model.objects.size(); ++i) {  // then twelve per object (appendCuboid)
+    SurfaceRelief relief{objectKey(i, model.objects[i].label), {}, model.objects[i].relief_scattering};
+    for (std::size_t t = 0; t < 12; ++t) relief.triangles.push_back(first_triangle + t);
+    reliefs.push_back(std::move(relief));
+    first_triangle += 12;
+  }
+  return reliefs;
+}
+
 AcousticScene roomModelToScene(const RoomModel& model, const MaterialLibrary& library,
                                const MaterialOverrides& overrides) {
   RoomShape shape;
   shape.size_m = model.size_m;
   shape.has_ceiling = model.has_ceiling;
   shape.objects = model.objects;
-  return AcousticScene(roomModelToMesh(model), materialsFor(model, library), overrides, std::move(shape));
+  return AcousticScene(roomModelToMesh(model), materialsFor(model, library), overrides, std::move(shape),
+                       surfaceReliefs(model));
 }
 
 }  // namespace room_reverb::core

@@ -13,7 +13,7 @@ namespace {
 
 // Magic numbers with the encoding's version in the low byte; read back in another byte
 // order they do not match, so a foreign machine's bytes are refused, not misread.
-constexpr std::uint32_t kSceneMarker = 0x52525302;    // "RRS" 2
+constexpr std::uint32_t kSceneMarker = 0x52525303;    // "RRS" 3
 constexpr std::uint32_t kRequestMarker = 0x52525107;  // "RRQ" 7
 constexpr std::uint32_t kResultMarker = 0x52525202;   // "RRR" 2
 constexpr std::uint32_t kJobMarker = 0x52524a01;      // "RRJ" 1
@@ -30,7 +30,7 @@ static_assert(sizeof(WaveLowBandOptions) == 24, "WaveLowBandOptions changed: enc
 static_assert(sizeof(WaveLowBandStats) == 56, "WaveLowBandStats changed: encode the new field");
 static_assert(sizeof(RayTracingStats) == 208, "RayTracingStats changed: encode the new field");
 static_assert(sizeof(SpecularPath) == 168, "SpecularPath changed: encode the new field");
-static_assert(sizeof(CuboidObject) == 168, "CuboidObject changed: encode the new field");
+static_assert(sizeof(CuboidObject) == 240, "CuboidObject changed: encode the new field");
 static_assert(sizeof(AcousticMaterial) == 656, "AcousticMaterial changed: encode the new field");
 
 void putVector(ByteWriter& w, const Eigen::Vector3d& v) {
@@ -236,6 +236,7 @@ std::vector<std::uint8_t> encodeScene(const AcousticScene& scene) {
       w.put<double>(o.confidence);
       w.putString(o.runner_up);
       w.put<double>(o.runner_up_confidence);
+      putBands(w, o.relief_scattering);
     }
   }
   return w.take();
@@ -288,6 +289,7 @@ std::unique_ptr<AcousticScene> decodeScene(const std::uint8_t* data, std::size_t
       o.confidence = r.get<double>();
       o.runner_up = r.getString();
       o.runner_up_confidence = r.get<double>();
+      o.relief_scattering = getBands(r);
       if (!o.center_m.allFinite() || !o.size_m.allFinite() || (o.size_m.array() <= 0.0).any() || !std::isfinite(o.yaw_rad)) {
         r.fail("object '" + o.label + "' has a size that is not positive or a position that is not finite");
       }

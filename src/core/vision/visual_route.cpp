@@ -67,6 +67,11 @@ RoomLayout roomLayoutFromCloud(const PointCloud& cloud, const cv::Mat& top_color
   auto decisions = assignSurfaceMaterials(layout, top_color, baseline_m, classifier, families, options.materials);
   if (materials != nullptr) *materials = std::move(decisions);
   if (times != nullptr) times->materials_s = secondsSince(start);
+  if (options.relief.enabled && options.layout.assign_points) {
+    start = std::chrono::steady_clock::now();
+    applySurfaceRelief(layout, estimateSurfaceRelief(cloud, layout, layout.room_from_rig, options.layout, options.relief));
+    if (times != nullptr) times->relief_s = secondsSince(start);
+  }
   return layout;
 }
 
