@@ -225,6 +225,61 @@ TEST(SurfaceRelief, AClutteredWallScattersAsItsClutter) {
   for (std::size_t f : {0u, 1u, 2u, 4u, 5u}) EXPECT_LT(relief[f].scattering[5], 0.03) << kRoomSurfaceNames[f];
 }
 
+TEST(SurfaceRelief, AnObjectsBoxAndWhatItHolds) {
+  // A 1 x 1 x 0.8 m box fitted round a desk whose top steps down by 0.4 m over its far
+  // 40 %, and whose box the fit placed 0.05 m proud of the side facing the rig (a plane
+  // moved, not a relief). Points on a 1 cm grid: the top (two levels) and that side.
+  RoomLayout layout;
+  layout.model = plainRoom();
+  CuboidObject desk;
+  desk.label = "desk";
+  desk.material = "wood_panel";
+  desk.center_m = {3.5, 2.0, 0.4};
+  desk.size_m = {1.0, 1.0, 0.8};
+  layout.model.objects.push_back(desk);
+  PointCloud cloud;
+  const auto add = [&](double x, double y, double z) {
+    CloudPoint point;
+    const Eigen::Vector3d rig_frame = Eigen::Vector3d(x, y, z) - layout.model.rig_position_m;
+    point.p = rig_frame.cast<float>();
+    cloud.points.push_back(point);
+    layout.point_surface.push_back(-1);
+    layout.point_object.push_back(0);
+  };
+  for (int i = 0; i < 100; ++i) {
+    for (int j = 0; j < 100; ++j) {
+      const double x = 3.0 + (i + 0.5) / 100.0, y = 1.5 + (j + 0.5) / 100.0;
+      add(x, y, x < 3.6 ? 0.8 : 0.4);                 // the top, stepped
+      if (i < 80) add(3.05, y, (i + 0.5) / 100.0);    // the side towards the rig, 5 cm inside the box
+    }
+  }
+  const Eigen::Isometry3d room_from_rig(Eigen::Translation3d(layout.model.rig_position_m));
+  const SurfaceReliefs relief = estimateSurfaceRelief(cloud, layout, room_from_rig, RoomLayoutOptions{});
+  ASSERT_EQ(relief.objects.size(), 1u);
+  const ReliefEstimate& got = relief.objects[0];
+  ASSERT_TRUE(got.estimated);
+  EXPECT_NEAR(got.seen_m2, 1.0 + 0.8, 0.05);
+  EXPECT_NEAR(got.relief_share, 0.4 / 1.8, 0.01);
+  // The top's own scattering, weighted by its share of the seen area; the side is a plane
+  // and scatters nothing.
+  const OctaveBandValues top = reliefScattering(twoLevels(0.4, 0.4), kC);
+  for (int b = 0; b < kOctaveBandCount; ++b) EXPECT_NEAR(got.scattering[b], top[b] / 1.8, 0.01) << "band " << b;
+  EXPECT_GT(got.scattering[4], 0.15);
+
+  applySurfaceRelief(layout, relief);
+  EXPECT_EQ(layout.model.objects[0].relief_scattering, got.scattering);
+  const RoomModel read = parseRoomModel(roomModelToYaml(layout.model));
+  for (int b = 0; b < kOctaveBandCount; ++b) EXPECT_NEAR(read.objects[0].relief_scattering[b], got.scattering[b], 1e-6);
+  const AcousticScene scene = roomModelToScene(layout.model, room_reverb::test::library());
+  EXPECT_EQ(scene.material(12).name, "wood_panel, objects[0] (desk)'s relief");  // after the box's twelve
+  expectInputError([&] { estimateSurfaceRelief(PointCloud{}, layout, Eigen::Isometry3d::Identity(), RoomLayoutOptions{}); },
+                   {"point labels do not match"});
+  SurfaceReliefOptions bad;
+  bad.cell_m = 0.0;
+  expectInputError([&] { estimateSurfaceRelief(cloud, layout, room_from_rig, RoomLayoutOptions{}, bad); },
+                   {"cell_m must be positive"});
+}
+
 namespace {
 
 // T30 averaged over 500 Hz-2 kHz, the paper's Table 1 figure.

@@ -11,9 +11,10 @@
 // cloud's points there above the face (into the room; negative behind it): 0 for points
 // on the face (within the layout's face margin, RoomLayout::point_surface), their distance
 // from its plane for points off every face and object up to max_height_m. An object's
-// points are measured from the nearest face of its box, the same way (negative inside
-// it; 0 within the layout's face margin at their range), and all its faces' cells pool
-// into one relief. Cells that no point reaches are left out. The seen cells' heights give
+// points are measured from the face of its box the rig sees them through (negative
+// inside it; on the face within the layout's face margin at their range), each face from
+// its points' median (a box fitted proud of what it holds is a plane moved), and the
+// object's relief is its faces' together. Cells that no point reaches are left out. The seen cells' heights give
 // the scattering per band (acoustics/relief_scattering.h).
 #include <Eigen/Geometry>
 #include <array>

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -115,6 +116,30 @@ ReliefEstimate reliefOf(const std::vector<std::vector<double>>& faces, const Sur
   return relief;
 }
 
+// The face of a box (half extents `half`, its own frame) through which a ray from `eye`
+// enters it on its way to `point`: its axis and outward sign. Where the ray does not
+// enter the box before the point (the eye inside it, a point outside it), the face
+// nearest the point.
+std::pair<int, double> faceSeenThrough(const Eigen::Vector3d& eye, const Eigen::Vector3d& point, const Eigen::Vector3d& half) {
+  const Eigen::Vector3d d = point - eye;
+  double enter = -std::numeric_limits<double>::infinity(), leave = std::numeric_limits<double>::infinity();
+  int axis = -1;
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] == 0.0) {
+      if (std::abs(eye[a]) > half[a]) enter = leave = std::numeric_limits<double>::quiet_NaN();
+      continue;
+    }
+    const double t0 = (-std::copysign(half[a], d[a]) - eye[a]) / d[a], t1 = (std::copysign(half[a], d[a]) - eye[a]) / d[a];
+    if (t0 > enter) enter = t0, axis = a;
+    leave = std::min(leave, t1);
+  }
+  if (axis >= 0 && enter >= 0.0 && enter <= 1.0 && enter <= leave) return {axis, d[axis] > 0.0 ? -1.0 : 1.0};
+  const Eigen::Vector3d inside = half - point.cwiseAbs();
+  int nearest = 0;
+  inside.minCoeff(&nearest);
+  return {nearest, point[nearest] >= 0.0 ? 1.0 : -1.0};
+}
+
 std::int64_t cellIndex(double coordinate, double cell_m) { return static_cast<std::int64_t>(std::floor(coordinate / cell_m)); }
 
 }  // namespace
@@ -130,6 +155,7 @@ SurfaceReliefs estimateSurfaceRelief(const PointCloud& cloud, const RoomLayout& 
     throw InputError("surface relief: the layout's point labels do not match the cloud (fit it with assign_points)");
   }
   const Eigen::Vector3d size = layout.model.size_m;
+  const Eigen::Vector3d rig = room_from_cloud.translation();
   std::array<bool, 6> used{};
   for (std::size_t f = 0; f < 6; ++f) used[f] = !layout.face_evidence[f].open && (f != 1 || layout.model.has_ceiling);
   // A cell's key: its row times this, plus its column (rows and columns below 2^20).
@@ -141,20 +167,18 @@ SurfaceReliefs estimateSurfaceRelief(const PointCloud& cloud, const RoomLayout& 
     const Eigen::Vector3d p = room_from_cloud * cloud.points[i].p.cast<double>();
     const int object = layout.point_object[i];
     if (object >= 0 && static_cast<std::size_t>(object) < objects.size()) {
-      // From the nearest face of the object's box: the axis whose face is nearest, and how
-      // far outside it the point lies (negative inside), with the layout's face margin at
-      // the point's range.
+      // From the face of the object's box that the rig sees the point through, and how far
+      // outside it the point lies (negative inside), with the layout's face margin at the
+      // point's range.
       const CuboidObject& box = objects[static_cast<std::size_t>(object)];
       const Eigen::Vector3d local = toCuboidFrame(box, p);
-      const Eigen::Vector3d inside = 0.5 * box.size_m - local.cwiseAbs();
-      int axis = 0;
-      inside.minCoeff(&axis);
-      const double height = -inside[axis];
+      const auto [axis, outward] = faceSeenThrough(toCuboidFrame(box, rig), local, 0.5 * box.size_m);
+      const double height = outward * local[axis] - 0.5 * box.size_m[axis];
       const double range = cloud.points[i].p.cast<double>().norm();
       const double margin = std::max(layout_options.min_face_margin_m,
                                      layout_options.noise_sigmas * layout_options.range_noise_fraction * range);
       const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-      const std::size_t face = static_cast<std::size_t>(2 * axis + (local[axis] > 0.0 ? 1 : 0));
+      const std::size_t face = static_cast<std::size_t>(2 * axis + (outward > 0.0 ? 1 : 0));
       cuboids[static_cast<std::size_t>(object)][face].add(
           cellIndex(local[u] + 0.5 * box.size_m[u], options.cell_m) * kColumns +
               cellIndex(local[v] + 0.5 * box.size_m[v], options.cell_m),
