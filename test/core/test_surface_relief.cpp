@@ -231,12 +231,7 @@ TEST(SurfaceRelief, AnObjectsBoxAndWhatItHolds) {
   // moved, not a relief). Points on a 1 cm grid: the top (two levels) and that side.
   RoomLayout layout;
   layout.model = plainRoom();
-  CuboidObject desk;
-  desk.label = "desk";
-  desk.material = "wood_panel";
-  desk.center_m = {3.5, 2.0, 0.4};
-  desk.size_m = {1.0, 1.0, 0.8};
-  layout.model.objects.push_back(desk);
+  layout.model.objects.push_back(CuboidObject{"desk", "wood_panel", {3.5, 2.0, 0.4}, {1.0, 1.0, 0.8}});
   PointCloud cloud;
   const auto add = [&](double x, double y, double z) {
     CloudPoint point;
