@@ -22,6 +22,7 @@
 
 #include "room_reverb/acoustics/material.h"
 #include "room_reverb/ros/image_conversions.h"
+#include "room_reverb/ros/room_conversions.h"
 #include "room_reverb/synthetic_capture/capture_generator.h"
 #include "room_reverb/synthetic_capture/capture_scene.h"
 #include "room_reverb/vision/texture_family.h"
@@ -130,6 +131,18 @@ void expectMeetingRoom(const room_reverb::BuildRoomModel::Response& response, co
   ASSERT_EQ(response.room.surface_confidence.size(), 6u);
   for (const double c : response.room.surface_confidence) EXPECT_GT(c, 0.3) << how;
   for (const auto& object : response.room.objects) EXPECT_FALSE(object.material.empty()) << how << " " << object.label;
+  // Each face's relief, where the route gave one: 6 x 9 coefficients; each object's, 9.
+  if (!response.room.surface_relief_scattering.empty()) ASSERT_EQ(response.room.surface_relief_scattering.size(), 54u) << how;
+  for (const double s : response.room.surface_relief_scattering) EXPECT_TRUE(s >= 0.0 && s <= 1.0) << how;
+  for (const auto& object : response.room.objects) {
+    if (!object.relief_scattering.empty()) EXPECT_EQ(object.relief_scattering.size(), 9u) << how << " " << object.label;
+  }
+  const core::RoomModel read = ros_bridge::fromMessage(response.room);  // what a simulator node reads of it
+  for (std::size_t f = 0; f < 6 && !response.room.surface_relief_scattering.empty(); ++f) {
+    const auto it = read.surfaces.find(core::kRoomSurfaceNames[f]);
+    if (it == read.surfaces.end()) continue;
+    EXPECT_EQ(it->second.relief_scattering[4], response.room.surface_relief_scattering[9 * f + 4]) << how;
+  }
   ::testing::Test::RecordProperty(how + "_seconds", std::to_string(response.seconds));
   ::testing::Test::RecordProperty(how + "_message", response.message);
 }
