@@ -16,6 +16,8 @@
 //   [ROOM_REVERB_STEREO_STATS=1] (the stereo's range error by surface)
 //   [ROOM_REVERB_PRINT_FACES=1] (where each face of the box lies against the truth)
 //   [ROOM_REVERB_PRINT_OBJECTS=1] (the fitted objects: label, centre, size, yaw, material)
+//   [ROOM_REVERB_PRINT_RELIEF=1] (each face's and object's relief: seen share off its plane,
+//   scattering at 1 kHz)
 //   [ROOM_REVERB_ROUTE_WITHOUT=exposure,noise,subpixel,planes,joints,patch_cap] (routeOptions)
 //   .ws/devel/lib/room_reverb/test_visual_route_realistic --gtest_filter='*Report*'
 #include <gtest/gtest.h>
@@ -57,6 +59,8 @@ struct RouteScore {
   std::vector<std::string> warnings;                     // the levelling's and the layout's
   std::string stereo;                                    // ROOM_REVERB_STEREO_STATS=1: the stereo's figures by surface
   std::vector<CuboidObject> objects;                     // as fitted, room frame
+  std::array<ReliefEstimate, 6> face_relief{};           // as the route estimated them
+  std::vector<ReliefEstimate> object_relief;
 };
 
 // The stereo alone on the pair as rendered (no levelling): per floor, ceiling and walls,
@@ -258,6 +262,8 @@ RouteScore scoreRoom(const ClutteredRoom& room, int index, const std::string& ph
   }
   const RoomModel& fitted = route.layout.model;
   score.objects = fitted.objects;
+  score.face_relief = route.layout.face_relief;
+  score.object_relief = route.layout.object_relief;
   score.warnings.insert(score.warnings.end(), route.layout.warnings.begin(), route.layout.warnings.end());
   // The fit's rig frame is the camera's turned by the levelling's image rotation.
   const Eigen::Matrix3d truth_from_fit = room.truth.rig_rotation.toRotationMatrix() * image_rotation.transpose() *
@@ -322,6 +328,16 @@ void print(const ClutteredRoom& room, const RouteScore& s) {
                   o.center_m.x(), o.center_m.y(), o.center_m.z(), o.size_m.x(), o.size_m.y(), o.size_m.z(), o.yaw_rad,
                   o.material.c_str());
     }
+  }
+  if (const char* relief = std::getenv("ROOM_REVERB_PRINT_RELIEF"); relief != nullptr && *relief == '1') {
+    std::printf("             relief, share off the plane / s(1 kHz):");
+    for (std::size_t k = 0; k < 6; ++k) {
+      std::printf(" %s %.2f/%.2f", kRoomSurfaceNames[k], s.face_relief[k].relief_share, s.face_relief[k].scattering[4]);
+    }
+    for (std::size_t k = 0; k < s.object_relief.size() && k < s.objects.size(); ++k) {
+      std::printf("; %s %.2f/%.2f", s.objects[k].label.c_str(), s.object_relief[k].relief_share, s.object_relief[k].scattering[4]);
+    }
+    std::printf("\n");
   }
   for (const std::string& w : s.warnings) std::printf("             warning: %s\n", w.c_str());
 }
