@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "room_reverb/common/error.h"
+#include "room_reverb/common/memory_reuse.h"
 #include "room_reverb/synthetic_capture/capture_scene.h"
 #include "room_reverb/vision/depth_cloud.h"
 #include "room_reverb/vision/oriented_box_iou.h"
@@ -209,4 +210,13 @@ BENCHMARK(BM_PointCloudToRoomModel)->DenseRange(0, static_cast<int>(kScenes.size
 
 }  // namespace
 
-BENCHMARK_MAIN();
+// As the command-line tool and the room_model node run the route: freed memory kept for
+// reuse (common/memory_reuse.h).
+int main(int argc, char** argv) {
+  room_reverb::core::keepFreedMemoryForReuse();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -3,9 +3,11 @@
 // (ros/room_model_server.h). Parameters: config/room_model.yaml.
 #include <ros/ros.h>
 
+#include "room_reverb/common/memory_reuse.h"
 #include "room_reverb/ros/room_model_server.h"
 
 int main(int argc, char** argv) {
+  room_reverb::core::keepFreedMemoryForReuse();
   ros::init(argc, argv, "room_model");
   try {
     room_reverb::ros_bridge::RoomModelServer server{ros::NodeHandle(), ros::NodeHandle("~")};
