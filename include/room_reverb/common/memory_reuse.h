@@ -7,7 +7,7 @@
 // route does the same with its clouds, voxel tables and images: on a 2-core virtual
 // machine whose page faults are dear, bench_visual_route's point cloud -> room model
 // takes 0.65-0.85 s (the paper's kitchen) and 1.03-1.34 s (the courtyard) as it is, and
-// 0.38 s and 0.60 s with freed memory kept. Processes that run many simulations or
+// 0.38-0.55 s and 0.59-1.01 s with freed memory kept (runs of one session). Processes that run many simulations or
 // routes (the command-line tool, the evaluation, room_model and spherical_depth nodes,
 // the diagnosis tests, bench_visual_route) call this once at start: freed memory then
 // stays with the process for reuse, up to about what the largest job needed.
