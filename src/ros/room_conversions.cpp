@@ -4,6 +4,7 @@
 #include <array>
 #include <string>
 
+#include "room_reverb/acoustics/relief_scattering.h"
 #include "room_reverb/common/error.h"
 
 namespace room_reverb::ros_bridge {
@@ -24,10 +25,6 @@ core::OctaveBandValues bandValues(const std::vector<double>& values, const std::
   core::OctaveBandValues out{};
   std::copy(values.begin(), values.end(), out.begin());
   return out;
-}
-
-bool hasRelief(const core::OctaveBandValues& relief) {
-  return std::any_of(relief.begin(), relief.end(), [](double s) { return s > 0.0; });
 }
 
 }  // namespace
@@ -99,7 +96,7 @@ room_reverb::RoomModel toMessage(const core::RoomModel& model) {
     msg.surface_confidence.push_back(it == model.surfaces.end() ? 0.0 : it->second.confidence);
   }
   const bool relief = std::any_of(model.surfaces.begin(), model.surfaces.end(),
-                                  [](const auto& entry) { return hasRelief(entry.second.relief_scattering); });
+                                  [](const auto& entry) { return core::hasRelief(entry.second.relief_scattering); });
   for (std::size_t i = 0; relief && i < faces.size(); ++i) {
     const auto it = model.surfaces.find(core::kRoomSurfaceNames[i]);
     for (int b = 0; b < core::kOctaveBandCount; ++b) {
@@ -118,7 +115,7 @@ room_reverb::RoomModel toMessage(const core::RoomModel& model) {
     c.size.z = o.size_m.z();
     c.yaw = o.yaw_rad;
     c.confidence = o.confidence;
-    if (hasRelief(o.relief_scattering)) c.relief_scattering.assign(o.relief_scattering.begin(), o.relief_scattering.end());
+    if (core::hasRelief(o.relief_scattering)) c.relief_scattering.assign(o.relief_scattering.begin(), o.relief_scattering.end());
     msg.objects.push_back(c);
   }
   for (const auto& m : model.inline_materials) {

@@ -29,6 +29,9 @@ namespace room_reverb::core {
 OctaveBandValues reliefScattering(const std::vector<double>& heights_m, double speed_of_sound_m_s,
                                   const OctaveBandValues& band_centres_hz = octaveCentresHz());
 
+// Whether any band scatters: a relief of zeros is a plane face.
+bool hasRelief(const OctaveBandValues& relief_scattering);
+
 // The scattering of a surface whose material scatters s_m and whose relief scatters s_r:
 // 1 - (1 - s_m)(1 - s_r), the specular shares multiplied (as ODEON combines its
 // reflection-based scattering with the material's).

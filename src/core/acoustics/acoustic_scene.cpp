@@ -32,7 +32,7 @@ void checkCoefficients(const OctaveBandValues& values, const std::string& what) 
 void applyReliefs(TriangleMesh& mesh, std::vector<AcousticMaterial>& materials, const std::vector<SurfaceRelief>& reliefs) {
   for (const SurfaceRelief& relief : reliefs) {
     checkCoefficients(relief.scattering, "relief scattering of " + relief.surface);
-    if (std::all_of(relief.scattering.begin(), relief.scattering.end(), [](double s) { return s == 0.0; })) continue;
+    if (!hasRelief(relief.scattering)) continue;
     std::map<int, int> derived;  // base material index -> the relief's material index
     for (std::size_t t : relief.triangles) {
       if (t >= mesh.triangleCount()) throw InputError("relief of " + relief.surface + ": triangle index out of range");

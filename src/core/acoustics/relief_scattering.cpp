@@ -58,6 +58,10 @@ OctaveBandValues reliefScattering(const std::vector<double>& heights_m, double s
   return s;
 }
 
+bool hasRelief(const OctaveBandValues& relief_scattering) {
+  return std::any_of(relief_scattering.begin(), relief_scattering.end(), [](double s) { return s > 0.0; });
+}
+
 OctaveBandValues combinedScattering(const OctaveBandValues& material_scattering, const OctaveBandValues& relief_scattering) {
   OctaveBandValues s{};
   for (int b = 0; b < kOctaveBandCount; ++b) s[b] = 1.0 - (1.0 - material_scattering[b]) * (1.0 - relief_scattering[b]);

@@ -10,6 +10,7 @@
 #include <tuple>
 #include <utility>
 
+#include "room_reverb/acoustics/relief_scattering.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/text_file.h"
 #include "room_reverb/common/yaml_reader.h"
@@ -362,7 +363,7 @@ std::string runnerUpText(const std::string& runner_up, double confidence) {
 
 // The optional relief key of a surface or object, written only where there is a relief.
 std::string reliefText(const OctaveBandValues& relief) {
-  if (std::none_of(relief.begin(), relief.end(), [](double s) { return s > 0.0; })) return "";
+  if (!hasRelief(relief)) return "";
   return ", relief_scattering: " + numberList(relief.data(), relief.size());
 }
 

@@ -162,6 +162,8 @@ SurfaceReliefs estimateSurfaceRelief(const PointCloud& cloud, const RoomLayout& 
   constexpr std::int64_t kColumns = 1 << 20;
   std::array<CellHeights, 6> faces;
   std::vector<std::array<CellHeights, 6>> cuboids(objects.size());
+  std::vector<Eigen::Vector3d> eyes;  // the rig in each object's own frame
+  for (const CuboidObject& box : objects) eyes.push_back(toCuboidFrame(box, rig));
 
   for (std::size_t i = 0; i < cloud.points.size(); ++i) {
     const Eigen::Vector3d p = room_from_cloud * cloud.points[i].p.cast<double>();
@@ -172,7 +174,7 @@ SurfaceReliefs estimateSurfaceRelief(const PointCloud& cloud, const RoomLayout& 
       // point's range.
       const CuboidObject& box = objects[static_cast<std::size_t>(object)];
       const Eigen::Vector3d local = toCuboidFrame(box, p);
-      const auto [axis, outward] = faceSeenThrough(toCuboidFrame(box, rig), local, 0.5 * box.size_m);
+      const auto [axis, outward] = faceSeenThrough(eyes[static_cast<std::size_t>(object)], local, 0.5 * box.size_m);
       const double height = outward * local[axis] - 0.5 * box.size_m[axis];
       const double range = cloud.points[i].p.cast<double>().norm();
       const double margin = std::max(layout_options.min_face_margin_m,
