@@ -20,6 +20,7 @@ core::SphericalStereoOptions stereoOptionsFromConfig(const room_reverb::Spherica
   options.subpixel_refinement = config.subpixel_refinement;
   options.planar_refinement = config.planar_refinement;
   options.planar_max_range_m = config.planar_max_range_m;
+  options.min_texture_snr = config.min_texture_snr;
   options.match_exposure = config.match_exposure;
   return options;
 }

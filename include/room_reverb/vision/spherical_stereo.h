@@ -69,6 +69,13 @@ struct SphericalStereoOptions {
   int planar_tile_px = 32;            // 8..256
   double planar_max_range_m = 8.0;    // farther tiles keep the per-pixel disparities
   int threads = 0;                    // rows of the refinement and conversion (0: all cores)
+  // Pixels whose texture the images' noise drowns get no range (vision/texture_snr.h):
+  // where the energy of the grey-level gradient along the epipolar line, over a
+  // (2 n + 1)^2 window, exceeds what the noise alone gives it by less than this ratio, and
+  // no tile's plane (planar_refinement) ranged the pixel from its larger area. The noise is
+  // measured on the pair itself. 0: every match is kept.
+  double min_texture_snr = 0.25;
+  int texture_half_window_px = 7;     // n
   // Where the pixels the matcher pairs in the pair at half size show the two cameras
   // exposed differently, carry the bottom image's grey levels onto the top's (per channel,
   // a gain and an offset: vision/photometric_match.h) before the full-size match, so that

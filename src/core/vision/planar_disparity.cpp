@@ -324,7 +324,7 @@ double disparitySlopeInInverseRange(double theta_rad, double rho_per_m, double b
 }
 
 long refineDisparityByPlanes(const EpipolarImage& left, const EpipolarImage& right, cv::Mat& disparity_px,
-                             const PlanarRefinementGrid& grid) {
+                             const PlanarRefinementGrid& grid, cv::Mat* taken) {
   // Two grids of tiles, the second offset by half a tile along both axes: a pixel takes the
   // planes' disparity only where the tiles of both grids that hold it chose planes that
   // agree there. A tile across a crease (a wall meeting the ceiling, a room's corner) fits
@@ -336,6 +336,7 @@ long refineDisparityByPlanes(const EpipolarImage& left, const EpipolarImage& rig
   const cv::Mat a = fitTiles(left, right, disparity_px, geometry, grid, 0);
   const cv::Mat b = fitTiles(left, right, disparity_px, geometry, grid, grid.tile_px / 2, &a);
   long changed = 0;
+  if (taken != nullptr) *taken = cv::Mat::zeros(disparity_px.size(), CV_8UC1);
   for (int v = 0; v < disparity_px.rows; ++v) {
     const float* pa = a.ptr<float>(v);
     const float* pb = b.ptr<float>(v);
@@ -343,6 +344,7 @@ long refineDisparityByPlanes(const EpipolarImage& left, const EpipolarImage& rig
     for (int u = 0; u < disparity_px.cols; ++u) {
       if (!(std::abs(pa[u] - pb[u]) <= kPlanesAgreePx)) continue;  // false for NaN
       d[u] = 0.5f * (pa[u] + pb[u]);
+      if (taken != nullptr) taken->at<std::uint8_t>(v, u) = 255;
       ++changed;
     }
   }

@@ -35,9 +35,10 @@ struct PlanarRefinementGrid {
 // disparity_px: CV_32FC1 on the top image's grid (rows: polar angle from the zenith,
 // columns: azimuth), NaN where there is none; changed in place where the two grids' planes
 // agree. left and right are the transposed images the disparities were matched on.
-// Returns the number of pixels that took a plane's disparity.
+// Returns the number of pixels that took a plane's disparity; `taken`, when given, becomes
+// a CV_8UC1 mask of them (255).
 long refineDisparityByPlanes(const EpipolarImage& left, const EpipolarImage& right, cv::Mat& disparity_px,
-                             const PlanarRefinementGrid& grid);
+                             const PlanarRefinementGrid& grid, cv::Mat* taken = nullptr);
 
 // d gamma / d rho: how fast the disparity gamma [rad] at the top camera's polar angle
 // theta [rad] changes with inverse range rho [1/m].

@@ -218,25 +218,41 @@ layout::FurnitureParams furnitureParams(const RoomLayoutOptions& o, const layout
   return p;
 }
 
-// The floor (and ceiling) at the calibrated depth noise, or else at the first of the
-// noisier retries that finds one. Only the search for them is widened: the noise is the
-// floor's (low texture seen at a grazing angle loses most to compression), and walls
-// fitted with windows that wide take inner layers for the wall (measured on rendered
-// rooms: 6-9 % short across one axis).
+// The floor and ceiling at the calibrated depth noise, or else each at the first of the
+// noisier retries that finds it. Only the search for them is widened: the noise is the
+// floor's and ceiling's (low texture seen at a grazing angle loses most to compression; a
+// plain ceiling under sensor noise keeps few ranges, and those noisy), and walls fitted
+// with windows that wide take inner layers for the wall (measured on rendered rooms: 6-9 %
+// short across one axis). A ceiling is looked for more widely only where the calibrated
+// search found a floor but none above: a layer above the rig as dense as the ceiling rule
+// asks (a share of the floor's support) is a ceiling ranged poorly, not sky.
 layout::HorizontalPlanes floorAndCeiling(const std::vector<double>& heights, const RoomLayoutOptions& options,
                                          std::vector<std::string>& warnings) {
+  const auto note = [&](const char* surface, double fraction) {
+    std::ostringstream line;
+    line << "depth noise: no " << surface << " at " << 100.0 * options.range_noise_fraction
+         << " % of the range; found as a layer " << 100.0 * fraction << " % thick (compressed or noisy images?)";
+    warnings.push_back(line.str());
+  };
+  RoomLayoutOptions noisier = options;
   try {
-    return layout::findHorizontalPlanes(heights, boxFitParams(options));
+    layout::HorizontalPlanes planes = layout::findHorizontalPlanes(heights, boxFitParams(options));
+    for (std::size_t k = 0; k < options.noise_fraction_retries.size() && !planes.has_ceiling; ++k) {
+      noisier.range_noise_fraction = options.range_noise_fraction * options.noise_fraction_retries[k];
+      const layout::HorizontalPlanes wider = layout::findHorizontalPlanes(heights, boxFitParams(noisier));
+      if (!wider.has_ceiling) continue;
+      planes.has_ceiling = true;
+      planes.ceiling_z = wider.ceiling_z;
+      planes.ceiling_support = wider.ceiling_support;
+      note("ceiling", noisier.range_noise_fraction);
+    }
+    return planes;
   } catch (const InputError&) {
-    RoomLayoutOptions noisier = options;
     for (const double factor : options.noise_fraction_retries) {
       noisier.range_noise_fraction = options.range_noise_fraction * factor;
       try {
         layout::HorizontalPlanes planes = layout::findHorizontalPlanes(heights, boxFitParams(noisier));
-        std::ostringstream note;
-        note << "depth noise: no floor at " << 100.0 * options.range_noise_fraction << " % of the range; found as a layer "
-             << 100.0 * noisier.range_noise_fraction << " % thick (compressed or noisy images?)";
-        warnings.push_back(note.str());
+        note("floor", noisier.range_noise_fraction);
         return planes;
       } catch (const InputError&) {
       }

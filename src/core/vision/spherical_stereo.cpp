@@ -12,6 +12,7 @@
 #include "photometric_match.h"
 #include "planar_disparity.h"
 #include "subpixel_disparity.h"
+#include "texture_snr.h"
 
 namespace room_reverb::core {
 namespace {
@@ -48,10 +49,13 @@ void validate(const cv::Mat& top, const cv::Mat& bottom, double baseline_m, cons
   if (!(o.min_range_m > baseline_m) || !(o.max_range_m > o.min_range_m) || !(o.polar_cap_deg >= 0.0 && o.polar_cap_deg < 90.0) ||
       o.seam_padding_px < 0 || o.block_size < 1 || o.block_size % 2 == 0 || o.p1_per_channel <= 0 ||
       o.p2_per_channel <= o.p1_per_channel || o.max_hole_px < 0 || o.refinement_half_window_px < 1 ||
-      o.refinement_half_window_px > 16 || o.planar_tile_px < 8 || o.planar_tile_px > 256 || !(o.planar_max_range_m > 0.0) || o.threads < 0) {
+      o.refinement_half_window_px > 16 || o.planar_tile_px < 8 || o.planar_tile_px > 256 || !(o.planar_max_range_m > 0.0) || o.threads < 0 ||
+      !(o.min_texture_snr >= 0.0 && std::isfinite(o.min_texture_snr)) || o.texture_half_window_px < 1 ||
+      o.texture_half_window_px > 32) {
     throw InputError("spherical stereo: options out of range (need baseline < min_range_m < max_range_m, 0 <= "
                      "polar_cap_deg < 90, odd block_size, 0 < p1 < p2, non-negative paddings, "
-                     "refinement_half_window_px 1..16, planar_tile_px 8..256, planar_max_range_m > 0, threads >= 0)");
+                     "refinement_half_window_px 1..16, planar_tile_px 8..256, planar_max_range_m > 0, threads >= 0, "
+                     "min_texture_snr >= 0, texture_half_window_px 1..32)");
   }
   requireUsable(top, "top");
   requireUsable(bottom, "bottom");
@@ -217,6 +221,24 @@ PhotometricMap exposureMap(const cv::Mat& top, const cv::Mat& bottom, double bas
   return photometricMapFromMatches(top_half, bottom_half, matched, 2);
 }
 
+// Disparities of pixels whose texture the noise drowns (texture_snr.h) become NaN, except
+// where a tile's plane ranged them. The noise is the larger of the two images': matching
+// compares both.
+void dropUntextured(cv::Mat& disparity_px, const cv::Mat& planar, const stereo_detail::EpipolarImage& left,
+                    const stereo_detail::EpipolarImage& right, int pole_padding, const SphericalStereoOptions& o) {
+  const double noise = std::max(stereo_detail::pixelNoiseSigma(left.grey), stereo_detail::pixelNoiseSigma(right.grey));
+  const cv::Mat snr = stereo_detail::epipolarTextureSnr(left, noise, o.texture_half_window_px);
+  const float threshold = static_cast<float>(o.min_texture_snr);
+  forEachRow(disparity_px.rows, o.threads, [&](int v) {
+    float* row = disparity_px.ptr<float>(v);
+    const std::uint8_t* on_plane = planar.empty() ? nullptr : planar.ptr<std::uint8_t>(v);
+    for (int u = 0; u < disparity_px.cols; ++u) {
+      if (!std::isfinite(row[u]) || (on_plane != nullptr && on_plane[u] != 0)) continue;
+      if (snr.at<float>(u + o.seam_padding_px, v + pole_padding) < threshold) row[u] = kNaN;
+    }
+  });
+}
+
 }  // namespace
 
 double rangeFromDisparity(double theta_top_rad, double gamma_rad, double baseline_m) {
@@ -250,11 +272,12 @@ SphericalDepth computeSphericalDepth(const cv::Mat& top, const cv::Mat& bottom, 
   }
   const cv::Mat matched = matcher.match(left, right);
   stereo_detail::EpipolarImage left_epipolar, right_epipolar;
-  if (o.subpixel_refinement) {
+  if (o.subpixel_refinement || o.min_texture_snr > 0.0) {
     left_epipolar = stereo_detail::epipolarImage(left);
     right_epipolar = stereo_detail::epipolarImage(right);
   }
   cv::Mat disparity_px = matched.clone();
+  cv::Mat planar;  // pixels a tile's plane ranged
   if (o.subpixel_refinement) {
     forEachRow(h, o.threads, [&](int v) {
       float* row = disparity_px.ptr<float>(v);
@@ -273,9 +296,10 @@ SphericalDepth computeSphericalDepth(const cv::Mat& top, const cv::Mat& bottom, 
       grid.tile_px = o.planar_tile_px;
       grid.max_range_m = o.planar_max_range_m;
       grid.threads = o.threads;
-      stereo_detail::refineDisparityByPlanes(left_epipolar, right_epipolar, disparity_px, grid);
+      stereo_detail::refineDisparityByPlanes(left_epipolar, right_epipolar, disparity_px, grid, &planar);
     }
   }
+  if (o.min_texture_snr > 0.0) dropUntextured(disparity_px, planar, left_epipolar, right_epipolar, search, o);
   // Rows are independent: each writes only its own row of the outputs.
   forEachRow(h, o.threads, [&](int v) {
     const double theta = (v + 0.5) * pixel_rad;
