@@ -98,12 +98,13 @@ double faceArea(const Eigen::Vector3d& size, int k) {
   return (k < 4 ? size.y() : size.x()) * size.z();
 }
 
-void pairToPointCloud(benchmark::State& state, bool exposed_apart, bool planes = true) {
+void pairToPointCloud(benchmark::State& state, bool exposed_apart, bool planes = true, bool texture_test = true) {
   const std::string name = kScenes[static_cast<std::size_t>(state.range(0))];
   const StereoCapture& c = capture(name, exposed_apart);
   state.SetLabel(name);
   SphericalStereoOptions options;
   options.planar_refinement = planes;
+  if (!texture_test) options.min_texture_snr = 0.0;
   SphericalDepth depth;
   PointCloud cloud;
   for (auto _ : state) {
@@ -141,6 +142,12 @@ BENCHMARK(BM_PairToPointCloud)->DenseRange(0, static_cast<int>(kScenes.size()) -
 // they cost, measured in the same run.
 void BM_PairToPointCloudWithoutPlanes(benchmark::State& state) { pairToPointCloud(state, false, false); }
 BENCHMARK(BM_PairToPointCloudWithoutPlanes)->DenseRange(0, static_cast<int>(kScenes.size()) - 1)
+    ->Unit(benchmark::kMillisecond)->Iterations(3)->UseRealTime();
+
+// The same keeping every match (SphericalStereoOptions::min_texture_snr 0): what the
+// texture test costs.
+void BM_PairToPointCloudKeepingEveryMatch(benchmark::State& state) { pairToPointCloud(state, false, true, false); }
+BENCHMARK(BM_PairToPointCloudKeepingEveryMatch)->DenseRange(0, static_cast<int>(kScenes.size()) - 1)
     ->Unit(benchmark::kMillisecond)->Iterations(3)->UseRealTime();
 
 void BM_PairToPointCloudExposedApart(benchmark::State& state) { pairToPointCloud(state, true); }

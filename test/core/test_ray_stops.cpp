@@ -64,6 +64,18 @@ TEST(RayStops, AnUnrangedStretchOfCeilingEndsAtTheWallBeyondIt) {
   EXPECT_NEAR(*low, kWallX, 0.05);
 }
 
+TEST(RayStops, ALongUnrangedStretchIsCrossedWindowByWindow) {
+  // The ceiling ranged to 2.5 m only (plain plaster under sensor noise): the rays aimed 1-2 m
+  // past the edge land on the unranged ceiling and come back with nothing; those aimed
+  // further out stop on the wall.
+  const RayStops stops(scan(2.5, true));
+  const auto wall = wallWhereCeilingRaysStop(stops, 0, false, 2.5, kCeilingZ, {-2.0, 2.0}, 0.2);
+  ASSERT_TRUE(wall.has_value());
+  EXPECT_NEAR(*wall, kWallX, 0.05);
+  // Asked no further than the first window, there is no evidence.
+  EXPECT_FALSE(wallWhereCeilingRaysStop(stops, 0, false, 2.5, kCeilingZ, {-2.0, 2.0}, 0.2, 2.0, 2.0));
+}
+
 TEST(RayStops, AHangingLightBeforeTheEdgeDoesNotStopTheRaysAimedWellPast) {
   // The panel's shadow ends the ceiling's range at 4.2 m; the panel stops the rays aimed just
   // past it, not those aimed a metre past.

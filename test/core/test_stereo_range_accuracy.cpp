@@ -151,7 +151,7 @@ TEST(StereoRangeAccuracy, MedianErrorOnWallsFromOneToEightMetres) {
 
 // Held out: every finish of the first hall moved to another wall or replaced, another
 // size and rig position, another seed; no option was chosen on it. Measured:
-// 0.47 % at 5-8 m (1.19 % without the planes, 95 % ranged) and 0.86 % at 3-5 m (1.20 %),
+// 0.47 % at 5-8 m (1.19 % without the planes, 95 % ranged) and 0.85 % at 3-5 m (1.20 %),
 // where the only wall face-on is unpainted concrete 4.1 m away. The generated concrete's
 // finest detail is near the pixel's size, and the two views' samples of it differ: on the
 // first hall's concrete without sensor noise the grey levels' least-squares minimum lies

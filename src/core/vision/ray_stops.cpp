@@ -44,40 +44,46 @@ std::optional<Eigen::Vector3f> RayStops::along(const Eigen::Vector3d& target) co
 
 std::optional<double> wallWhereCeilingRaysStop(const RayStops& stops, int axis, bool below, double edge,
                                                double ceiling_z, const std::pair<double, double>& lateral,
-                                               double tolerance, double reach_m) {
+                                               double tolerance, double reach_m, double max_beyond_m) {
   const double sign = below ? -1.0 : 1.0;
   const double margin = 0.1 * (lateral.second - lateral.first);
   const double from = lateral.first + margin, to = lateral.second - margin;
   if (!(to > from) || !(reach_m > 0.0)) return std::nullopt;
-  int aimed = 0;
-  std::vector<double> stop_points;
-  for (double d = edge + 0.5 * reach_m; d <= edge + reach_m; d += kStepM) {
-    for (double l = from; l <= to; l += kLateralStepM) {
-      Eigen::Vector3d target;
-      target[axis] = sign * d;
-      target[1 - axis] = l;
-      target.z() = ceiling_z;
-      ++aimed;
-      const std::optional<Eigen::Vector3f> hit = stops.along(target);
-      if (!hit) continue;
-      // A stop further inside than the edge is something in the room in front of the
-      // wall (furniture, a hanging light): no evidence of where the wall is.
-      const double at = sign * static_cast<double>((*hit)[axis]);
-      if (at > edge - tolerance && at < d - tolerance) stop_points.push_back(at);
+  // Windows of reach_m / 2 from reach_m / 2 past the edge outwards: a window whose rays
+  // mostly come back with nothing, or on the ceiling where they were aimed, is still over
+  // the unranged ceiling, and the next one further out is asked.
+  for (double near = 0.5 * reach_m; near + 0.5 * reach_m <= max_beyond_m + 1e-9; near += 0.5 * reach_m) {
+    int aimed = 0;
+    std::vector<double> stop_points;
+    for (double d = edge + near; d <= edge + near + 0.5 * reach_m; d += kStepM) {
+      for (double l = from; l <= to; l += kLateralStepM) {
+        Eigen::Vector3d target;
+        target[axis] = sign * d;
+        target[1 - axis] = l;
+        target.z() = ceiling_z;
+        ++aimed;
+        const std::optional<Eigen::Vector3f> hit = stops.along(target);
+        if (!hit) continue;
+        // A stop further inside than the edge is something in the room in front of the
+        // wall (furniture, a hanging light): no evidence of where the wall is.
+        const double at = sign * static_cast<double>((*hit)[axis]);
+        if (at > edge - tolerance && at < d - tolerance) stop_points.push_back(at);
+      }
     }
+    // Enough stops (furniture in front of the wall returns nothing: its points are the
+    // objects', not the structure's), and on one surface: half of them within twice the
+    // tolerance of their median (a far wall's stops spread by 0.2-0.3 m either side of it
+    // at 6 m through the stereo of a 1024-pixel pair).
+    if (stop_points.size() < std::max<std::size_t>(kMinStops, static_cast<std::size_t>(aimed) / 4)) continue;
+    const auto middle = stop_points.begin() + static_cast<std::ptrdiff_t>(stop_points.size() / 2);
+    std::nth_element(stop_points.begin(), middle, stop_points.end());
+    const double wall = *middle;
+    const auto on_it = std::count_if(stop_points.begin(), stop_points.end(),
+                                     [&](double at) { return std::abs(at - wall) <= 2.0 * tolerance; });
+    if (2 * static_cast<std::size_t>(on_it) < stop_points.size() || wall <= edge + tolerance) return std::nullopt;
+    return wall;
   }
-  // Enough stops (furniture in front of the wall returns nothing: its points are the
-  // objects', not the structure's), and on one surface: half of them within twice the
-  // tolerance of their median (a far wall's stops spread by 0.2-0.3 m either side of it at
-  // 6 m through the stereo of a 1024-pixel pair).
-  if (stop_points.size() < std::max<std::size_t>(kMinStops, static_cast<std::size_t>(aimed) / 4)) return std::nullopt;
-  const auto middle = stop_points.begin() + static_cast<std::ptrdiff_t>(stop_points.size() / 2);
-  std::nth_element(stop_points.begin(), middle, stop_points.end());
-  const double wall = *middle;
-  const auto on_it = std::count_if(stop_points.begin(), stop_points.end(),
-                                   [&](double at) { return std::abs(at - wall) <= 2.0 * tolerance; });
-  if (2 * static_cast<std::size_t>(on_it) < stop_points.size() || wall <= edge + tolerance) return std::nullopt;
-  return wall;
+  return std::nullopt;
 }
 
 }  // namespace room_reverb::core::layout

@@ -46,11 +46,14 @@ class RayStops {
 // short of its target (a stop further inside is furniture or a light in the room). With
 // at least a quarter of the rays (and 20) stopping so, half of the stops within twice
 // `tolerance` of their median (one surface), the wall is that median when it lies more
-// than `tolerance` beyond the edge; otherwise nullopt (the wall is at the edge, or no
-// evidence).
+// than `tolerance` beyond the edge; otherwise nullopt (the wall is at the edge). Where too
+// few rays stop (they come back with nothing, or on the ceiling where they were aimed:
+// the unranged stretch runs on past the window, as a plain ceiling under sensor noise
+// does), the next window of reach_m / 2 further out is asked, up to max_beyond_m past the
+// edge; nullopt when none holds enough stops (no evidence).
 // Distances are positive (from the rig).
 std::optional<double> wallWhereCeilingRaysStop(const RayStops& stops, int axis, bool below, double edge,
                                                double ceiling_z, const std::pair<double, double>& lateral,
-                                               double tolerance, double reach_m = 2.0);
+                                               double tolerance, double reach_m = 2.0, double max_beyond_m = 6.0);
 
 }  // namespace room_reverb::core::layout

@@ -226,15 +226,19 @@ PhotometricMap exposureMap(const cv::Mat& top, const cv::Mat& bottom, double bas
 // compares both.
 void dropUntextured(cv::Mat& disparity_px, const cv::Mat& planar, const stereo_detail::EpipolarImage& left,
                     const stereo_detail::EpipolarImage& right, int pole_padding, const SphericalStereoOptions& o) {
-  const double noise = std::max(stereo_detail::pixelNoiseSigma(left.grey), stereo_detail::pixelNoiseSigma(right.grey));
-  const cv::Mat snr = stereo_detail::epipolarTextureSnr(left, noise, o.texture_half_window_px);
+  // The images without their padding (rows: azimuth, columns: polar angle); the filters
+  // below still read the padding across the seam and the poles as the matcher did.
+  const cv::Rect image(pole_padding, o.seam_padding_px, disparity_px.rows, disparity_px.cols);
+  const double noise =
+      std::max(stereo_detail::pixelNoiseSigma(left.grey(image)), stereo_detail::pixelNoiseSigma(right.grey(image)));
+  const cv::Mat snr = stereo_detail::epipolarTextureSnr({left.grey(image), left.dx(image)}, noise, o.texture_half_window_px);
   const float threshold = static_cast<float>(o.min_texture_snr);
   forEachRow(disparity_px.rows, o.threads, [&](int v) {
     float* row = disparity_px.ptr<float>(v);
     const std::uint8_t* on_plane = planar.empty() ? nullptr : planar.ptr<std::uint8_t>(v);
     for (int u = 0; u < disparity_px.cols; ++u) {
       if (!std::isfinite(row[u]) || (on_plane != nullptr && on_plane[u] != 0)) continue;
-      if (snr.at<float>(u + o.seam_padding_px, v + pole_padding) < threshold) row[u] = kNaN;
+      if (snr.at<float>(u, v) < threshold) row[u] = kNaN;
     }
   });
 }
