@@ -239,7 +239,12 @@ layout::HorizontalPlanes floorAndCeiling(const std::vector<double>& heights, con
     layout::HorizontalPlanes planes = layout::findHorizontalPlanes(heights, boxFitParams(options));
     for (std::size_t k = 0; k < options.noise_fraction_retries.size() && !planes.has_ceiling; ++k) {
       noisier.range_noise_fraction = options.range_noise_fraction * options.noise_fraction_retries[k];
-      const layout::HorizontalPlanes wider = layout::findHorizontalPlanes(heights, boxFitParams(noisier));
+      layout::HorizontalPlanes wider;
+      try {
+        wider = layout::findHorizontalPlanes(heights, boxFitParams(noisier));
+      } catch (const InputError&) {
+        continue;  // no floor in windows this wide: the calibrated floor stands, without a ceiling from them
+      }
       if (!wider.has_ceiling) continue;
       planes.has_ceiling = true;
       planes.ceiling_z = wider.ceiling_z;
