@@ -18,7 +18,7 @@
 //   [ROOM_REVERB_PRINT_OBJECTS=1] (the fitted objects: label, centre, size, yaw, material)
 //   [ROOM_REVERB_PRINT_RELIEF=1] (each face's and object's relief: seen share off its plane,
 //   scattering at 1 kHz)
-//   [ROOM_REVERB_ROUTE_WITHOUT=exposure,noise,subpixel,planes,texture,joints,patch_cap] (routeOptions)
+//   [ROOM_REVERB_ROUTE_WITHOUT=exposure,noise,subpixel,planes,texture,junctions,joints,patch_cap] (routeOptions)
 //   [ROOM_REVERB_SENSOR_NOISE=2] (the cameras' noise, grey levels at the capture's width)
 //   .ws/devel/lib/room_reverb/test_visual_route_realistic --gtest_filter='*Report*'
 #include <gtest/gtest.h>
@@ -135,9 +135,10 @@ const VisualRouteOptions& routeOptions() {
   static const VisualRouteOptions options = [] {
     VisualRouteOptions o;
     loadDefaultMaterialModels(o);
-    // ROOM_REVERB_ROUTE_WITHOUT=exposure,noise,subpixel,planes,texture,joints,patch_cap: the
-    // stereo without matching the cameras' exposures, without its sub-pixel refinement,
-    // without the tiles' planes or keeping the matches the noise drowns, the layout without its noisier retries, the materials without the
+    // ROOM_REVERB_ROUTE_WITHOUT=exposure,noise,subpixel,planes,texture,junctions,joints,patch_cap:
+    // the stereo without matching the cameras' exposures, without its sub-pixel refinement,
+    // without the tiles' planes or keeping the matches the noise drowns, the layout without
+    // its noisier retries or the ceiling's junctions in the image, the materials without the
     // tiles' joints or with every patch of a face, to measure what each gives.
     const char* without_env = std::getenv("ROOM_REVERB_ROUTE_WITHOUT");
     const std::string without = without_env != nullptr ? without_env : "";
@@ -146,6 +147,7 @@ const VisualRouteOptions& routeOptions() {
     if (without.find("subpixel") != std::string::npos) o.stereo.subpixel_refinement = false;
     if (without.find("planes") != std::string::npos) o.stereo.planar_refinement = false;
     if (without.find("texture") != std::string::npos) o.stereo.min_texture_snr = 0.0;
+    if (without.find("junctions") != std::string::npos) o.layout.wall_ceiling_junctions = false;
     if (without.find("joints") != std::string::npos) o.materials.tile_joints = false;
     if (without.find("patch_cap") != std::string::npos) o.materials.max_patches_per_face = 0;
     const char* threshold = std::getenv("ROOM_REVERB_MIN_CONFIDENCE");

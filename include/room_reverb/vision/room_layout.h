@@ -49,6 +49,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <opencv2/core.hpp>
 #include <vector>
 
 #include "room_reverb/acoustics/room_model.h"
@@ -92,6 +93,11 @@ struct RoomLayoutOptions {
   double wall_layer_gap_m = 0.25;
   double wall_edge_tolerance_m = 0.2;
   double hidden_wall_m = 0.5;
+  // A wall the depth places without a plane where the ceiling ends (a far wall of a few
+  // pixels of disparity, a ceiling ranged short of its wall) is placed where the top image
+  // shows the ceiling meeting it, if it shows that clearly (needs the image:
+  // fitRoomLayout's `image`; src/core/vision/wall_junctions.h).
+  bool wall_ceiling_junctions = true;
   // A plane is a candidate for a wall or the floor if it has at least this fraction of the
   // strongest plane's support on its side of the rig (a wall partly hidden by a wardrobe
   // is still the wall).
@@ -196,6 +202,13 @@ struct RoomLayout {
 // non-finite point, non-positive or non-finite options, and a cloud that shows no room:
 // no floor plane below the rig, or a side without a wall (a random blob of points, a
 // single plane).
-RoomLayout fitRoomLayout(const PointCloud& cloud, const RoomLayoutOptions& options = {});
+// The top camera's image, for what the cloud does not hold: where a wall meets the floor
+// and the ceiling (src/core/vision/wall_junctions.h).
+struct LayoutImage {
+  cv::Mat color;                                                  // the top camera's equirect, 8-bit BGR
+  Eigen::Isometry3d camera_from_rig = Eigen::Isometry3d::Identity();  // the cloud's frame -> the top camera's
+};
+RoomLayout fitRoomLayout(const PointCloud& cloud, const RoomLayoutOptions& options = {},
+                         const LayoutImage* image = nullptr);
 
 }  // namespace room_reverb::core

@@ -55,6 +55,7 @@ enum class WallBasis {
   kEdge,         // the ceiling's or floor's edge; the wall itself is hidden or cluttered
   kRayStop,      // beyond the ceiling's ranged edge, where the rays aimed past it stop (ray_stops.h)
   kOpen,         // nothing stands where the floor ends: an open side
+  kCeilingJunction,  // where the image shows the ceiling meeting it (wall_junctions.h)
 };
 
 struct WallChoice {

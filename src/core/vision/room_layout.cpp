@@ -15,6 +15,7 @@
 #include "room_reverb/common/error.h"
 #include "room_reverb/vision/room_model_cleanup.h"
 #include "voxel_grid.h"
+#include "wall_junctions.h"
 
 namespace room_reverb::core {
 
@@ -169,6 +170,9 @@ void recordFaceEvidence(const AlignedBox& box, RoomLayout& result) {
                                   "past that edge stop, " + where + " (the ceiling near the wall has no range: a light "
                                   "panel or a plain surface)");
         break;
+      case layout::WallBasis::kCeilingJunction:
+        evidence.basis = "where the image shows the ceiling meeting it";  // warned where it is placed
+        break;
       case layout::WallBasis::kOpen:
         evidence.basis = "open side";
         evidence.open = true;
@@ -189,6 +193,46 @@ std::int32_t nearestObject(const std::vector<CuboidObject>& objects, const Eigen
     if (d <= nearest) nearest = d, best = static_cast<std::int32_t>(k);
   }
   return best;
+}
+
+// Walls the depth places without a plane at the ceiling's edge (kEdge, kRayStop, kPlane:
+// a far wall of few pixels of disparity, a wall the ceiling's range stops short of) are
+// placed where the image shows the ceiling meeting them, when it shows that clearly
+// (wall_junctions.h) and that lies more than one of its pixels from the depth's position.
+// Walls resting on a plane at the ceiling's edge keep it: the depth there is the better
+// measure (a pixel of a junction 7 m away at 1024 px is 0.22 m). Returns a warning per
+// wall moved.
+std::vector<std::string> placeWallsAtCeilingJunctions(AlignedBox& box, const cv::Mat& color,
+                                                      const Eigen::Isometry3d& camera_from_aligned) {
+  std::vector<std::string> notes;
+  if (!box.has_ceiling) return notes;
+  for (int face = 2; face < 6; ++face) {
+    layout::WallChoice& choice = box.choice[static_cast<std::size_t>(face)];
+    if (choice.basis != layout::WallBasis::kEdge && choice.basis != layout::WallBasis::kRayStop &&
+        choice.basis != layout::WallBasis::kPlane) {
+      continue;
+    }
+    const layout::JunctionFit junction = layout::ceilingJunction(color, camera_from_aligned, box, face, {});
+    const double depth_position = box.facePosition(face);
+    // Within a pixel of the depth's position the junction adds nothing the depth does not
+    // measure more finely.
+    if (!junction.found || std::abs(junction.position_m - depth_position) <= junction.pixel_m) continue;
+    switch (face) {
+      case 2: box.x_lo = junction.position_m; break;
+      case 3: box.x_hi = junction.position_m; break;
+      case 4: box.y_lo = junction.position_m; break;
+      default: box.y_hi = junction.position_m; break;
+    }
+    choice = {junction.position_m, layout::WallBasis::kCeilingJunction, 0.5, 0.0};
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "%s: no wall plane where the ceiling's range ends; placed where the image shows the ceiling meeting "
+                  "it, %.2f m from the rig (+-%.2f m a pixel; the depth alone placed it at %.2f m)",
+                  kRoomSurfaceNames[static_cast<std::size_t>(face)], std::abs(junction.position_m), junction.pixel_m,
+                  std::abs(depth_position));
+    notes.emplace_back(line);
+  }
+  return notes;
 }
 
 layout::FurnitureParams furnitureParams(const RoomLayoutOptions& o, const layout::RoomFrame& frame) {
@@ -268,7 +312,7 @@ layout::HorizontalPlanes floorAndCeiling(const std::vector<double>& heights, con
 
 }  // namespace
 
-RoomLayout fitRoomLayout(const PointCloud& cloud, const RoomLayoutOptions& options) {
+RoomLayout fitRoomLayout(const PointCloud& cloud, const RoomLayoutOptions& options, const LayoutImage* image) {
   checkOptions(options);
   checkPointCloud(cloud, options.min_points);
   const layout::VoxelGrid grid(cloud, options.voxel_size_m, options.max_range_m);
@@ -317,6 +361,12 @@ RoomLayout fitRoomLayout(const PointCloud& cloud, const RoomLayoutOptions& optio
   box = layout::fitAlignedBox(rotatedByMinus(structure, yaw), raw, planes, params);
 
   if (!box.has_ceiling) box.top_z = layout::wallTopEdge(raw, box, spread);
+  std::vector<std::string> junction_notes;
+  if (image != nullptr && options.wall_ceiling_junctions) {
+    const Eigen::Isometry3d camera_from_aligned =
+        image->camera_from_rig * Eigen::Isometry3d(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()));
+    junction_notes = placeWallsAtCeilingJunctions(box, image->color, camera_from_aligned);
+  }
 
   // Furniture is cut away from each face by the face's thickness: the calibrated noise,
   // or more where the face's own points show more (a plain wall, a smaller image).
@@ -344,6 +394,7 @@ RoomLayout fitRoomLayout(const PointCloud& cloud, const RoomLayoutOptions& optio
       Eigen::Translation3d(frame.rig_position) * Eigen::AngleAxisd(rig_yaw, Eigen::Vector3d::UnitZ());
   result.surface_support = box.support;
   recordFaceEvidence(box, result);
+  result.warnings.insert(result.warnings.end(), junction_notes.begin(), junction_notes.end());
   for (int f = 2; f < 6; ++f) {
     if (result.face_evidence[static_cast<std::size_t>(f)].open) {
       model.surfaces[kRoomSurfaceNames[static_cast<std::size_t>(f)]] = SurfaceAssignment{kOpenSideMaterial, 0.3};

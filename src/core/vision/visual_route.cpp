@@ -43,13 +43,18 @@ RoomLayout roomLayoutFromCloud(const PointCloud& cloud, const cv::Mat& top_color
     leveled = line;
   }
   RoomLayout layout;
+  // The cloud as the fit sees it is levelled; the image is the unlevelled top camera's,
+  // half the baseline above the rig's centre.
+  LayoutImage image;
+  image.color = top_color;
+  image.camera_from_rig = Eigen::Translation3d(0.0, 0.0, -0.5 * baseline_m) * Eigen::Isometry3d(level_tilt.transpose());
   if (isIdentity(level_tilt)) {
-    layout = fitRoomLayout(cloud, options.layout);
+    layout = fitRoomLayout(cloud, options.layout, &image);
   } else {
     PointCloud level = cloud;
     const Eigen::Matrix3f tilt_f = level_tilt.cast<float>();
     for (CloudPoint& point : level.points) point.p = tilt_f * point.p;
-    layout = fitRoomLayout(level, options.layout);
+    layout = fitRoomLayout(level, options.layout, &image);
     // The fit's rig frame is the levelled one; the caller's is before the tilt.
     layout.room_from_rig = layout.room_from_rig * Eigen::Isometry3d(level_tilt);
     layout.model.rig_rotation = Eigen::Quaterniond(layout.room_from_rig.rotation()).normalized();

@@ -1,0 +1,134 @@
+#include "wall_junctions.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <vector>
+
+#include "room_reverb/vision/equirect.h"
+
+namespace room_reverb::core::layout {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Bilinear colour at continuous pixel coordinates (pixel centres at integer + 0.5), the
+// columns wrapping round the seam, the rows clamped at the poles.
+cv::Vec3f sampleColor(const cv::Mat& image, double u, double v) {
+  const double x = u - 0.5, y = std::clamp(v - 0.5, 0.0, static_cast<double>(image.rows - 1));
+  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  const double fx = x - x0, fy = y - y0;
+  const int y1 = std::min(y0 + 1, image.rows - 1);
+  const auto column = [&](int c) { return ((c % image.cols) + image.cols) % image.cols; };
+  const int c0 = column(x0), c1 = column(x0 + 1);
+  const cv::Vec3f a = image.at<cv::Vec3f>(y0, c0), b = image.at<cv::Vec3f>(y0, c1);
+  const cv::Vec3f c = image.at<cv::Vec3f>(y1, c0), d = image.at<cv::Vec3f>(y1, c1);
+  return (a * (1.0 - fx) + b * fx) * (1.0 - fy) + (c * (1.0 - fx) + d * fx) * fy;
+}
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  return *mid;
+}
+
+struct Wall {
+  int axis = 0;        // 0: x, 1: y
+  double sign = -1.0;  // -1 on the low side
+  double lateral_lo = 0.0, lateral_hi = 0.0;
+};
+
+Wall wallOf(const AlignedBox& box, int face) {
+  Wall w;
+  w.axis = face < 4 ? 0 : 1;
+  w.sign = face % 2 == 0 ? -1.0 : 1.0;
+  w.lateral_lo = w.axis == 0 ? box.y_lo : box.x_lo;
+  w.lateral_hi = w.axis == 0 ? box.y_hi : box.x_hi;
+  return w;
+}
+
+Eigen::Vector3d pointOn(const Wall& w, double distance, double lateral, double z) {
+  Eigen::Vector3d p(0.0, 0.0, z);
+  p[w.axis] = w.sign * distance;
+  p[1 - w.axis] = lateral;
+  return p;
+}
+
+// The mean colour step across one junction line at one candidate distance: |mean of
+// (colour below - colour above)| over the line's samples, 0 when too few are usable.
+double junctionStep(const cv::Mat& image, const EquirectGeometry& g, const Eigen::Isometry3d& camera_from_aligned,
+                    const Wall& w, double distance, double z, const JunctionParams& params) {
+  const Eigen::Vector3d normal_camera = camera_from_aligned.linear() * pointOn(w, 1.0, 0.0, 0.0).normalized();
+  const double width = w.lateral_hi - w.lateral_lo;
+  const double lo = w.lateral_lo + params.corner_margin * width;
+  const double span = (1.0 - 2.0 * params.corner_margin) * width;
+  const double dl = 0.25 * span / params.samples_per_line;
+  const double cos_max = std::cos(params.max_off_normal_rad);
+  cv::Vec3d sum(0.0, 0.0, 0.0);
+  int used = 0;
+  for (int i = 0; i < params.samples_per_line; ++i) {
+    const double lateral = lo + (i + 0.5) * span / params.samples_per_line;
+    const Eigen::Vector3d c = camera_from_aligned * pointOn(w, distance, lateral, z);
+    if (c.normalized().dot(normal_camera) < cos_max) continue;
+    const Eigen::Vector2d q = equirectCoordinates(g, c);
+    Eigen::Vector2d t = equirectCoordinates(g, camera_from_aligned * pointOn(w, distance, lateral + dl, z)) -
+                        equirectCoordinates(g, camera_from_aligned * pointOn(w, distance, lateral - dl, z));
+    if (t.x() > 0.5 * g.width) t.x() -= g.width;  // the pair straddles the seam
+    if (t.x() < -0.5 * g.width) t.x() += g.width;
+    if (!(t.norm() > 0.0)) continue;
+    Eigen::Vector2d n(-t.y(), t.x());
+    n.normalize();
+    if (n.y() < 0.0) n = -n;  // towards larger v: below the line
+    cv::Vec3f below(0.0f, 0.0f, 0.0f), above(0.0f, 0.0f, 0.0f);
+    int taps = 0;
+    for (double s = 1.0; s <= params.step_px + 1e-9; s += 1.0, ++taps) {
+      below += sampleColor(image, q.x() + s * n.x(), q.y() + s * n.y());
+      above += sampleColor(image, q.x() - s * n.x(), q.y() - s * n.y());
+    }
+    if (taps == 0) continue;
+    const cv::Vec3f step = (below - above) * (1.0f / static_cast<float>(taps));
+    sum += cv::Vec3d(step[0], step[1], step[2]);
+    ++used;
+  }
+  if (used < params.samples_per_line / 4) return 0.0;
+  return cv::norm(sum) / used;
+}
+
+}  // namespace
+
+JunctionFit ceilingJunction(const cv::Mat& color, const Eigen::Isometry3d& camera_from_aligned, const AlignedBox& box,
+                            int face, const JunctionParams& params) {
+  JunctionFit fit;
+  if (!box.has_ceiling || face < 2 || face > 5 || color.empty() || color.channels() != 3) return fit;
+  const Wall w = wallOf(box, face);
+  const double fitted = std::abs(box.facePosition(face));  // from the rig, the aligned frame's origin
+  const double h = box.top_z - camera_from_aligned.inverse().translation().z();  // the camera below the ceiling
+  if (!(fitted > 0.0) || !(h > 0.0) || !(w.lateral_hi > w.lateral_lo)) return fit;
+
+  cv::Mat image;
+  color.convertTo(image, CV_32FC3);
+  cv::GaussianBlur(image, image, cv::Size(0, 0), 0.7);
+  const EquirectGeometry g{image.cols, image.rows};
+
+  const double lo = fitted * (1.0 - params.search_fraction), hi = fitted * (1.0 + params.search_fraction);
+  const double step = std::max(params.position_step_m, (hi - lo) / 4000.0);
+  std::vector<double> distances, steps;
+  for (double d = lo; d <= hi; d += step) {
+    distances.push_back(d);
+    steps.push_back(junctionStep(image, g, camera_from_aligned, w, d, box.top_z, params));
+  }
+  const double typical = median(steps);
+  if (distances.size() < 3 || !(typical > 0.0)) return fit;
+  const std::size_t best = static_cast<std::size_t>(std::max_element(steps.begin(), steps.end()) - steps.begin());
+  const double d = distances[best];
+  fit.position_m = w.sign * d;
+  fit.contrast = steps[best] / typical;
+  // The junction's elevation is atan(h / d): one pixel's angle moves it by (d^2 + h^2) / h.
+  fit.pixel_m = 2.0 * kPi / g.width * (d * d + h * h) / h;
+  fit.found = fit.contrast >= params.min_contrast;
+  return fit;
+}
+
+}  // namespace room_reverb::core::layout

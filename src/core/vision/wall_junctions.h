@@ -1,0 +1,54 @@
+#pragma once
+// Where a wall meets the floor and the ceiling, as the colour image shows it.
+//
+// A far wall is a few pixels of disparity (7 m at 1024 px with a 0.2 m baseline: under
+// 4 px, so a tenth of a pixel is 2.5 % of its range), and depth from another matcher may
+// carry a bias that grows with range. The lines where the wall meets the floor and the
+// ceiling do not depend on the depth: with the camera's height above the floor h known
+// from the near floor, a junction seen at elevation -e lies at h / tan(e) along the wall's
+// normal, and a pixel's error there moves it by h / sin^2(e) times the pixel's angle
+// (0.26 m at 7 m and 1024 px: worse than the disparity per pixel, but without its bias
+// and without needing texture on the wall).
+//
+// For each candidate position of a wall, the line where it meets the ceiling is projected
+// into the image and the colour step across it measured: the mean over the line of (colour
+// just below the line - colour just above it). A junction separates two surfaces, so the
+// step keeps its sign along the line; texture, noise and thin lines parallel to the wall
+// (tile joints: the same colour on both sides) average out. The wall is where the step
+// peaks. The floor's junction is not used: skirting boards and the furniture standing on
+// the floor make a stronger step above it (on rendered rooms its peak lies 9-15 cm beyond
+// walls 1.5-2.5 m away: a skirting 10 cm high).
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+
+#include "room_box_fit.h"
+
+namespace room_reverb::core::layout {
+
+struct JunctionParams {
+  double step_px = 3.0;             // the colour is sampled from 1 to this many pixels either side of the line
+  double search_fraction = 0.35;    // candidate positions: the wall's fitted distance times 1 -+ this
+  double position_step_m = 0.01;    // between candidate positions
+  int samples_per_line = 96;        // along the wall's width
+  double corner_margin = 0.1;       // share of the wall's width left out at each corner
+  double max_off_normal_rad = 1.0;  // line samples seen further than this from the wall's normal are left out
+  double min_contrast = 4.0;        // the step at the peak over its median over the candidates
+};
+
+struct JunctionFit {
+  bool found = false;        // the step peaks with at least min_contrast
+  double position_m = 0.0;   // the wall's signed coordinate along its axis (aligned frame)
+  double contrast = 0.0;     // the step at the peak over its median over the candidates
+  double pixel_m = 0.0;      // one pixel at the junction, in metres along the wall's normal
+};
+
+// Where wall `face` (2..5, kRoomSurfaceNames order) of `box` (aligned frame: the rig at
+// the origin) meets the ceiling in `color` (the top camera's equirect, 8-bit, 3 channels),
+// where camera_from_aligned maps the aligned frame to the camera's (x forward, z up).
+// Searched within search_fraction of the box's wall. Needs a ceiling (box.has_ceiling);
+// returns found = false otherwise.
+JunctionFit ceilingJunction(const cv::Mat& color, const Eigen::Isometry3d& camera_from_aligned, const AlignedBox& box,
+                          int face, const JunctionParams& params);
+
+}  // namespace room_reverb::core::layout

@@ -1,0 +1,120 @@
+// Where a wall meets the ceiling in the image (vision/wall_junctions.h), on equirect images
+// of a box room drawn by casting each pixel's ray: a long room whose far wall is 7.3 m
+// from the rig, seen at 1024 px, with sensor noise, the box the depth gave placing that
+// wall at 6.0 m.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <opencv2/core.hpp>
+#include <random>
+
+#include "room_box_fit.h"
+#include "room_reverb/vision/equirect.h"
+#include "wall_junctions.h"
+
+using namespace room_reverb::core;
+using namespace room_reverb::core::layout;
+
+namespace {
+
+constexpr double kFarWallX = -7.3;  // the true far wall (aligned frame, the rig at the origin)
+constexpr double kCameraZ = 0.1;    // the top camera above the rig's centre
+
+AlignedBox trueBox() {
+  AlignedBox box;
+  box.x_lo = kFarWallX, box.x_hi = 1.5, box.y_lo = -1.8, box.y_hi = 1.8;
+  box.floor_z = -1.3, box.top_z = 1.7;
+  box.has_ceiling = true;
+  return box;
+}
+
+struct Drawing {
+  cv::Vec3b ceiling{120, 120, 120}, wall{185, 200, 205}, floor{50, 70, 100};
+  double tile_joint_spacing_m = 0.0;  // dark joints across the ceiling, parallel to the far wall
+  double noise_grey = 2.0;
+};
+
+// The room as the top camera sees it: each pixel the colour of the first face its ray
+// meets (the box is convex, so the nearest exit).
+cv::Mat drawRoom(const AlignedBox& box, const Drawing& look, int width = 1024) {
+  const EquirectGeometry g{width, width / 2};
+  cv::Mat image(g.height, g.width, CV_8UC3);
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, look.noise_grey);
+  const Eigen::Vector3d camera(0.0, 0.0, kCameraZ);
+  const double lo[3] = {box.x_lo, box.y_lo, box.floor_z}, hi[3] = {box.x_hi, box.y_hi, box.top_z};
+  for (int v = 0; v < g.height; ++v) {
+    for (int u = 0; u < g.width; ++u) {
+      const Eigen::Vector3d d = equirectPixelDirection(g, u, v);
+      double t = 1e9;
+      int axis = 0;
+      for (int a = 0; a < 3; ++a) {
+        if (std::abs(d[a]) < 1e-12) continue;
+        const double ta = ((d[a] > 0.0 ? hi[a] : lo[a]) - camera[a]) / d[a];
+        if (ta < t) t = ta, axis = a;
+      }
+      const Eigen::Vector3d p = camera + t * d;
+      cv::Vec3b c = axis < 2 ? look.wall : (d.z() > 0.0 ? look.ceiling : look.floor);
+      if (axis == 2 && d.z() > 0.0 && look.tile_joint_spacing_m > 0.0 &&
+          std::abs(std::remainder(p.x(), look.tile_joint_spacing_m)) < 0.012) {
+        c = cv::Vec3b(60, 60, 60);
+      }
+      for (int k = 0; k < 3; ++k) image.at<cv::Vec3b>(v, u)[k] = cv::saturate_cast<uchar>(c[k] + noise(rng));
+    }
+  }
+  return image;
+}
+
+Eigen::Isometry3d cameraFromAligned() { return Eigen::Isometry3d(Eigen::Translation3d(0.0, 0.0, -kCameraZ)); }
+
+AlignedBox boxFromDepth() {
+  AlignedBox box = trueBox();
+  box.x_lo = -6.0;  // where the depth's ceiling edge stopped
+  return box;
+}
+
+}  // namespace
+
+TEST(CeilingJunction, FindsAFarWallTheDepthPlacedShort) {
+  const JunctionFit fit = ceilingJunction(drawRoom(trueBox(), Drawing{}), cameraFromAligned(), boxFromDepth(), 2, {});
+  ASSERT_TRUE(fit.found);
+  // One pixel at 7.3 m with the ceiling 1.6 m above the camera: 2 pi / 1024 * (7.3^2 + 1.6^2) / 1.6 = 0.22 m.
+  EXPECT_NEAR(fit.pixel_m, 0.22, 0.02);
+  EXPECT_NEAR(fit.position_m, kFarWallX, 0.5 * fit.pixel_m);
+  EXPECT_GT(fit.contrast, 10.0);
+}
+
+TEST(CeilingJunction, TileJointsAcrossTheCeilingDoNotMoveIt) {
+  Drawing look;
+  look.tile_joint_spacing_m = 0.6;
+  const JunctionFit fit = ceilingJunction(drawRoom(trueBox(), look), cameraFromAligned(), boxFromDepth(), 2, {});
+  ASSERT_TRUE(fit.found);
+  EXPECT_NEAR(fit.position_m, kFarWallX, 0.5 * fit.pixel_m);
+}
+
+TEST(CeilingJunction, NearWallsWithinACentimetre) {
+  const AlignedBox box = trueBox();
+  const Drawing look;
+  const cv::Mat image = drawRoom(box, look);
+  for (const int face : {3, 4, 5}) {
+    const JunctionFit fit = ceilingJunction(image, cameraFromAligned(), box, face, {});
+    ASSERT_TRUE(fit.found) << face;
+    EXPECT_NEAR(fit.position_m, box.facePosition(face), 0.01) << face;
+  }
+}
+
+TEST(CeilingJunction, NothingWhereTheCeilingLooksLikeTheWall) {
+  Drawing look;
+  look.ceiling = look.wall;
+  const JunctionFit fit = ceilingJunction(drawRoom(trueBox(), look), cameraFromAligned(), boxFromDepth(), 2, {});
+  EXPECT_FALSE(fit.found);
+}
+
+TEST(CeilingJunction, NothingWithoutACeilingOrAnImage) {
+  AlignedBox open = boxFromDepth();
+  open.has_ceiling = false;
+  const cv::Mat image = drawRoom(trueBox(), Drawing{});
+  EXPECT_FALSE(ceilingJunction(image, cameraFromAligned(), open, 2, {}).found);
+  EXPECT_FALSE(ceilingJunction(cv::Mat(), cameraFromAligned(), boxFromDepth(), 2, {}).found);
+  EXPECT_FALSE(ceilingJunction(image, cameraFromAligned(), boxFromDepth(), 1, {}).found);  // not a wall
+}
