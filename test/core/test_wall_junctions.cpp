@@ -1,14 +1,17 @@
 // Where a wall meets the ceiling in the image (vision/wall_junctions.h), on equirect images
 // of a box room drawn by casting each pixel's ray: a long room whose far wall is 7.3 m
 // from the rig, seen at 1024 px, with sensor noise, the box the depth gave placing that
-// wall at 6.0 m.
+// wall at 6.0 m. And the room layout with the image: a cloud whose ceiling and far wall are
+// unranged beyond 6 m (a plain far end) gets its far wall from the junction.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <opencv2/core.hpp>
 #include <random>
+#include <string>
 
 #include "room_box_fit.h"
+#include "room_reverb/vision/room_layout.h"
 #include "room_reverb/vision/equirect.h"
 #include "wall_junctions.h"
 
@@ -31,6 +34,7 @@ AlignedBox trueBox() {
 struct Drawing {
   cv::Vec3b ceiling{120, 120, 120}, wall{185, 200, 205}, floor{50, 70, 100};
   double tile_joint_spacing_m = 0.0;  // dark joints across the ceiling, parallel to the far wall
+  bool picture = false;               // a black board 1.3 m wide on the far wall, its top 0.3 m under the ceiling
   double noise_grey = 2.0;
 };
 
@@ -55,6 +59,9 @@ cv::Mat drawRoom(const AlignedBox& box, const Drawing& look, int width = 1024) {
       }
       const Eigen::Vector3d p = camera + t * d;
       cv::Vec3b c = axis < 2 ? look.wall : (d.z() > 0.0 ? look.ceiling : look.floor);
+      if (look.picture && axis == 0 && d.x() < 0.0 && std::abs(p.y()) < 0.65 && p.z() > 0.6 && p.z() < box.top_z - 0.3) {
+        c = cv::Vec3b(10, 10, 10);
+      }
       if (axis == 2 && d.z() > 0.0 && look.tile_joint_spacing_m > 0.0 &&
           std::abs(std::remainder(p.x(), look.tile_joint_spacing_m)) < 0.012) {
         c = cv::Vec3b(60, 60, 60);
@@ -92,6 +99,14 @@ TEST(CeilingJunction, TileJointsAcrossTheCeilingDoNotMoveIt) {
   EXPECT_NEAR(fit.position_m, kFarWallX, 0.5 * fit.pixel_m);
 }
 
+TEST(CeilingJunction, APictureOnTheFarWallDoesNotMoveIt) {
+  Drawing look;
+  look.picture = true;  // its top edge: a stronger step than the junction's, across a third of the wall
+  const JunctionFit fit = ceilingJunction(drawRoom(trueBox(), look), cameraFromAligned(), boxFromDepth(), 2, {});
+  ASSERT_TRUE(fit.found);
+  EXPECT_NEAR(fit.position_m, kFarWallX, 0.5 * fit.pixel_m);
+}
+
 TEST(CeilingJunction, NearWallsWithinACentimetre) {
   const AlignedBox box = trueBox();
   const Drawing look;
@@ -117,4 +132,61 @@ TEST(CeilingJunction, NothingWithoutACeilingOrAnImage) {
   EXPECT_FALSE(ceilingJunction(image, cameraFromAligned(), open, 2, {}).found);
   EXPECT_FALSE(ceilingJunction(cv::Mat(), cameraFromAligned(), boxFromDepth(), 2, {}).found);
   EXPECT_FALSE(ceilingJunction(image, cameraFromAligned(), boxFromDepth(), 1, {}).found);  // not a wall
+}
+
+namespace {
+
+// What depth of that room gives: the first surface along each of the rig's rays (the rig
+// at the origin, the polar caps left out), 0.3 % range noise, with no range on the ceiling
+// and the side walls beyond x = -6 m nor on the far wall.
+PointCloud rangedRoom() {
+  const AlignedBox box = trueBox();
+  const double lo[3] = {box.x_lo, box.y_lo, box.floor_z}, hi[3] = {box.x_hi, box.y_hi, box.top_z};
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.003);
+  PointCloud cloud;
+  for (double azimuth = -3.14159; azimuth < 3.14159; azimuth += 0.006) {
+    for (double elevation = -1.3; elevation <= 1.3; elevation += 0.006) {
+      const Eigen::Vector3d d(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
+                              std::sin(elevation));
+      double t = 1e9;
+      int axis = 0;
+      for (int a = 0; a < 3; ++a) {
+        if (std::abs(d[a]) < 1e-12) continue;
+        const double ta = (d[a] > 0.0 ? hi[a] : lo[a]) / d[a];
+        if (ta < t) t = ta, axis = a;
+      }
+      const Eigen::Vector3d p = t * (1.0 + noise(rng)) * d;
+      const bool far_end = p.x() < -6.0 && (axis == 1 || (axis == 2 && d.z() > 0.0));
+      if ((axis == 0 && d.x() < 0.0) || far_end) continue;
+      CloudPoint point;
+      point.p = p.cast<float>();
+      cloud.points.push_back(point);
+    }
+  }
+  return cloud;
+}
+
+}  // namespace
+
+TEST(CeilingJunction, TheLayoutPlacesAFarWallTheDepthDoesNotShow) {
+  const PointCloud cloud = rangedRoom();
+  const RoomLayout depth_only = fitRoomLayout(cloud);
+  // Without the image the far wall stands where the ceiling's range ends.
+  EXPECT_NEAR(depth_only.model.size_m.x(), 7.5, 0.1);
+
+  LayoutImage image;
+  image.color = drawRoom(trueBox(), Drawing{});
+  image.camera_from_rig = cameraFromAligned();
+  const RoomLayout with_image = fitRoomLayout(cloud, RoomLayoutOptions{}, &image);
+  EXPECT_NEAR(with_image.model.size_m.x(), 8.8, 0.11);  // half a pixel of the junction
+  EXPECT_NEAR(with_image.model.size_m.y(), 3.6, 0.03);
+  EXPECT_EQ(with_image.face_evidence[2].basis, "where the image shows the ceiling meeting it");
+  bool warned = false;
+  for (const std::string& w : with_image.warnings) warned = warned || w.find("wall_x_min: no wall plane") == 0;
+  EXPECT_TRUE(warned);
+
+  RoomLayoutOptions without;
+  without.wall_ceiling_junctions = false;
+  EXPECT_NEAR(fitRoomLayout(cloud, without, &image).model.size_m.x(), depth_only.model.size_m.x(), 1e-9);
 }

@@ -27,6 +27,7 @@ cv::Vec3f sampleColor(const cv::Mat& image, double u, double v) {
   return (a * (1.0 - fx) + b * fx) * (1.0 - fy) + (c * (1.0 - fx) + d * fx) * fy;
 }
 
+
 double median(std::vector<double> values) {
   if (values.empty()) return 0.0;
   const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
@@ -56,8 +57,11 @@ Eigen::Vector3d pointOn(const Wall& w, double distance, double lateral, double z
   return p;
 }
 
-// The mean colour step across one junction line at one candidate distance: |mean of
-// (colour below - colour above)| over the line's samples, 0 when too few are usable.
+// The colour step across one junction line at one candidate distance: the median over the
+// line's samples of each sample's step (colour below - colour above) along the mean step's
+// direction, 0 when too few samples are usable. The median asks the step of most of the
+// line: the edge of a picture, a window or a shelf across part of a far wall, however
+// strong, does not count, while the junction runs the whole width.
 double junctionStep(const cv::Mat& image, const EquirectGeometry& g, const Eigen::Isometry3d& camera_from_aligned,
                     const Wall& w, double distance, double z, const JunctionParams& params) {
   const Eigen::Vector3d normal_camera = camera_from_aligned.linear() * pointOn(w, 1.0, 0.0, 0.0).normalized();
@@ -67,7 +71,8 @@ double junctionStep(const cv::Mat& image, const EquirectGeometry& g, const Eigen
   const double dl = 0.25 * span / params.samples_per_line;
   const double cos_max = std::cos(params.max_off_normal_rad);
   cv::Vec3d sum(0.0, 0.0, 0.0);
-  int used = 0;
+  std::vector<cv::Vec3d> steps;
+  steps.reserve(static_cast<std::size_t>(params.samples_per_line));
   for (int i = 0; i < params.samples_per_line; ++i) {
     const double lateral = lo + (i + 0.5) * span / params.samples_per_line;
     const Eigen::Vector3d c = camera_from_aligned * pointOn(w, distance, lateral, z);
@@ -89,11 +94,16 @@ double junctionStep(const cv::Mat& image, const EquirectGeometry& g, const Eigen
     }
     if (taps == 0) continue;
     const cv::Vec3f step = (below - above) * (1.0f / static_cast<float>(taps));
-    sum += cv::Vec3d(step[0], step[1], step[2]);
-    ++used;
+    steps.emplace_back(step[0], step[1], step[2]);
+    sum += steps.back();
   }
-  if (used < params.samples_per_line / 4) return 0.0;
-  return cv::norm(sum) / used;
+  const double length = cv::norm(sum);
+  if (static_cast<int>(steps.size()) < params.samples_per_line / 4 || !(length > 0.0)) return 0.0;
+  const cv::Vec3d direction = sum / length;
+  std::vector<double> along;
+  along.reserve(steps.size());
+  for (const cv::Vec3d& step : steps) along.push_back(step.dot(direction));
+  return std::max(0.0, median(std::move(along)));
 }
 
 }  // namespace
@@ -119,8 +129,10 @@ JunctionFit ceilingJunction(const cv::Mat& color, const Eigen::Isometry3d& camer
     distances.push_back(d);
     steps.push_back(junctionStep(image, g, camera_from_aligned, w, d, box.top_z, params));
   }
-  const double typical = median(steps);
-  if (distances.size() < 3 || !(typical > 0.0)) return fit;
+  // A step under half a grey level is no step: the floor keeps the contrast finite on
+  // clean images, where most candidates' median step is zero.
+  const double typical = std::max(median(steps), 0.5);
+  if (distances.size() < 3) return fit;
   const std::size_t best = static_cast<std::size_t>(std::max_element(steps.begin(), steps.end()) - steps.begin());
   const double d = distances[best];
   fit.position_m = w.sign * d;

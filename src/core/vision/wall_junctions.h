@@ -11,11 +11,12 @@
 // and without needing texture on the wall).
 //
 // For each candidate position of a wall, the line where it meets the ceiling is projected
-// into the image and the colour step across it measured: the mean over the line of (colour
-// just below the line - colour just above it). A junction separates two surfaces, so the
-// step keeps its sign along the line; texture, noise and thin lines parallel to the wall
-// (tile joints: the same colour on both sides) average out. The wall is where the step
-// peaks. The floor's junction is not used: skirting boards and the furniture standing on
+// into the image and the colour step across it measured: the median over the line of
+// (colour just below the line - colour just above it) along the mean step's direction. A
+// junction separates two surfaces, so the step keeps its sign along the whole line;
+// texture, noise and thin lines parallel to the wall (tile joints: the same colour on both
+// sides) do not, and a picture's or a window's edge across part of the wall is not the
+// median's. The wall is where the step peaks. The floor's junction is not used: skirting boards and the furniture standing on
 // the floor make a stronger step above it (on rendered rooms its peak lies 9-15 cm beyond
 // walls 1.5-2.5 m away: a skirting 10 cm high).
 #include <Eigen/Core>
