@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "room_box_fit.h"
 #include "room_reverb/vision/room_layout.h"
@@ -189,4 +190,22 @@ TEST(CeilingJunction, TheLayoutPlacesAFarWallTheDepthDoesNotShow) {
   RoomLayoutOptions without;
   without.wall_ceiling_junctions = false;
   EXPECT_NEAR(fitRoomLayout(cloud, without, &image).model.size_m.x(), depth_only.model.size_m.x(), 1e-9);
+}
+
+TEST(CeilingJunction, ALineTheRigCannotSeeIsNotTheWall) {
+  // Depth of a wall 4.9 m away; a junction found 6.6 m away lies behind it.
+  AlignedBox box = trueBox();
+  box.x_lo = -4.9;
+  std::vector<WeightedPoint> raw;
+  for (double y = -1.8; y <= 1.8; y += 0.02) {
+    for (double z = box.floor_z; z < box.top_z; z += 0.02) {
+      WeightedPoint point;
+      point.p = Eigen::Vector3f(-4.9f, static_cast<float>(y), static_cast<float>(z));
+      point.weight = 1.0f;
+      raw.push_back(point);
+    }
+  }
+  EXPECT_FALSE(raysReachJunction(raw, box, 2, -6.6, kCameraZ, 0.1, 0.66, {}));
+  EXPECT_TRUE(raysReachJunction(raw, box, 2, -5.0, kCameraZ, 0.1, 0.5, {}));  // within a tenth of it
+  EXPECT_TRUE(raysReachJunction({}, box, 2, -6.6, kCameraZ, 0.1, 0.66, {}));  // no depth there: nothing against it
 }

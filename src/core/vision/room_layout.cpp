@@ -202,8 +202,8 @@ std::int32_t nearestObject(const std::vector<CuboidObject>& objects, const Eigen
 // Walls resting on a plane at the ceiling's edge keep it: the depth there is the better
 // measure (a pixel of a junction 7 m away at 1024 px is 0.22 m). Returns a warning per
 // wall moved.
-std::vector<std::string> placeWallsAtCeilingJunctions(AlignedBox& box, const cv::Mat& color,
-                                                      const Eigen::Isometry3d& camera_from_aligned) {
+std::vector<std::string> placeWallsAtCeilingJunctions(AlignedBox& box, const std::vector<layout::WeightedPoint>& raw,
+                                                      const cv::Mat& color, const Eigen::Isometry3d& camera_from_aligned) {
   std::vector<std::string> notes;
   if (!box.has_ceiling) return notes;
   for (int face = 2; face < 6; ++face) {
@@ -217,6 +217,15 @@ std::vector<std::string> placeWallsAtCeilingJunctions(AlignedBox& box, const cv:
     // Within a pixel of the depth's position the junction adds nothing the depth does not
     // measure more finely.
     if (!junction.found || std::abs(junction.position_m - depth_position) <= junction.pixel_m) continue;
+    // Further out than the depth's wall, the line must be in the rig's sight: the rays to
+    // the wall just under it (three pixels) may not stop a tenth of the way short of it.
+    const bool outwards = std::abs(junction.position_m) > std::abs(depth_position);
+    const double camera_z = camera_from_aligned.inverse().translation().z();
+    if (outwards && !layout::raysReachJunction(raw, box, face, junction.position_m, camera_z, 3.0 * junction.pixel_m *
+                                               (box.top_z - camera_z) / std::abs(junction.position_m),
+                                               0.1 * std::abs(junction.position_m), {})) {
+      continue;
+    }
     switch (face) {
       case 2: box.x_lo = junction.position_m; break;
       case 3: box.x_hi = junction.position_m; break;
@@ -365,7 +374,7 @@ RoomLayout fitRoomLayout(const PointCloud& cloud, const RoomLayoutOptions& optio
   if (image != nullptr && options.wall_ceiling_junctions) {
     const Eigen::Isometry3d camera_from_aligned =
         image->camera_from_rig * Eigen::Isometry3d(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()));
-    junction_notes = placeWallsAtCeilingJunctions(box, image->color, camera_from_aligned);
+    junction_notes = placeWallsAtCeilingJunctions(box, raw, image->color, camera_from_aligned);
   }
 
   // Furniture is cut away from each face by the face's thickness: the calibrated noise,
