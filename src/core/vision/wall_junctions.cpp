@@ -57,11 +57,13 @@ Eigen::Vector3d pointOn(const Wall& w, double distance, double lateral, double z
   return p;
 }
 
-// The colour step across one junction line at one candidate distance: the median over the
-// line's samples of each sample's step (colour below - colour above) along the mean step's
-// direction, 0 when too few samples are usable. The median asks the step of most of the
-// line: the edge of a picture, a window or a shelf across part of a far wall, however
-// strong, does not count, while the junction runs the whole width.
+// The colour step across one junction line at one candidate distance, 0 when too few of
+// its samples are usable. Each sample compares the colour 1, 2 .. step_px pixels below the
+// line with as far above it; its step is the smallest of those differences along the mean
+// step's direction: an edge between two surfaces differs at every offset, a thin line
+// (a tile joint one or two pixels from the candidate) at one only. The line's step is the
+// median over its samples: the edge of a picture, a window or a shelf across part of a
+// far wall, however strong, does not count, while the junction runs the whole width.
 double junctionStep(const cv::Mat& image, const EquirectGeometry& g, const Eigen::Isometry3d& camera_from_aligned,
                     const Wall& w, double distance, double z, const JunctionParams& params) {
   const Eigen::Vector3d normal_camera = camera_from_aligned.linear() * pointOn(w, 1.0, 0.0, 0.0).normalized();
@@ -70,9 +72,10 @@ double junctionStep(const cv::Mat& image, const EquirectGeometry& g, const Eigen
   const double span = (1.0 - 2.0 * params.corner_margin) * width;
   const double dl = 0.25 * span / params.samples_per_line;
   const double cos_max = std::cos(params.max_off_normal_rad);
+  const int offsets = std::max(1, static_cast<int>(params.step_px));
   cv::Vec3d sum(0.0, 0.0, 0.0);
-  std::vector<cv::Vec3d> steps;
-  steps.reserve(static_cast<std::size_t>(params.samples_per_line));
+  std::vector<cv::Vec3d> steps;  // offsets per sample, one after the other
+  steps.reserve(static_cast<std::size_t>(params.samples_per_line * offsets));
   for (int i = 0; i < params.samples_per_line; ++i) {
     const double lateral = lo + (i + 0.5) * span / params.samples_per_line;
     const Eigen::Vector3d c = camera_from_aligned * pointOn(w, distance, lateral, z);
@@ -86,24 +89,27 @@ double junctionStep(const cv::Mat& image, const EquirectGeometry& g, const Eigen
     Eigen::Vector2d n(-t.y(), t.x());
     n.normalize();
     if (n.y() < 0.0) n = -n;  // towards larger v: below the line
-    cv::Vec3f below(0.0f, 0.0f, 0.0f), above(0.0f, 0.0f, 0.0f);
-    int taps = 0;
-    for (double s = 1.0; s <= params.step_px + 1e-9; s += 1.0, ++taps) {
-      below += sampleColor(image, q.x() + s * n.x(), q.y() + s * n.y());
-      above += sampleColor(image, q.x() - s * n.x(), q.y() - s * n.y());
+    for (int k = 1; k <= offsets; ++k) {
+      const cv::Vec3f step = sampleColor(image, q.x() + k * n.x(), q.y() + k * n.y()) -
+                             sampleColor(image, q.x() - k * n.x(), q.y() - k * n.y());
+      steps.emplace_back(step[0], step[1], step[2]);
+      sum += steps.back();
     }
-    if (taps == 0) continue;
-    const cv::Vec3f step = (below - above) * (1.0f / static_cast<float>(taps));
-    steps.emplace_back(step[0], step[1], step[2]);
-    sum += steps.back();
   }
+  const std::size_t samples = steps.size() / static_cast<std::size_t>(offsets);
   const double length = cv::norm(sum);
-  if (static_cast<int>(steps.size()) < params.samples_per_line / 4 || !(length > 0.0)) return 0.0;
+  if (static_cast<int>(samples) < params.samples_per_line / 4 || !(length > 0.0)) return 0.0;
   const cv::Vec3d direction = sum / length;
-  std::vector<double> along;
-  along.reserve(steps.size());
-  for (const cv::Vec3d& step : steps) along.push_back(step.dot(direction));
-  return std::max(0.0, median(std::move(along)));
+  std::vector<double> along(samples);
+  for (std::size_t i = 0; i < samples; ++i) {
+    double smallest = steps[i * offsets].dot(direction);
+    for (int k = 1; k < offsets; ++k) smallest = std::min(smallest, steps[i * offsets + static_cast<std::size_t>(k)].dot(direction));
+    along[i] = smallest;
+  }
+  // The step that line_share of the samples reach.
+  const auto at = along.begin() + static_cast<std::ptrdiff_t>((1.0 - params.line_share) * static_cast<double>(samples - 1));
+  std::nth_element(along.begin(), at, along.end());
+  return std::max(0.0, *at);
 }
 
 }  // namespace

@@ -12,11 +12,12 @@
 //
 // For each candidate position of a wall, the line where it meets the ceiling is projected
 // into the image and the colour step across it measured: the median over the line of
-// (colour just below the line - colour just above it) along the mean step's direction. A
-// junction separates two surfaces, so the step keeps its sign along the whole line;
-// texture, noise and thin lines parallel to the wall (tile joints: the same colour on both
-// sides) do not, and a picture's or a window's edge across part of the wall is not the
-// median's. The wall is where the step peaks. The floor's junction is not used: skirting boards and the furniture standing on
+// (colour just below the line - colour just above it) along the mean step's direction,
+// each sample's the smallest of its differences 1, 2 and 3 pixels out. A junction
+// separates two surfaces, so the step keeps its sign along the whole line and at every
+// offset; texture and noise do not, a thin line parallel to the wall (a ceiling tile's
+// joint) differs at one offset only, and a picture's or a window's edge across part of
+// the wall is not the median's. The wall is where the step peaks. The floor's junction is not used: skirting boards and the furniture standing on
 // the floor make a stronger step above it (on rendered rooms its peak lies 9-15 cm beyond
 // walls 1.5-2.5 m away: a skirting 10 cm high).
 #include <Eigen/Core>
@@ -29,13 +30,14 @@
 namespace room_reverb::core::layout {
 
 struct JunctionParams {
-  double step_px = 3.0;             // the colour is sampled from 1 to this many pixels either side of the line
+  double step_px = 3.0;             // the colour is compared 1, 2 .. this many pixels either side of the line
   double search_fraction = 0.35;    // candidate positions: the wall's fitted distance times 1 -+ this
   double position_step_m = 0.01;    // between candidate positions
   int samples_per_line = 96;        // along the wall's width
   double corner_margin = 0.1;       // share of the wall's width left out at each corner
   double max_off_normal_rad = 1.0;  // line samples seen further than this from the wall's normal are left out
   double min_contrast = 4.0;        // the step at the peak over its median over the candidates
+  double line_share = 0.7;          // a line's step is the one this share of its samples reach
 };
 
 struct JunctionFit {
