@@ -184,7 +184,7 @@ TEST(CeilingJunction, TheLayoutPlacesAFarWallTheDepthDoesNotShow) {
   EXPECT_NEAR(with_image.model.size_m.y(), 3.6, 0.03);
   EXPECT_EQ(with_image.face_evidence[2].basis, "where the image shows the ceiling meeting it");
   bool warned = false;
-  for (const std::string& w : with_image.warnings) warned = warned || w.find("wall_x_min: no wall plane") == 0;
+  for (const std::string& w : with_image.warnings) warned = warned || w.find("wall_x_min: placed where the image shows the ceiling meeting it") == 0;
   EXPECT_TRUE(warned);
 
   RoomLayoutOptions without;

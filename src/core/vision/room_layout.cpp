@@ -232,13 +232,16 @@ std::vector<std::string> placeWallsAtCeilingJunctions(AlignedBox& box, const std
       case 4: box.y_lo = junction.position_m; break;
       default: box.y_hi = junction.position_m; break;
     }
+    const char* depth_basis = choice.basis == layout::WallBasis::kPlane      ? "on a plane no ceiling edge confirms"
+                              : choice.basis == layout::WallBasis::kRayStop ? "where the rays past the ceiling's edge stop"
+                                                                            : "at the ceiling's ranged edge";
     choice = {junction.position_m, layout::WallBasis::kCeilingJunction, 0.5, 0.0};
-    char line[256];
+    char line[320];
     std::snprintf(line, sizeof line,
-                  "%s: no wall plane where the ceiling's range ends; placed where the image shows the ceiling meeting "
-                  "it, %.2f m from the rig (+-%.2f m a pixel; the depth alone placed it at %.2f m)",
+                  "%s: placed where the image shows the ceiling meeting it, %.2f m from the rig (+-%.2f m a pixel); "
+                  "the depth alone placed it %s, %.2f m away",
                   kRoomSurfaceNames[static_cast<std::size_t>(face)], std::abs(junction.position_m), junction.pixel_m,
-                  std::abs(depth_position));
+                  depth_basis, std::abs(depth_position));
     notes.emplace_back(line);
   }
   return notes;
