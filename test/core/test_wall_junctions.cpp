@@ -32,6 +32,19 @@ AlignedBox trueBox() {
   return box;
 }
 
+// How far along direction d from `from` (inside the box) the ray leaves it, and the axis
+// of the face it leaves through (the box is convex: the nearest of the three exits).
+double boxExit(const AlignedBox& box, const Eigen::Vector3d& from, const Eigen::Vector3d& d, int& axis) {
+  const double lo[3] = {box.x_lo, box.y_lo, box.floor_z}, hi[3] = {box.x_hi, box.y_hi, box.top_z};
+  double t = 1e9;
+  for (int a = 0; a < 3; ++a) {
+    if (std::abs(d[a]) < 1e-12) continue;
+    const double ta = ((d[a] > 0.0 ? hi[a] : lo[a]) - from[a]) / d[a];
+    if (ta < t) t = ta, axis = a;
+  }
+  return t;
+}
+
 struct Drawing {
   cv::Vec3b ceiling{120, 120, 120}, wall{185, 200, 205}, floor{50, 70, 100};
   double tile_joint_spacing_m = 0.0;  // dark joints across the ceiling, parallel to the far wall
@@ -39,26 +52,18 @@ struct Drawing {
   double noise_grey = 2.0;
 };
 
-// The room as the top camera sees it: each pixel the colour of the first face its ray
-// meets (the box is convex, so the nearest exit).
+// The room as the top camera sees it: each pixel the colour of the face its ray meets.
 cv::Mat drawRoom(const AlignedBox& box, const Drawing& look, int width = 1024) {
   const EquirectGeometry g{width, width / 2};
   cv::Mat image(g.height, g.width, CV_8UC3);
   std::mt19937 rng(7);
   std::normal_distribution<double> noise(0.0, look.noise_grey);
   const Eigen::Vector3d camera(0.0, 0.0, kCameraZ);
-  const double lo[3] = {box.x_lo, box.y_lo, box.floor_z}, hi[3] = {box.x_hi, box.y_hi, box.top_z};
   for (int v = 0; v < g.height; ++v) {
     for (int u = 0; u < g.width; ++u) {
       const Eigen::Vector3d d = equirectPixelDirection(g, u, v);
-      double t = 1e9;
       int axis = 0;
-      for (int a = 0; a < 3; ++a) {
-        if (std::abs(d[a]) < 1e-12) continue;
-        const double ta = ((d[a] > 0.0 ? hi[a] : lo[a]) - camera[a]) / d[a];
-        if (ta < t) t = ta, axis = a;
-      }
-      const Eigen::Vector3d p = camera + t * d;
+      const Eigen::Vector3d p = camera + boxExit(box, camera, d, axis) * d;
       cv::Vec3b c = axis < 2 ? look.wall : (d.z() > 0.0 ? look.ceiling : look.floor);
       if (look.picture && axis == 0 && d.x() < 0.0 && std::abs(p.y()) < 0.65 && p.z() > 0.6 && p.z() < box.top_z - 0.3) {
         c = cv::Vec3b(10, 10, 10);
@@ -142,7 +147,6 @@ namespace {
 // and the side walls beyond x = -6 m nor on the far wall.
 PointCloud rangedRoom() {
   const AlignedBox box = trueBox();
-  const double lo[3] = {box.x_lo, box.y_lo, box.floor_z}, hi[3] = {box.x_hi, box.y_hi, box.top_z};
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0.0, 0.003);
   PointCloud cloud;
@@ -150,14 +154,8 @@ PointCloud rangedRoom() {
     for (double elevation = -1.3; elevation <= 1.3; elevation += 0.006) {
       const Eigen::Vector3d d(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
                               std::sin(elevation));
-      double t = 1e9;
       int axis = 0;
-      for (int a = 0; a < 3; ++a) {
-        if (std::abs(d[a]) < 1e-12) continue;
-        const double ta = (d[a] > 0.0 ? hi[a] : lo[a]) / d[a];
-        if (ta < t) t = ta, axis = a;
-      }
-      const Eigen::Vector3d p = t * (1.0 + noise(rng)) * d;
+      const Eigen::Vector3d p = boxExit(box, Eigen::Vector3d::Zero(), d, axis) * (1.0 + noise(rng)) * d;
       const bool far_end = p.x() < -6.0 && (axis == 1 || (axis == 2 && d.z() > 0.0));
       if ((axis == 0 && d.x() < 0.0) || far_end) continue;
       CloudPoint point;
