@@ -145,7 +145,10 @@ JunctionFit ceilingJunction(const cv::Mat& color, const Eigen::Isometry3d& camer
   fit.contrast = steps[best] / typical;
   // The junction's elevation is atan(h / d): one pixel's angle moves it by (d^2 + h^2) / h.
   fit.pixel_m = 2.0 * kPi / g.width * (d * d + h * h) / h;
-  fit.found = fit.contrast >= params.min_contrast;
+  // A maximum at either end of the search is a step still rising (or falling) past it,
+  // not a line found.
+  const bool interior = best >= 2 && best + 2 < distances.size();
+  fit.found = interior && fit.contrast >= params.min_contrast;
   return fit;
 }
 

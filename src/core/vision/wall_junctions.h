@@ -31,7 +31,7 @@ namespace room_reverb::core::layout {
 
 struct JunctionParams {
   double step_px = 3.0;             // the colour is compared 1, 2 .. this many pixels either side of the line
-  double search_fraction = 0.35;    // candidate positions: the wall's fitted distance times 1 -+ this
+  double search_fraction = 0.5;     // candidate positions: the wall's fitted distance times 1 -+ this
   double position_step_m = 0.01;    // between candidate positions
   int samples_per_line = 96;        // along the wall's width
   double corner_margin = 0.1;       // share of the wall's width left out at each corner
