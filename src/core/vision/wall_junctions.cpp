@@ -128,7 +128,7 @@ JunctionFit ceilingJunction(const cv::Mat& color, const Eigen::Isometry3d& camer
   cv::GaussianBlur(image, image, cv::Size(0, 0), 0.7);
   const EquirectGeometry g{image.cols, image.rows};
 
-  const double lo = fitted * (1.0 - params.search_fraction), hi = fitted * (1.0 + params.search_fraction);
+  const double lo = fitted * (1.0 - params.search_inward), hi = fitted * (1.0 + params.search_outward);
   const double step = std::max(params.position_step_m, (hi - lo) / 4000.0);
   std::vector<double> distances, steps;
   for (double d = lo; d <= hi; d += step) {

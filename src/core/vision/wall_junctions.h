@@ -31,7 +31,11 @@ namespace room_reverb::core::layout {
 
 struct JunctionParams {
   double step_px = 3.0;             // the colour is compared 1, 2 .. this many pixels either side of the line
-  double search_fraction = 0.5;     // candidate positions: the wall's fitted distance times 1 -+ this
+  // Candidate positions: from the wall's fitted distance times 1 - search_inward to times
+  // 1 + search_outward. Outwards further: a line there must also be in the rig's sight
+  // (raysReachJunction); inwards nothing in the depth checks it.
+  double search_inward = 0.35;
+  double search_outward = 0.5;
   double position_step_m = 0.01;    // between candidate positions
   int samples_per_line = 96;        // along the wall's width
   double corner_margin = 0.1;       // share of the wall's width left out at each corner
@@ -50,7 +54,7 @@ struct JunctionFit {
 // Where wall `face` (2..5, kRoomSurfaceNames order) of `box` (aligned frame: the rig at
 // the origin) meets the ceiling in `color` (the top camera's equirect, 8-bit, 3 channels),
 // where camera_from_aligned maps the aligned frame to the camera's (x forward, z up).
-// Searched within search_fraction of the box's wall. Needs a ceiling (box.has_ceiling);
+// Searched from search_inward inside the box's wall to search_outward beyond it. Needs a ceiling (box.has_ceiling);
 // returns found = false otherwise.
 JunctionFit ceilingJunction(const cv::Mat& color, const Eigen::Isometry3d& camera_from_aligned, const AlignedBox& box,
                           int face, const JunctionParams& params);
