@@ -1,7 +1,7 @@
 // What placing a far wall by the ceiling's junction in the image costs
 // (vision/wall_junctions.h): a 9 x 3.6 x 3 m room rendered by the capture generator with
 // the rig 7.3 m from its far wall, the box the depth gives placing that wall at 6 m, one
-// search (35 % either side, 1 cm steps) at 1024 and 2048 px. The route looks only on
+// search (35 % inside to 50 % beyond, 1 cm steps) at 1024 and 2048 px. The route looks only on
 // walls without a plane at the ceiling's edge, so this is the cost per such wall.
 // Counter: err_cm, the found wall against the true one [cm].
 // Run: .ws/devel/lib/room_reverb/bench_wall_junctions
