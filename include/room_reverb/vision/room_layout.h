@@ -25,7 +25,9 @@
 //     extreme point: stereo strays and facades seen through windows lie beyond the walls;
 //     not a sideboard's front: the wall behind it stops more rays). Positions are
 //     weighted medians in windows that grow with the wall's distance (depth noise grows
-//     with range).
+//     with range). Given the top image (LayoutImage), a wall placed without a plane at
+//     the ceiling's edge moves to where the image shows the ceiling meeting it, if it
+//     shows that clearly (wall_junctions.h).
 //  5. Room frame: see RoomLayout::room_from_rig.
 //  6. Objects (furniture_fit.h: object_clusters.h, cluster_split.h, cuboid_fit.h,
 //     hidden_sides.h, furniture_labels.h): voxels inside the box and clear of its faces by
