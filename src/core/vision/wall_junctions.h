@@ -3,23 +3,24 @@
 //
 // A far wall is a few pixels of disparity (7 m at 1024 px with a 0.2 m baseline: under
 // 4 px, so a tenth of a pixel is 2.5 % of its range), and depth from another matcher may
-// carry a bias that grows with range. The lines where the wall meets the floor and the
-// ceiling do not depend on the depth: with the camera's height above the floor h known
-// from the near floor, a junction seen at elevation -e lies at h / tan(e) along the wall's
-// normal, and a pixel's error there moves it by h / sin^2(e) times the pixel's angle
-// (0.26 m at 7 m and 1024 px: worse than the disparity per pixel, but without its bias
-// and without needing texture on the wall).
+// carry a bias that grows with range. The line where the wall meets the ceiling does not
+// depend on the depth: with the camera's height below the ceiling h known from the near
+// ceiling, a junction seen at elevation e lies at h / tan(e) along the wall's normal, and
+// a pixel's error there moves it by h / sin^2(e) times the pixel's angle (0.22 m at 7 m,
+// h = 1.6 m and 1024 px: coarser than the disparity, but without its bias and without
+// needing texture on the wall).
 //
-// For each candidate position of a wall, the line where it meets the ceiling is projected
-// into the image and the colour step across it measured: the median over the line of
-// (colour just below the line - colour just above it) along the mean step's direction,
-// each sample's the smallest of its differences 1, 2 and 3 pixels out. A junction
-// separates two surfaces, so the step keeps its sign along the whole line and at every
-// offset; texture and noise do not, a thin line parallel to the wall (a ceiling tile's
-// joint) differs at one offset only, and a picture's or a window's edge across part of
-// the wall is not the median's. The wall is where the step peaks. The floor's junction is not used: skirting boards and the furniture standing on
-// the floor make a stronger step above it (on rendered rooms its peak lies 9-15 cm beyond
-// walls 1.5-2.5 m away: a skirting 10 cm high).
+// For each candidate position of a wall, that line is projected into the image and the
+// colour step across it measured: per sample, the smallest of the differences (colour
+// below - colour above) 1, 2 and 3 pixels out, along the mean step's direction; per line,
+// the step that line_share of its samples reach. A junction separates two surfaces, so the
+// step keeps its sign along the whole line and at every offset; texture and noise do not,
+// a thin line parallel to the wall (a ceiling tile's joint) differs at one offset only,
+// and a picture's or a window's edge, or wall units reaching the ceiling, across part of
+// the wall are not what most of the line shows. The wall is where the step peaks. The
+// floor's junction is not used: skirting boards and the furniture standing on the floor
+// make a stronger step above it (on rendered rooms its peak lies 9-15 cm beyond walls
+// 1.5-2.5 m away: a skirting 10 cm high).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
@@ -45,7 +46,7 @@ struct JunctionParams {
 };
 
 struct JunctionFit {
-  bool found = false;        // the step peaks with at least min_contrast
+  bool found = false;        // the step peaks inside the search with at least min_contrast
   double position_m = 0.0;   // the wall's signed coordinate along its axis (aligned frame)
   double contrast = 0.0;     // the step at the peak over its median over the candidates
   double pixel_m = 0.0;      // one pixel at the junction, in metres along the wall's normal
@@ -54,8 +55,8 @@ struct JunctionFit {
 // Where wall `face` (2..5, kRoomSurfaceNames order) of `box` (aligned frame: the rig at
 // the origin) meets the ceiling in `color` (the top camera's equirect, 8-bit, 3 channels),
 // where camera_from_aligned maps the aligned frame to the camera's (x forward, z up).
-// Searched from search_inward inside the box's wall to search_outward beyond it. Needs a ceiling (box.has_ceiling);
-// returns found = false otherwise.
+// Searched from search_inward inside the box's wall to search_outward beyond it. Needs a
+// ceiling (box.has_ceiling); returns found = false otherwise.
 JunctionFit ceilingJunction(const cv::Mat& color, const Eigen::Isometry3d& camera_from_aligned, const AlignedBox& box,
                           int face, const JunctionParams& params);
 
