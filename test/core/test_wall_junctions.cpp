@@ -89,7 +89,7 @@ AlignedBox boxFromDepth() {
 }  // namespace
 
 TEST(CeilingJunction, FindsAFarWallTheDepthPlacedShort) {
-  const JunctionFit fit = ceilingJunction(drawRoom(trueBox(), Drawing{}), cameraFromAligned(), boxFromDepth(), 2, {});
+  const JunctionFit fit = ceilingJunction(junctionImage(drawRoom(trueBox(), Drawing{})), cameraFromAligned(), boxFromDepth(), 2, {});
   ASSERT_TRUE(fit.found);
   // One pixel at 7.3 m with the ceiling 1.6 m above the camera: 2 pi / 1024 * (7.3^2 + 1.6^2) / 1.6 = 0.22 m.
   EXPECT_NEAR(fit.pixel_m, 0.22, 0.02);
@@ -100,7 +100,7 @@ TEST(CeilingJunction, FindsAFarWallTheDepthPlacedShort) {
 TEST(CeilingJunction, TileJointsAcrossTheCeilingDoNotMoveIt) {
   Drawing look;
   look.tile_joint_spacing_m = 0.6;
-  const JunctionFit fit = ceilingJunction(drawRoom(trueBox(), look), cameraFromAligned(), boxFromDepth(), 2, {});
+  const JunctionFit fit = ceilingJunction(junctionImage(drawRoom(trueBox(), look)), cameraFromAligned(), boxFromDepth(), 2, {});
   ASSERT_TRUE(fit.found);
   EXPECT_NEAR(fit.position_m, kFarWallX, 0.5 * fit.pixel_m);
 }
@@ -108,7 +108,7 @@ TEST(CeilingJunction, TileJointsAcrossTheCeilingDoNotMoveIt) {
 TEST(CeilingJunction, APictureOnTheFarWallDoesNotMoveIt) {
   Drawing look;
   look.picture = true;  // its top edge: a stronger step than the junction's, across a third of the wall
-  const JunctionFit fit = ceilingJunction(drawRoom(trueBox(), look), cameraFromAligned(), boxFromDepth(), 2, {});
+  const JunctionFit fit = ceilingJunction(junctionImage(drawRoom(trueBox(), look)), cameraFromAligned(), boxFromDepth(), 2, {});
   ASSERT_TRUE(fit.found);
   EXPECT_NEAR(fit.position_m, kFarWallX, 0.5 * fit.pixel_m);
 }
@@ -116,7 +116,7 @@ TEST(CeilingJunction, APictureOnTheFarWallDoesNotMoveIt) {
 TEST(CeilingJunction, NearWallsWithinACentimetre) {
   const AlignedBox box = trueBox();
   const Drawing look;
-  const cv::Mat image = drawRoom(box, look);
+  const cv::Mat image = junctionImage(drawRoom(box, look));
   for (const int face : {3, 4, 5}) {
     const JunctionFit fit = ceilingJunction(image, cameraFromAligned(), box, face, {});
     ASSERT_TRUE(fit.found) << face;
@@ -127,16 +127,19 @@ TEST(CeilingJunction, NearWallsWithinACentimetre) {
 TEST(CeilingJunction, NothingWhereTheCeilingLooksLikeTheWall) {
   Drawing look;
   look.ceiling = look.wall;
-  const JunctionFit fit = ceilingJunction(drawRoom(trueBox(), look), cameraFromAligned(), boxFromDepth(), 2, {});
+  const JunctionFit fit = ceilingJunction(junctionImage(drawRoom(trueBox(), look)), cameraFromAligned(), boxFromDepth(), 2, {});
   EXPECT_FALSE(fit.found);
 }
 
 TEST(CeilingJunction, NothingWithoutACeilingOrAnImage) {
   AlignedBox open = boxFromDepth();
   open.has_ceiling = false;
-  const cv::Mat image = drawRoom(trueBox(), Drawing{});
+  const cv::Mat color = drawRoom(trueBox(), Drawing{});
+  const cv::Mat image = junctionImage(color);
   EXPECT_FALSE(ceilingJunction(image, cameraFromAligned(), open, 2, {}).found);
-  EXPECT_FALSE(ceilingJunction(cv::Mat(), cameraFromAligned(), boxFromDepth(), 2, {}).found);
+  EXPECT_TRUE(junctionImage(cv::Mat()).empty());
+  EXPECT_FALSE(ceilingJunction(junctionImage(cv::Mat()), cameraFromAligned(), boxFromDepth(), 2, {}).found);
+  EXPECT_FALSE(ceilingJunction(color, cameraFromAligned(), boxFromDepth(), 2, {}).found);  // not prepared
   EXPECT_FALSE(ceilingJunction(image, cameraFromAligned(), boxFromDepth(), 1, {}).found);  // not a wall
 }
 

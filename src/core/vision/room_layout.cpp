@@ -206,13 +206,15 @@ std::vector<std::string> placeWallsAtCeilingJunctions(AlignedBox& box, const std
                                                       const cv::Mat& color, const Eigen::Isometry3d& camera_from_aligned) {
   std::vector<std::string> notes;
   if (!box.has_ceiling) return notes;
+  cv::Mat image;  // prepared when a wall first needs it
   for (int face = 2; face < 6; ++face) {
     layout::WallChoice& choice = box.choice[static_cast<std::size_t>(face)];
     if (choice.basis != layout::WallBasis::kEdge && choice.basis != layout::WallBasis::kRayStop &&
         choice.basis != layout::WallBasis::kPlane) {
       continue;
     }
-    const layout::JunctionFit junction = layout::ceilingJunction(color, camera_from_aligned, box, face, {});
+    if (image.empty()) image = layout::junctionImage(color);
+    const layout::JunctionFit junction = layout::ceilingJunction(image, camera_from_aligned, box, face, {});
     const double depth_position = box.facePosition(face);
     // Within a pixel of the depth's position the junction adds nothing the depth does not
     // measure more finely.

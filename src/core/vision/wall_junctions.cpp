@@ -114,18 +114,23 @@ double junctionStep(const cv::Mat& image, const EquirectGeometry& g, const Eigen
 
 }  // namespace
 
-JunctionFit ceilingJunction(const cv::Mat& color, const Eigen::Isometry3d& camera_from_aligned, const AlignedBox& box,
+cv::Mat junctionImage(const cv::Mat& color) {
+  cv::Mat image;
+  if (color.empty() || color.channels() != 3) return image;
+  color.convertTo(image, CV_32FC3);
+  cv::GaussianBlur(image, image, cv::Size(0, 0), 0.7);
+  return image;
+}
+
+JunctionFit ceilingJunction(const cv::Mat& image, const Eigen::Isometry3d& camera_from_aligned, const AlignedBox& box,
                             int face, const JunctionParams& params) {
   JunctionFit fit;
-  if (!box.has_ceiling || face < 2 || face > 5 || color.empty() || color.channels() != 3) return fit;
+  if (!box.has_ceiling || face < 2 || face > 5 || image.empty() || image.type() != CV_32FC3) return fit;
   const Wall w = wallOf(box, face);
   const double fitted = std::abs(box.facePosition(face));  // from the rig, the aligned frame's origin
   const double h = box.top_z - camera_from_aligned.inverse().translation().z();  // the camera below the ceiling
   if (!(fitted > 0.0) || !(h > 0.0) || !(w.lateral_hi > w.lateral_lo)) return fit;
 
-  cv::Mat image;
-  color.convertTo(image, CV_32FC3);
-  cv::GaussianBlur(image, image, cv::Size(0, 0), 0.7);
   const EquirectGeometry g{image.cols, image.rows};
 
   const double lo = fitted * (1.0 - params.search_inward), hi = fitted * (1.0 + params.search_outward);

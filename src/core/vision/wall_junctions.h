@@ -52,13 +52,18 @@ struct JunctionFit {
   double pixel_m = 0.0;      // one pixel at the junction, in metres along the wall's normal
 };
 
+// The top camera's equirect (8-bit, 3 channels) as ceilingJunction reads it: float and
+// lightly blurred (sigma 0.7 px) so that a step is not one pixel's noise. Prepared once per
+// image, as each wall's search reads the same one. Empty for an empty or non-colour image.
+cv::Mat junctionImage(const cv::Mat& color);
+
 // Where wall `face` (2..5, kRoomSurfaceNames order) of `box` (aligned frame: the rig at
-// the origin) meets the ceiling in `color` (the top camera's equirect, 8-bit, 3 channels),
+// the origin) meets the ceiling in `image` (junctionImage of the top camera's equirect),
 // where camera_from_aligned maps the aligned frame to the camera's (x forward, z up).
 // Searched from search_inward inside the box's wall to search_outward beyond it. Needs a
 // ceiling (box.has_ceiling); returns found = false otherwise.
-JunctionFit ceilingJunction(const cv::Mat& color, const Eigen::Isometry3d& camera_from_aligned, const AlignedBox& box,
-                          int face, const JunctionParams& params);
+JunctionFit ceilingJunction(const cv::Mat& image, const Eigen::Isometry3d& camera_from_aligned, const AlignedBox& box,
+                            int face, const JunctionParams& params);
 
 // Whether the rig's rays towards the wall just under a junction found at `position_m`
 // (signed, as JunctionFit::position_m) get there: of the points of `raw` (aligned frame)
