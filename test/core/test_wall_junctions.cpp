@@ -206,7 +206,30 @@ TEST(CeilingJunction, ALineTheRigCannotSeeIsNotTheWall) {
       raw.push_back(point);
     }
   }
-  EXPECT_FALSE(raysReachJunction(raw, box, 2, -6.6, kCameraZ, 0.1, 0.66, {}));
-  EXPECT_TRUE(raysReachJunction(raw, box, 2, -5.0, kCameraZ, 0.1, 0.5, {}));  // within a tenth of it
-  EXPECT_TRUE(raysReachJunction({}, box, 2, -6.6, kCameraZ, 0.1, 0.66, {}));  // no depth there: nothing against it
+  EXPECT_FALSE(raysMeetJunction(raw, box, 2, -6.6, true, kCameraZ, 0.1, 0.66, {}));
+  EXPECT_TRUE(raysMeetJunction(raw, box, 2, -5.0, true, kCameraZ, 0.1, 0.5, {}));  // within a tenth of it
+  EXPECT_TRUE(raysMeetJunction({}, box, 2, -6.6, true, kCameraZ, 0.1, 0.66, {}));  // no depth there: nothing against it
+}
+
+TEST(CeilingJunction, ALineTheRaysPassIsNotTheWall) {
+  // Depth of a wall 4.9 m away; a junction found 4.2 m away lies in front of it (the edge
+  // of a light under the ceiling), and the rays under it go on to the wall.
+  AlignedBox box = trueBox();
+  box.x_lo = -4.9;
+  std::vector<WeightedPoint> raw;
+  for (double y = -1.8; y <= 1.8; y += 0.02) {
+    for (double z = box.floor_z; z < box.top_z; z += 0.02) {
+      WeightedPoint point;
+      point.p = Eigen::Vector3f(-4.9f, static_cast<float>(y), static_cast<float>(z));
+      point.weight = 1.0f;
+      raw.push_back(point);
+    }
+  }
+  // The rays to the wall's upper 30 % above the camera: just under the line they would
+  // meet the ceiling beyond it.
+  const double band = 0.3 * (box.top_z - kCameraZ);
+  EXPECT_FALSE(raysMeetJunction(raw, box, 2, -4.2, false, kCameraZ, band, 0.42, {}));
+  EXPECT_TRUE(raysMeetJunction(raw, box, 2, -4.6, false, kCameraZ, band, 0.46, {}));  // within a tenth of it
+  // Outwards the same rays say nothing against a line just beyond the wall they reach.
+  EXPECT_TRUE(raysMeetJunction(raw, box, 2, -5.2, true, kCameraZ, 0.1, 0.52, {}));
 }

@@ -221,11 +221,16 @@ std::vector<std::string> placeWallsAtCeilingJunctions(AlignedBox& box, const std
     if (!junction.found || std::abs(junction.position_m - depth_position) <= junction.pixel_m) continue;
     // Further out than the depth's wall, the line must be in the rig's sight: the rays to
     // the wall just under it (three pixels) may not stop a tenth of the way short of it.
+    // Nearer, the rays to the top of the wall under it (the upper 30 % of the wall above
+    // the camera, where furniture seldom stands) may not go on a tenth of the way beyond
+    // it: just under the line itself they would meet the ceiling beyond it, as near as
+    // the wall would be.
     const bool outwards = std::abs(junction.position_m) > std::abs(depth_position);
     const double camera_z = camera_from_aligned.inverse().translation().z();
-    if (outwards && !layout::raysReachJunction(raw, box, face, junction.position_m, camera_z, 3.0 * junction.pixel_m *
-                                               (box.top_z - camera_z) / std::abs(junction.position_m),
-                                               0.1 * std::abs(junction.position_m), {})) {
+    const double band_m = outwards ? 3.0 * junction.pixel_m * (box.top_z - camera_z) / std::abs(junction.position_m)
+                                   : 0.3 * (box.top_z - camera_z);
+    if (!layout::raysMeetJunction(raw, box, face, junction.position_m, outwards, camera_z, band_m,
+                                  0.1 * std::abs(junction.position_m), {})) {
       continue;
     }
     switch (face) {

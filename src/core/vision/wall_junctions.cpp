@@ -157,14 +157,14 @@ JunctionFit ceilingJunction(const cv::Mat& image, const Eigen::Isometry3d& camer
   return fit;
 }
 
-bool raysReachJunction(const std::vector<WeightedPoint>& raw, const AlignedBox& box, int face, double position_m,
-                       double camera_z, double band_m, double short_m, const JunctionParams& params,
-                       double max_short_share, int min_points) {
+bool raysMeetJunction(const std::vector<WeightedPoint>& raw, const AlignedBox& box, int face, double position_m,
+                      bool outwards, double camera_z, double band_m, double tolerance_m, const JunctionParams& params,
+                      double max_off_share, int min_points) {
   const Wall w = wallOf(box, face);
   const double d = std::abs(position_m);
   const double width = w.lateral_hi - w.lateral_lo;
   const double lateral_lo = w.lateral_lo + params.corner_margin * width, lateral_hi = w.lateral_hi - params.corner_margin * width;
-  int on_rays = 0, short_of_it = 0;
+  int on_rays = 0, off = 0;
   for (const WeightedPoint& point : raw) {
     const double t = w.sign * point.p[w.axis];  // along the wall's outward normal
     if (!(t > 0.0)) continue;
@@ -174,9 +174,9 @@ bool raysReachJunction(const std::vector<WeightedPoint>& raw, const AlignedBox& 
     const double z = camera_z + scale * (point.p.z() - camera_z);
     if (lateral < lateral_lo || lateral > lateral_hi || z >= box.top_z || z < box.top_z - band_m) continue;
     ++on_rays;
-    if (t < d - short_m) ++short_of_it;
+    if (outwards ? t < d - tolerance_m : t > d + tolerance_m) ++off;
   }
-  return on_rays < min_points || short_of_it < max_short_share * on_rays;
+  return on_rays < min_points || off < max_off_share * on_rays;
 }
 
 }  // namespace room_reverb::core::layout
