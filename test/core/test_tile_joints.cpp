@@ -92,6 +92,7 @@ TEST(TileJoints, SquareTilesAreAGridAtTheirSize) {
     const auto patches = face(7, 6, tiles(size));
     const JointGrid grid = jointGridOfFace(pointers(patches), kPatchM);
     EXPECT_TRUE(grid.grid) << size << " m: strengths " << grid.strength_s << ", " << grid.strength_t;
+    EXPECT_GE(std::min(grid.line_contrast_s, grid.line_contrast_t), 4.0) << size;  // joints 1 cm wide
     EXPECT_NEAR(grid.period_s_m, size, 0.02) << size;
     EXPECT_NEAR(grid.period_t_m, size, 0.02) << size;
   }
@@ -141,6 +142,53 @@ TEST(TileJoints, ABrickBondRepeatsAlongBothAxes) {
   };
   const auto patches = face(7, 5, bond);
   const JointGrid grid = jointGridOfFace(pointers(patches), kPatchM);
-  EXPECT_TRUE(grid.grid) << grid.strength_s << ", " << grid.strength_t;
+  EXPECT_GE(grid.strength_s, kGridStrength);
+  EXPECT_GE(grid.strength_t, kGridStrength);
   EXPECT_NEAR(grid.period_s_m, 0.1125, 0.015);
+}
+
+// Parquet in herringbone: boards 0.1 x 0.2 m at 45 degrees to the face's axes, every other
+// one turned a right angle (the domino tiling whose boards along u start where
+// (i - j) mod 4 is 0, and those along v where it is 3, in cells of a board's width). Its
+// joints repeat along both of the face's axes, but run along neither of them.
+double herringbone(double s, double t) {
+  constexpr double kWidth = 0.1;
+  const double u = (s + t) / std::sqrt(2.0) / kWidth + 0.31, v = (t - s) / std::sqrt(2.0) / kWidth + 0.17;
+  const int i = static_cast<int>(std::floor(u)), j = static_cast<int>(std::floor(v));
+  const auto residue = [](int a, int b) { return ((a - b) % 4 + 4) % 4; };
+  constexpr double kJoint = 0.08;  // of a board's width
+  const bool left_joint = u - i < kJoint && residue(i - 1, j) != 0;   // the board to the left is another
+  const bool lower_joint = v - j < kJoint && residue(i, j - 1) != 3;  // the board below is another
+  // Each board its own shade: the first cell of its board names it.
+  const int r = residue(i, j);
+  const int board_i = r == 1 ? i - 1 : i, board_j = r == 2 ? j - 1 : j;
+  const double shade = 12.0 * std::sin(3.7 * board_i + 5.3 * board_j);
+  return (left_joint || lower_joint ? 80.0 : 150.0) + shade + 6.0 * std::sin(60.0 * u);
+}
+
+TEST(TileJoints, ParquetInHerringboneIsNoGrid) {
+  const auto patches = face(7, 6, herringbone);
+  const JointGrid grid = jointGridOfFace(pointers(patches), kPatchM);
+  EXPECT_FALSE(grid.grid) << grid.line_contrast_s << ", " << grid.line_contrast_t;
+  EXPECT_LT(std::max(grid.line_contrast_s, grid.line_contrast_t), kLineContrast);
+}
+
+// Planks 0.15 m wide along s whose grain repeats every 0.6 m along them, as a photograph of
+// planks laid over a whole floor does: the pattern repeats along both axes, but along s
+// there is no joint line, only the grain coming round again.
+TEST(TileJoints, PlanksWhosePhotographRepeatsAreNoGrid) {
+  const auto planks = [](double s, double t) {
+    const int plank = static_cast<int>(std::floor(t / 0.15));
+    const double phase = 2.0 * 3.14159265358979 * s / 0.6;  // the photograph's repeat
+    const bool seam = t / 0.15 - std::floor(t / 0.15) < 0.05;
+    const double grain = 14.0 * std::sin(phase + 1.3 * plank) + 9.0 * std::sin(3.0 * phase + 0.7 * plank) +
+                         6.0 * std::sin(7.0 * phase + 2.1 * plank);
+    return (seam ? 80.0 : 150.0) + grain;
+  };
+  const auto patches = face(7, 6, planks);
+  const JointGrid grid = jointGridOfFace(pointers(patches), kPatchM);
+  EXPECT_GE(grid.strength_s, kGridStrength) << "the grain repeats";
+  EXPECT_GE(grid.line_contrast_t, kLineContrast) << "the seams between planks are lines";
+  EXPECT_LT(grid.line_contrast_s, kLineContrast) << "the grain is none";
+  EXPECT_FALSE(grid.grid);
 }

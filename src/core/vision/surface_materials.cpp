@@ -78,14 +78,16 @@ void fallBack(SurfaceMaterialDecision& decision, const std::array<double, kTextu
   decision.fallback_reason = reason;
 }
 
-// Tiles for a face whose joints repeat along both its axes: the vote's choice becomes the
-// runner-up.
+// Tiles for a face whose joints repeat and stand out as lines along both its axes: the
+// vote's choice becomes the runner-up.
 void applyJointGrid(SurfaceMaterialDecision& decision, const JointGrid& grid, SurfacePlacement placement,
                     const MaterialFamilyTable& families) {
-  char reason[160];
-  std::snprintf(reason, sizeof reason, "joints repeat every %.2f x %.2f m (strength %.2f, %.2f); the patches' vote was %s (%.2f)",
-                grid.period_s_m, grid.period_t_m, grid.strength_s, grid.strength_t, toString(decision.family).c_str(),
-                decision.confidence);
+  char reason[224];
+  std::snprintf(reason, sizeof reason,
+                "joints repeat every %.2f x %.2f m (strength %.2f, %.2f; lines %.1f, %.1f times the faces between); "
+                "the patches' vote was %s (%.2f)",
+                grid.period_s_m, grid.period_t_m, grid.strength_s, grid.strength_t, grid.line_contrast_s,
+                grid.line_contrast_t, toString(decision.family).c_str(), decision.confidence);
   decision.runner_up_family = decision.family;
   decision.runner_up = decision.material;
   decision.runner_up_confidence = decision.confidence;

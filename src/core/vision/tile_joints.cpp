@@ -144,6 +144,32 @@ std::pair<double, int> strongestPeriod(const Profile& p, int min_lag, int max_la
   return {0.0, 0};
 }
 
+// How far a profile's joints stand out as lines: the profile folded at `lag` [px] (the
+// mean of each phase over the periods), its highest phase's mean over its median phase's.
+// A joint a pixel or two wide in every period makes one phase stand out; a pattern whose
+// autocorrelation repeats without lines (a photograph of planks repeating along their
+// length, the patches' own blur) spreads its gradient over the phases.
+double lineContrast(const Profile& p, int lag) {
+  if (lag <= 0) return 0.0;
+  const std::size_t period = static_cast<std::size_t>(lag);
+  std::vector<double> sum(period, 0.0);
+  std::vector<int> count(period, 0);
+  for (std::size_t i = 0; i < p.value.size(); ++i) {
+    if (!p.valid[i]) continue;
+    sum[i % period] += p.value[i];
+    ++count[i % period];
+  }
+  std::vector<double> phase;
+  for (std::size_t k = 0; k < period; ++k) {
+    if (count[k] > 0) phase.push_back(sum[k] / count[k]);
+  }
+  if (phase.empty()) return 0.0;
+  const double highest = *std::max_element(phase.begin(), phase.end());
+  const auto middle = phase.begin() + static_cast<std::ptrdiff_t>(phase.size() / 2);
+  std::nth_element(phase.begin(), middle, phase.end());
+  return *middle > 0.0 ? highest / *middle : 0.0;
+}
+
 }  // namespace
 
 JointGrid jointGridOfFace(const std::vector<const SurfacePatch*>& patches, double patch_size_m) {
@@ -178,11 +204,15 @@ JointGrid jointGridOfFace(const std::vector<const SurfacePatch*>& patches, doubl
   const double pixel_m = patch_size_m / n;
   const int min_lag = std::max(2, static_cast<int>(std::lround(kMinJointPeriodM / pixel_m)));
   const int max_lag = static_cast<int>(std::lround(kMaxJointPeriodM / pixel_m));
-  const auto [strength_s, lag_s] = strongestPeriod(jointProfile(gradient_s, has_s, true), min_lag, max_lag);
-  const auto [strength_t, lag_t] = strongestPeriod(jointProfile(gradient_t, has_t, false), min_lag, max_lag);
+  const Profile profile_s = jointProfile(gradient_s, has_s, true), profile_t = jointProfile(gradient_t, has_t, false);
+  const auto [strength_s, lag_s] = strongestPeriod(profile_s, min_lag, max_lag);
+  const auto [strength_t, lag_t] = strongestPeriod(profile_t, min_lag, max_lag);
   result.strength_s = strength_s, result.period_s_m = lag_s * pixel_m;
   result.strength_t = strength_t, result.period_t_m = lag_t * pixel_m;
-  result.grid = strength_s >= kGridStrength && strength_t >= kGridStrength;
+  result.line_contrast_s = lineContrast(profile_s, lag_s);
+  result.line_contrast_t = lineContrast(profile_t, lag_t);
+  result.grid = strength_s >= kGridStrength && strength_t >= kGridStrength && result.line_contrast_s >= kLineContrast &&
+                result.line_contrast_t >= kLineContrast;
   return result;
 }
 
