@@ -193,19 +193,29 @@ TEST(CeilingJunction, TheLayoutPlacesAFarWallTheDepthDoesNotShow) {
   EXPECT_NEAR(fitRoomLayout(cloud, without, &image).model.size_m.x(), depth_only.model.size_m.x(), 1e-9);
 }
 
-TEST(CeilingJunction, ALineTheRigCannotSeeIsNotTheWall) {
-  // Depth of a wall 4.9 m away; a junction found 6.6 m away lies behind it.
-  AlignedBox box = trueBox();
-  box.x_lo = -4.9;
+namespace {
+
+// Depth of the wall at box.x_lo, floor to ceiling, every 2 cm.
+std::vector<WeightedPoint> wallPoints(const AlignedBox& box) {
   std::vector<WeightedPoint> raw;
-  for (double y = -1.8; y <= 1.8; y += 0.02) {
+  for (double y = box.y_lo; y <= box.y_hi; y += 0.02) {
     for (double z = box.floor_z; z < box.top_z; z += 0.02) {
       WeightedPoint point;
-      point.p = Eigen::Vector3f(-4.9f, static_cast<float>(y), static_cast<float>(z));
+      point.p = Eigen::Vector3f(static_cast<float>(box.x_lo), static_cast<float>(y), static_cast<float>(z));
       point.weight = 1.0f;
       raw.push_back(point);
     }
   }
+  return raw;
+}
+
+}  // namespace
+
+TEST(CeilingJunction, ALineTheRigCannotSeeIsNotTheWall) {
+  // Depth of a wall 4.9 m away; a junction found 6.6 m away lies behind it.
+  AlignedBox box = trueBox();
+  box.x_lo = -4.9;
+  const std::vector<WeightedPoint> raw = wallPoints(box);
   EXPECT_FALSE(raysMeetJunction(raw, box, 2, -6.6, true, kCameraZ, 0.1, 0.66, {}));
   EXPECT_TRUE(raysMeetJunction(raw, box, 2, -5.0, true, kCameraZ, 0.1, 0.5, {}));  // within a tenth of it
   EXPECT_TRUE(raysMeetJunction({}, box, 2, -6.6, true, kCameraZ, 0.1, 0.66, {}));  // no depth there: nothing against it
@@ -216,15 +226,7 @@ TEST(CeilingJunction, ALineTheRaysPassIsNotTheWall) {
   // of a light under the ceiling), and the rays under it go on to the wall.
   AlignedBox box = trueBox();
   box.x_lo = -4.9;
-  std::vector<WeightedPoint> raw;
-  for (double y = -1.8; y <= 1.8; y += 0.02) {
-    for (double z = box.floor_z; z < box.top_z; z += 0.02) {
-      WeightedPoint point;
-      point.p = Eigen::Vector3f(-4.9f, static_cast<float>(y), static_cast<float>(z));
-      point.weight = 1.0f;
-      raw.push_back(point);
-    }
-  }
+  const std::vector<WeightedPoint> raw = wallPoints(box);
   // The rays to the wall's upper 30 % above the camera: just under the line they would
   // meet the ceiling beyond it.
   const double band = 0.3 * (box.top_z - kCameraZ);
