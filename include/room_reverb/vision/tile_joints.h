@@ -43,8 +43,9 @@ constexpr double kMaxJointPeriodM = 1.0;
 // photographs the classifier does not take for tiles in the development rooms (40 with
 // the sweethome3d collection, 24 with ufoai) and the looked-at held-out rooms 203-222,
 // 341-360 and 381-400, at 1024 px (the weaker axis): the 14 floors of wood and carpet
-// that repeat at 0.3 or more stand out at 1.19-1.49, the tiled floors at 1.27-2.90 (15 of
-// 18 at 1.82 or more); a carpet whose pattern stands out at 2.75 repeats at 0.22.
+// that repeat at 0.3 or more stand out at 1.19-1.49; the 18 tiled floors repetition alone
+// missed at 1.27-2.64 (15 of them at 1.82 or more), the 19 it found at 1.42-3.30; a carpet
+// whose pattern stands out at 2.75 repeats at 0.22.
 // Repetition alone (0.6 on both axes, with no line test) took 5 wooden floors for tiles
 // and missed 14 tiled ones there.
 constexpr double kGridStrength = 0.3;
