@@ -1,0 +1,72 @@
+#pragma once
+// The stereo's range bias, found from the room's own flat floor and ceiling. Spherical
+// stereo on a vertical baseline ranges a point from the angle between the two cameras'
+// views of it (its disparity). An offset in that angle, the same for every pixel (a
+// matcher's sub-pixel bias, a camera mounted a little off the baseline's axis, a baseline
+// that is not quite the one given), bends the room: the range error grows with the
+// square of the distance, so a floor seen from 1.5 m up rises towards the rig beyond a
+// few metres, a ceiling sinks towards it and the far walls come in (a tenth of a degree
+// at a 0.2 m baseline shortens a wall 6 m away by 3 %). Flat planes do not bend, so the
+// offset that makes the cloud's heights sharpest (the floor and the ceiling each at one
+// height, as vision/cloud_leveling.h measures it) is the one the stereo had, and every
+// range is corrected for it before the fit.
+#include <Eigen/Core>
+
+#include "room_reverb/vision/point_cloud.h"
+
+namespace room_reverb::core {
+
+struct DisparityOffsetOptions {
+  bool enabled = true;
+  // The offset is sought within this of zero [rad]: 10 mrad is 3.3 px at 2048 x 1024,
+  // a tenth of the disparity of a point 2 m away at a 0.2 m baseline.
+  double max_offset_rad = 0.01;
+  // Applied only where it is at least min_offset_rad and min_significance standard errors
+  // of its own fit: an unbiased cloud's estimate scatters about zero by the noise and
+  // stays as it is.
+  double min_offset_rad = 2e-4;
+  double min_significance = 4.0;
+  double voxel_size_m = 0.05;  // one point per voxel, so area counts, not point density
+  double bin_m = 0.01;         // height histogram resolution of the planes' first heights
+  double range_noise = 0.01;   // the stereo's range noise over range (1-sigma), as the layout fit's
+  // The floor is sought below this distance under the rig's centre, the ceiling above it.
+  double clear_m = 0.3;
+  // The planes' first heights from the points within near_m of the rig in plan; the fit
+  // then grows outwards by grow_m an iteration. A point belongs to its plane within band_m
+  // and three times its expected noise of it.
+  double near_m = 2.0;
+  double grow_m = 0.5;
+  double band_m = 0.05;
+  // Points nearer than this to the poles of the baseline are left out: stereo on a
+  // vertical baseline has no disparity along it.
+  double min_polar_rad = 0.35;
+};
+
+struct DisparityOffset {
+  double offset_rad = 0.0;          // measured disparity = true disparity + offset_rad
+  double standard_error_rad = 0.0;  // of offset_rad, from the fit's scatter
+  bool applied = false;             // large and clear enough to correct the cloud for
+  std::size_t points = 0;           // voxel points the estimate rests on
+};
+
+// The range from the top camera a point would have if its disparity, measured with
+// `offset_rad` added, had none. `range_m` from the top camera, `polar_rad` the angle of
+// its direction from the rig's up axis (the baseline's direction, top camera above).
+// Returns NaN where the corrected disparity is zero or less (the point is at infinity).
+double rangeWithoutDisparityOffset(double range_m, double polar_rad, double baseline_m, double offset_rad);
+
+// The offset the cloud's floor and ceiling say the stereo had. `cloud` in the rig frame
+// with the top camera at (0, 0, baseline/2) (as depthToPointCloud makes it); `level`
+// turns the rig frame to level (p_level = level * p_rig). InputError for a cloud of fewer
+// than 1000 points or non-finite points, a baseline that is not positive, and options out
+// of range.
+DisparityOffset estimateDisparityOffset(const PointCloud& cloud, double baseline_m, const Eigen::Matrix3d& level,
+                                        const DisparityOffsetOptions& options = {});
+
+// The cloud with every point moved along its ray from the top camera to the range
+// rangeWithoutDisparityOffset gives; points whose corrected disparity vanishes, or that lie
+// within min_polar_rad of the poles, keep their place.
+PointCloud removeDisparityOffset(const PointCloud& cloud, double baseline_m, double offset_rad,
+                                 double min_polar_rad = DisparityOffsetOptions{}.min_polar_rad);
+
+}  // namespace room_reverb::core

@@ -1,0 +1,226 @@
+#include "room_reverb/vision/range_bias.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <unordered_set>
+#include <vector>
+
+#include "room_reverb/common/error.h"
+
+namespace room_reverb::core {
+
+namespace {
+
+constexpr std::size_t kMaxPoints = 40000;
+
+// A point as the top camera sees it: range and the angle from the baseline's up direction.
+struct TopRay {
+  double range = 0.0, polar = 0.0;
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero();  // unit, rig frame
+};
+
+TopRay topRay(const Eigen::Vector3d& p, const Eigen::Vector3d& top) {
+  TopRay ray;
+  const Eigen::Vector3d v = p - top;
+  ray.range = v.norm();
+  if (ray.range > 0.0) {
+    ray.direction = v / ray.range;
+    ray.polar = std::acos(std::clamp(ray.direction.z(), -1.0, 1.0));
+  }
+  return ray;
+}
+
+bool offPoles(double polar, double min_polar) { return polar >= min_polar && polar <= M_PI - min_polar; }
+
+// One point per occupied voxel, off the poles and with disparity enough to survive any
+// offset searched (a far point's disparity could otherwise be corrected through zero).
+std::vector<TopRay> voxelRays(const PointCloud& cloud, const Eigen::Vector3d& top, double baseline,
+                              const DisparityOffsetOptions& o) {
+  std::unordered_set<std::uint64_t> seen;
+  std::vector<TopRay> rays;
+  for (const CloudPoint& c : cloud.points) {
+    const Eigen::Vector3d p = c.p.cast<double>();
+    const TopRay ray = topRay(p, top);
+    if (!(ray.range > 0.0) || !offPoles(ray.polar, o.min_polar_rad)) continue;
+    const double disparity = std::atan2(baseline * std::sin(ray.polar), ray.range + baseline * std::cos(ray.polar));
+    if (disparity < 3.0 * o.max_offset_rad) continue;
+    std::uint64_t key = 0;
+    for (int a = 0; a < 3; ++a) {
+      const auto cell = static_cast<std::int64_t>(std::floor(p[a] / o.voxel_size_m)) + (1 << 20);
+      key = (key << 21) | (static_cast<std::uint64_t>(cell) & 0x1fffff);
+    }
+    if (seen.insert(key).second) rays.push_back(ray);
+  }
+  const std::size_t stride = rays.size() / kMaxPoints + 1;
+  std::vector<TopRay> kept;
+  for (std::size_t i = 0; i < rays.size(); i += stride) kept.push_back(rays[i]);
+  return kept;
+}
+
+// The height of the densest horizontal layer among `heights` (a histogram of bin_m, each
+// height shared between its two nearest bins, summed over 2 reach + 1 bins so that one
+// busy bin of noise does not win), refined to the mean of the heights within that window.
+double densestHeight(const std::vector<double>& heights, double bin_m, int reach) {
+  const auto [lo, hi] = std::minmax_element(heights.begin(), heights.end());
+  std::vector<double> count(static_cast<std::size_t>((*hi - *lo) / bin_m) + 2, 0.0);
+  for (double v : heights) {
+    const double at = (v - *lo) / bin_m;
+    const auto bin = static_cast<std::size_t>(at);
+    count[bin] += 1.0 - (at - static_cast<double>(bin));
+    count[bin + 1] += at - static_cast<double>(bin);
+  }
+  std::size_t best = 0;
+  double held_best = -1.0;
+  for (std::size_t centre = 0; centre < count.size(); ++centre) {
+    double held = 0.0;
+    for (int k = -reach; k <= reach; ++k) {
+      const auto bin = static_cast<std::ptrdiff_t>(centre) + k;
+      if (bin >= 0 && bin < static_cast<std::ptrdiff_t>(count.size())) held += count[static_cast<std::size_t>(bin)];
+    }
+    if (held > held_best) held_best = held, best = centre;
+  }
+  const double mode = *lo + bin_m * static_cast<double>(best);
+  double sum = 0.0;
+  int n = 0;
+  for (double v : heights) {
+    if (std::abs(v - mode) <= bin_m * (reach + 0.5)) sum += v, ++n;
+  }
+  return n > 0 ? sum / n : mode;
+}
+
+// A point's levelled height with the offset taken out.
+double levelHeight(const TopRay& ray, const Eigen::Vector3d& top, double baseline, double offset,
+                   const Eigen::RowVector3d& up) {
+  const double range = rangeWithoutDisparityOffset(ray.range, ray.polar, baseline, offset);
+  return std::isfinite(range) ? up.dot(top + range * ray.direction) : std::numeric_limits<double>::quiet_NaN();
+}
+
+}  // namespace
+
+double rangeWithoutDisparityOffset(double range_m, double polar_rad, double baseline_m, double offset_rad) {
+  // The triangle of the two cameras and the point: the angle at the point is the
+  // disparity d, the bottom camera sees the point at polar angle polar - d, and by the law
+  // of sines range / sin(polar - d) = baseline / sin(d).
+  const double disparity = std::atan2(baseline_m * std::sin(polar_rad), range_m + baseline_m * std::cos(polar_rad));
+  const double corrected = disparity - offset_rad;
+  if (!(corrected > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+  return baseline_m * std::sin(polar_rad - corrected) / std::sin(corrected);
+}
+
+DisparityOffset estimateDisparityOffset(const PointCloud& cloud, double baseline_m, const Eigen::Matrix3d& level,
+                                        const DisparityOffsetOptions& options) {
+  if (!(baseline_m > 0.0) || !std::isfinite(baseline_m)) throw InputError("range bias: the baseline must be positive");
+  if (!(options.max_offset_rad > 0.0 && options.max_offset_rad < 0.1) || !(options.voxel_size_m > 0.0) ||
+      !(options.bin_m > 0.0) || !(options.band_m > 0.0) || !(options.near_m > 0.0) || !(options.grow_m > 0.0) || !(options.range_noise > 0.0) ||
+      !(options.min_offset_rad >= 0.0) || !(options.min_significance >= 0.0) ||
+      !(options.min_polar_rad >= 0.0 && options.min_polar_rad < 1.5)) {
+    throw InputError("range bias: max_offset_rad must be in (0, 0.1), min_polar_rad in [0, 1.5) and the sizes, noise "
+                     "and thresholds positive");
+  }
+  checkPointCloud(cloud, 1000);
+  const Eigen::Vector3d top(0.0, 0.0, 0.5 * baseline_m);
+  const std::vector<TopRay> rays = voxelRays(cloud, top, baseline_m, options);
+  DisparityOffset out;
+  out.points = rays.size();
+  if (rays.size() < 1000) return out;
+  // The floor and the ceiling as two horizontal planes, heights h[1] and h[2], sharing
+  // the offset h[0]: a least-squares fit of the points' levelled heights to their planes,
+  // each weighted by its expected noise (range_noise of its range along the ray, at least
+  // a centimetre), a point taken within band_m and three times that noise of its plane
+  // (the walls' feet, the tables and the hanging lights fall out). Gauss-Newton, the
+  // offset's effect on a height smooth and nearly linear over the range searched.
+  const Eigen::RowVector3d up = level.row(2);
+  std::vector<int> plane(rays.size(), 0);  // 1 floor, 2 ceiling, 0 neither
+  std::vector<double> sigma(rays.size());
+  std::vector<double> near_floor, near_ceiling;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const Eigen::Vector3d q = top + rays[i].range * rays[i].direction;
+    const double z = up.dot(q);
+    sigma[i] = std::max(0.01, options.range_noise * rays[i].range * std::abs(up.dot(rays[i].direction)));
+    if (z < -options.clear_m) plane[i] = 1;
+    if (z > options.clear_m) plane[i] = 2;
+    // The planes' first heights from the points near the rig, which any offset bends least.
+    const double rho = std::sqrt(std::max(0.0, q.squaredNorm() - z * z));
+    if (rho < options.near_m && plane[i] == 1) near_floor.push_back(z);
+    if (rho < options.near_m && plane[i] == 2) near_ceiling.push_back(z);
+  }
+  Eigen::Vector3d h(0.0, near_floor.empty() ? 0.0 : densestHeight(near_floor, options.bin_m, 2),
+                    near_ceiling.empty() ? 0.0 : densestHeight(near_ceiling, options.bin_m, 2));
+  const bool planes[3] = {false, !near_floor.empty(), !near_ceiling.empty()};
+  Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+  double residual = 0.0, weight_sum = 0.0;
+  std::size_t used = 0;
+  std::vector<double> rho(rays.size());
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const Eigen::Vector3d q = top + rays[i].range * rays[i].direction;
+    const double z = up.dot(q);
+    rho[i] = std::sqrt(std::max(0.0, q.squaredNorm() - z * z));
+  }
+  const int kIterations = 16;
+  for (int iteration = 0; iteration < kIterations; ++iteration) {
+    // Grown outwards from the rig half a metre an iteration, so that the far points, which
+    // the offset bends most, join a fit that already follows the bend nearer in.
+    const double reach = options.near_m + options.grow_m * iteration;
+    normal.setZero();
+    Eigen::Vector3d gradient = Eigen::Vector3d::Zero();
+    residual = weight_sum = 0.0;
+    used = 0;
+    constexpr double kStep = 1e-5;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      const int k = plane[i];
+      if (k == 0 || !planes[k]) continue;
+      const double z = levelHeight(rays[i], top, baseline_m, h[0], up);
+      if (rho[i] > reach || !std::isfinite(z) || std::abs(z - h[k]) > options.band_m + 3.0 * sigma[i]) continue;
+      const double dz = (levelHeight(rays[i], top, baseline_m, h[0] + kStep, up) -
+                         levelHeight(rays[i], top, baseline_m, h[0] - kStep, up)) / (2.0 * kStep);
+      if (!std::isfinite(dz)) continue;
+      Eigen::Vector3d j = Eigen::Vector3d::Zero();
+      j[0] = dz;
+      j[k] = -1.0;
+      const double w = 1.0 / (sigma[i] * sigma[i]);
+      const double e = z - h[k];
+      normal += w * j * j.transpose();
+      gradient += w * j * e;
+      residual += w * e * e, weight_sum += w;
+      ++used;
+    }
+    for (int k = 1; k < 3; ++k) {
+      if (!planes[k] || normal(k, k) == 0.0) normal(k, k) = 1.0;  // an absent plane stays put
+    }
+    if (used < 1000 || std::abs(normal.determinant()) < 1e-300) break;
+    const Eigen::Vector3d step = normal.ldlt().solve(-gradient);
+    h += step;
+    if (std::getenv("RB_IT")) std::fprintf(stderr, "it %d used %zu h %.4f %.4f %.4f px %.3f rms %.4f\n", iteration, used, h[0], h[1], h[2], h[0] / (M_PI / 1024), std::sqrt(residual / weight_sum));
+    h[0] = std::clamp(h[0], -options.max_offset_rad, options.max_offset_rad);
+  }
+  out.offset_rad = h[0];
+  // The offset's standard error from the fit's own scatter: the weighted residual's
+  // variance over that expected from the noise, times the normal matrix's inverse.
+  if (used >= 1000 && weight_sum > 0.0) {
+    const double scale = residual / static_cast<double>(used - 3);
+    out.standard_error_rad = std::sqrt(std::max(0.0, normal.inverse()(0, 0) * scale));
+  } else {
+    out.standard_error_rad = std::numeric_limits<double>::infinity();
+  }
+  out.applied = std::abs(out.offset_rad) >= options.min_offset_rad &&
+                std::abs(out.offset_rad) >= options.min_significance * out.standard_error_rad &&
+                std::abs(out.offset_rad) < options.max_offset_rad;
+  return out;
+}
+
+PointCloud removeDisparityOffset(const PointCloud& cloud, double baseline_m, double offset_rad, double min_polar_rad) {
+  PointCloud out = cloud;
+  const Eigen::Vector3d top(0.0, 0.0, 0.5 * baseline_m);
+  for (CloudPoint& c : out.points) {
+    const TopRay ray = topRay(c.p.cast<double>(), top);
+    if (!(ray.range > 0.0) || !offPoles(ray.polar, min_polar_rad)) continue;
+    const double range = rangeWithoutDisparityOffset(ray.range, ray.polar, baseline_m, offset_rad);
+    if (std::isfinite(range)) c.p = (top + range * ray.direction).cast<float>();
+  }
+  return out;
+}
+
+}  // namespace room_reverb::core

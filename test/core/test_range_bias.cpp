@@ -1,0 +1,177 @@
+// The stereo's range bias found from the room's flat floor and ceiling
+// (vision/range_bias.h): the disparity offset's geometry against an independent
+// triangulation, and cluttered rooms (synthetic_capture/cluttered_rooms.h) scanned as
+// stereo ranges them (test/support/room_scan.h) and bent by known offsets, fitted with and
+// without the correction. A report over many rooms and offsets:
+// ROOM_REVERB_ROOMS=20 [ROOM_REVERB_FIRST_ROOM=1] [ROOM_REVERB_ROOM_SET=development]
+//   .ws/devel/lib/room_reverb/test_range_bias --gtest_filter='*Report*'
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "room_reverb/synthetic_capture/cluttered_rooms.h"
+#include "room_reverb/vision/range_bias.h"
+#include "room_reverb/vision/room_layout.h"
+#include "room_scan.h"
+#include "test_files.h"
+
+using namespace room_reverb::core;
+using room_reverb::test::expectInputError;
+using room_reverb::test::scanRoomModel;
+using room_reverb::test::stereoLikeScanOptions;
+
+namespace {
+
+constexpr double kBaseline = 0.2;
+// One pixel of a 2048 x 1024 equirect image [rad].
+constexpr double kPixel2048 = M_PI / 1024.0;
+
+// The scan's points as a stereo pair with its disparity offset by `offset_rad` would
+// range them: each along its ray from the top camera.
+PointCloud bent(const PointCloud& cloud, double offset_rad) { return removeDisparityOffset(cloud, kBaseline, -offset_rad); }
+
+Eigen::Matrix3d levelOf(const RoomModel& scanned) { return scanned.rig_rotation.toRotationMatrix(); }
+
+// The largest error of the box's three sizes, as a fraction of the true size.
+double worstBoxError(const RoomModel& fitted, const RoomModel& truth) {
+  double worst = 0.0;
+  for (int a = 0; a < 3; ++a) worst = std::max(worst, std::abs(fitted.size_m[a] - truth.size_m[a]) / truth.size_m[a]);
+  return worst;
+}
+
+}  // namespace
+
+TEST(RangeBias, TheOffsetsRangeIsATriangulationWithTheBottomRayTurned) {
+  // The two cameras on the z axis, the bottom one's ray to the point turned by the offset
+  // (a bottom camera that sees every point `offset` nearer its zenith reads a disparity
+  // `offset` larger); the top camera's and the turned bottom ray meet at the biased point.
+  const double offset = 0.004;
+  for (const Eigen::Vector3d& point : {Eigen::Vector3d(3.0, 0.0, -1.4), Eigen::Vector3d(-1.2, 4.5, 1.1),
+                                      Eigen::Vector3d(0.3, -0.4, -1.5), Eigen::Vector3d(6.5, 2.0, 0.0)}) {
+    const Eigen::Vector3d top(0.0, 0.0, kBaseline / 2.0), bottom(0.0, 0.0, -kBaseline / 2.0);
+    const double rho = std::hypot(point.x(), point.y());
+    const double polar_top = std::atan2(rho, point.z() - top.z());
+    const double polar_bottom = std::atan2(rho, point.z() - bottom.z()) - offset;
+    // In the vertical plane through the point: top ray z = top.z + rho / tan(polar_top),
+    // bottom ray z = bottom.z + rho' / tan(polar_bottom); they meet where both give one z.
+    const double meet_rho = kBaseline / (1.0 / std::tan(polar_bottom) - 1.0 / std::tan(polar_top));
+    const double meet_range = meet_rho / std::sin(polar_top);
+    const double range = (point - top).norm();
+    EXPECT_NEAR(rangeWithoutDisparityOffset(range, polar_top, kBaseline, -offset), meet_range, 1e-9 * meet_range);
+    // And the correction takes the offset out again.
+    EXPECT_NEAR(rangeWithoutDisparityOffset(meet_range, polar_top, kBaseline, offset), range, 1e-9 * range);
+    EXPECT_NEAR(rangeWithoutDisparityOffset(range, polar_top, kBaseline, 0.0), range, 1e-12 * range);
+  }
+  // A disparity corrected through zero is a point at infinity.
+  EXPECT_TRUE(std::isnan(rangeWithoutDisparityOffset(50.0, M_PI / 2.0, kBaseline, 0.01)));
+}
+
+TEST(RangeBias, AnOffsetThatBentTheRoomIsFoundAndTakenOut) {
+  // Half a pixel and one pixel at 2048 x 1024 either way: a matcher's sub-pixel bias, a
+  // camera turned by a twentieth of a degree.
+  const double offsets_px[] = {0.5, 1.0, -1.0};
+  int index = 1;
+  for (double px : offsets_px) {
+    const ClutteredRoom room = clutteredRoom(ClutterSet::kDevelopment, index++);
+    const PointCloud scan = scanRoomModel(room.scanned, stereoLikeScanOptions(5)).cloud;
+    const PointCloud seen = bent(scan, px * kPixel2048);
+    const DisparityOffset found = estimateDisparityOffset(seen, kBaseline, levelOf(room.scanned));
+    const double bent_error = worstBoxError(fitRoomLayout(seen).model, room.truth);
+    const double corrected_error =
+        worstBoxError(fitRoomLayout(removeDisparityOffset(seen, kBaseline, found.offset_rad)).model, room.truth);
+    std::printf("[ measured ] %s offset %+.2f px: found %+.3f +- %.3f px, box error %.2f %% bent, %.2f %% "
+                "corrected\n",
+                room.name.c_str(), px, found.offset_rad / kPixel2048, found.standard_error_rad / kPixel2048, 100.0 * bent_error,
+                100.0 * corrected_error);
+    EXPECT_TRUE(found.applied) << room.name;
+    EXPECT_NEAR(found.offset_rad / kPixel2048, px, 0.1) << room.name;
+    EXPECT_GT(bent_error, 0.015) << room.name << ": the offset should bend the room measurably";
+    EXPECT_LE(corrected_error, 0.01) << room.name;
+  }
+}
+
+TEST(RangeBias, AnUnbentCloudStaysAsItIs) {
+  for (int index = 4; index <= 6; ++index) {
+    const ClutteredRoom room = clutteredRoom(ClutterSet::kDevelopment, index);
+    const PointCloud scan = scanRoomModel(room.scanned, stereoLikeScanOptions(6)).cloud;
+    const DisparityOffset found = estimateDisparityOffset(scan, kBaseline, levelOf(room.scanned));
+    std::printf("[ measured ] %s unbent: found %+.3f +- %.3f px%s\n", room.name.c_str(),
+                found.offset_rad / kPixel2048, found.standard_error_rad / kPixel2048, found.applied ? ", applied" : "");
+    EXPECT_LE(std::abs(found.offset_rad), 0.1 * kPixel2048) << room.name;
+  }
+}
+
+TEST(RangeBias, ARoomOpenToTheSkyHasItsFloor) {
+  ClutteredRoom room = clutteredRoom(ClutterSet::kDevelopment, 7);
+  room.scanned.has_ceiling = false;
+  const PointCloud seen = bent(scanRoomModel(room.scanned, stereoLikeScanOptions(8)).cloud, 0.8 * kPixel2048);
+  const DisparityOffset found = estimateDisparityOffset(seen, kBaseline, levelOf(room.scanned));
+  std::printf("[ measured ] %s without a ceiling, offset +0.80 px: found %+.3f px\n", room.name.c_str(),
+              found.offset_rad / kPixel2048);
+  EXPECT_TRUE(found.applied);
+  EXPECT_NEAR(found.offset_rad / kPixel2048, 0.8, 0.15);
+}
+
+TEST(RangeBias, BadInput) {
+  const ClutteredRoom room = clutteredRoom(ClutterSet::kDevelopment, 1);
+  const PointCloud scan = scanRoomModel(room.scanned, stereoLikeScanOptions(2)).cloud;
+  const Eigen::Matrix3d level = levelOf(room.scanned);
+  expectInputError([&] { estimateDisparityOffset(scan, 0.0, level); }, {"baseline"});
+  expectInputError([&] { estimateDisparityOffset(scan, std::nan(""), level); }, {"baseline"});
+  DisparityOffsetOptions wide;
+  wide.max_offset_rad = 0.5;
+  expectInputError([&] { estimateDisparityOffset(scan, kBaseline, level, wide); }, {"max_offset_rad"});
+  PointCloud few;
+  few.points.resize(10);
+  expectInputError([&] { estimateDisparityOffset(few, kBaseline, level); }, {"too few points"});
+  PointCloud broken = scan;
+  broken.points[5].p.x() = std::nanf("");
+  expectInputError([&] { estimateDisparityOffset(broken, kBaseline, level); }, {"not finite"});
+}
+
+TEST(RangeBiasReport, Summary) {
+  const char* rooms_env = std::getenv("ROOM_REVERB_ROOMS");
+  const int rooms = rooms_env != nullptr ? std::atoi(rooms_env) : 0;
+  if (rooms < 1) GTEST_SKIP() << "set ROOM_REVERB_ROOMS=N for the report over N rooms";
+  const char* first_env = std::getenv("ROOM_REVERB_FIRST_ROOM");
+  const int first = first_env != nullptr ? std::atoi(first_env) : 1;
+  const char* set_env = std::getenv("ROOM_REVERB_ROOM_SET");
+  const bool development = set_env != nullptr && std::string(set_env) == "development";
+  const double offsets_px[] = {0.0, 0.5, 1.0, -0.5, 1.5};
+  for (double px : offsets_px) {
+    std::vector<double> found_error, bent_error, corrected_error;
+    int applied = 0, within_bent = 0, within_corrected = 0;
+    for (int index = first; index < first + rooms; ++index) {
+      const ClutteredRoom room = clutteredRoom(development ? ClutterSet::kDevelopment : ClutterSet::kHeldOut, index);
+      const PointCloud seen = bent(scanRoomModel(room.scanned, stereoLikeScanOptions(9)).cloud, px * kPixel2048);
+      const DisparityOffset found = estimateDisparityOffset(seen, kBaseline, levelOf(room.scanned));
+      applied += found.applied ? 1 : 0;
+      found_error.push_back(std::abs(found.offset_rad / kPixel2048 - px));
+      const double before = worstBoxError(fitRoomLayout(seen).model, room.truth);
+      const PointCloud used = found.applied ? removeDisparityOffset(seen, kBaseline, found.offset_rad) : seen;
+      const double after = worstBoxError(fitRoomLayout(used).model, room.truth);
+      bent_error.push_back(before), corrected_error.push_back(after);
+      within_bent += before <= 0.01 ? 1 : 0, within_corrected += after <= 0.01 ? 1 : 0;
+      std::printf("[ measured ] %-20s offset %+.2f px: found %+.3f +- %.3f px%s, box %.2f %% -> %.2f %%\n",
+                  room.name.c_str(), px, found.offset_rad / kPixel2048, found.standard_error_rad / kPixel2048,
+                  found.applied ? " applied" : "", 100.0 * before, 100.0 * after);
+    }
+    const auto median = [](std::vector<double> v) {
+      std::sort(v.begin(), v.end());
+      return v[v.size() / 2];
+    };
+    std::printf("[ measured ] offset %+.2f px (2048 px wide): applied in %d of %d; offset error median %.3f px, max "
+                "%.3f px; box within 1 %%: %d bent -> %d corrected; worst dimension median %.2f %% -> %.2f %%, max "
+                "%.2f %% -> %.2f %%\n",
+                px, applied, rooms, median(found_error), *std::max_element(found_error.begin(), found_error.end()),
+                within_bent, within_corrected, 100.0 * median(bent_error), 100.0 * median(corrected_error),
+                100.0 * *std::max_element(bent_error.begin(), bent_error.end()),
+                100.0 * *std::max_element(corrected_error.begin(), corrected_error.end()));
+  }
+}
