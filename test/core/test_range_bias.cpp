@@ -175,3 +175,22 @@ TEST(RangeBiasReport, Summary) {
                 100.0 * *std::max_element(corrected_error.begin(), corrected_error.end()));
   }
 }
+
+TEST(RangeBiasScratch, EmptyBox) {
+  for (int index = 4; index <= 6; ++index) {
+    ClutteredRoom room = clutteredRoom(ClutterSet::kDevelopment, index);
+    room.scanned.objects.clear();
+    room.scanned.size_m = room.truth.size_m;
+    for (double noise : {0.0, 0.015}) {
+      auto o = stereoLikeScanOptions(6);
+      o.range_noise_fraction = noise;
+      o.stray_fraction = 0.0;
+      const PointCloud scan = scanRoomModel(room.scanned, o).cloud;
+      for (double px : {0.0, 1.0}) {
+        const DisparityOffset found = estimateDisparityOffset(bent(scan, px * kPixel2048), kBaseline, levelOf(room.scanned));
+        std::printf("[ measured ] %s empty noise %.3f offset %.1f: found %+.3f +- %.3f px\n", room.name.c_str(), noise, px,
+                    found.offset_rad / kPixel2048, found.standard_error_rad / kPixel2048);
+      }
+    }
+  }
+}

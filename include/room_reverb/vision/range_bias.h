@@ -37,6 +37,10 @@ struct DisparityOffsetOptions {
   double near_m = 2.0;
   double grow_m = 0.5;
   double band_m = 0.05;
+  // Only points on horizontal surfaces count: the normal of their neighbours within
+  // neighbourhood_m within max_normal_tilt_rad of up.
+  double neighbourhood_m = 0.15;
+  double max_normal_tilt_rad = 0.35;
   // Points nearer than this to the poles of the baseline are left out: stereo on a
   // vertical baseline has no disparity along it.
   double min_polar_rad = 0.35;

@@ -5,7 +5,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <unordered_map>
 #include <unordered_set>
+
+#include <Eigen/Eigenvalues>
 #include <vector>
 
 #include "room_reverb/common/error.h"
@@ -20,6 +23,7 @@ constexpr std::size_t kMaxPoints = 40000;
 struct TopRay {
   double range = 0.0, polar = 0.0;
   Eigen::Vector3d direction = Eigen::Vector3d::Zero();  // unit, rig frame
+  bool level_surface = false;  // its neighbourhood is a horizontal surface (floor, ceiling, a top)
 };
 
 TopRay topRay(const Eigen::Vector3d& p, const Eigen::Vector3d& top) {
@@ -35,10 +39,57 @@ TopRay topRay(const Eigen::Vector3d& p, const Eigen::Vector3d& top) {
 
 bool offPoles(double polar, double min_polar) { return polar >= min_polar && polar <= M_PI - min_polar; }
 
+// Marks the points whose neighbours within neighbourhood_m lie on a horizontal surface:
+// the smallest principal axis of their spread within max_normal_tilt_rad of up. The walls'
+// feet and the furniture's sides, which lie next to the floor at every offset, are not.
+void markLevelSurfaces(std::vector<TopRay>& rays, const Eigen::Vector3d& top, const Eigen::RowVector3d& up,
+                       const DisparityOffsetOptions& o) {
+  const double cell = o.neighbourhood_m;
+  const auto key = [cell](const Eigen::Vector3d& p, int dx, int dy, int dz) {
+    std::uint64_t k = 0;
+    const int d[3] = {dx, dy, dz};
+    for (int a = 0; a < 3; ++a) {
+      const auto c = static_cast<std::int64_t>(std::floor(p[a] / cell)) + d[a] + (1 << 20);
+      k = (k << 21) | (static_cast<std::uint64_t>(c) & 0x1fffff);
+    }
+    return k;
+  };
+  std::vector<Eigen::Vector3d> points(rays.size());
+  std::unordered_map<std::uint64_t, std::vector<std::size_t>> cells;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    points[i] = top + rays[i].range * rays[i].direction;
+    cells[key(points[i], 0, 0, 0)].push_back(i);
+  }
+  const double cos_tilt = std::cos(o.max_normal_tilt_rad);
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
+    int n = 0;
+    for (int dx = -1; dx <= 1; ++dx) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto it = cells.find(key(points[i], dx, dy, dz));
+          if (it == cells.end()) continue;
+          for (std::size_t j : it->second) {
+            if ((points[j] - points[i]).squaredNorm() > cell * cell) continue;
+            mean += points[j], second += points[j] * points[j].transpose(), ++n;
+          }
+        }
+      }
+    }
+    if (n < 5) continue;
+    mean /= n;
+    const Eigen::Matrix3d covariance = second / n - mean * mean.transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+    const Eigen::Vector3d normal = solver.eigenvectors().col(0);
+    rays[i].level_surface = std::abs(up.dot(normal)) >= cos_tilt;
+  }
+}
+
 // One point per occupied voxel, off the poles and with disparity enough to survive any
 // offset searched (a far point's disparity could otherwise be corrected through zero).
 std::vector<TopRay> voxelRays(const PointCloud& cloud, const Eigen::Vector3d& top, double baseline,
-                              const DisparityOffsetOptions& o) {
+                              const Eigen::RowVector3d& up, const DisparityOffsetOptions& o) {
   std::unordered_set<std::uint64_t> seen;
   std::vector<TopRay> rays;
   for (const CloudPoint& c : cloud.points) {
@@ -57,6 +108,7 @@ std::vector<TopRay> voxelRays(const PointCloud& cloud, const Eigen::Vector3d& to
   const std::size_t stride = rays.size() / kMaxPoints + 1;
   std::vector<TopRay> kept;
   for (std::size_t i = 0; i < rays.size(); i += stride) kept.push_back(rays[i]);
+  markLevelSurfaces(kept, top, up, o);
   return kept;
 }
 
@@ -122,7 +174,7 @@ DisparityOffset estimateDisparityOffset(const PointCloud& cloud, double baseline
   }
   checkPointCloud(cloud, 1000);
   const Eigen::Vector3d top(0.0, 0.0, 0.5 * baseline_m);
-  const std::vector<TopRay> rays = voxelRays(cloud, top, baseline_m, options);
+  const std::vector<TopRay> rays = voxelRays(cloud, top, baseline_m, level.row(2), options);
   DisparityOffset out;
   out.points = rays.size();
   if (rays.size() < 1000) return out;
@@ -134,12 +186,10 @@ DisparityOffset estimateDisparityOffset(const PointCloud& cloud, double baseline
   // offset's effect on a height smooth and nearly linear over the range searched.
   const Eigen::RowVector3d up = level.row(2);
   std::vector<int> plane(rays.size(), 0);  // 1 floor, 2 ceiling, 0 neither
-  std::vector<double> sigma(rays.size());
   std::vector<double> near_floor, near_ceiling;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     const Eigen::Vector3d q = top + rays[i].range * rays[i].direction;
     const double z = up.dot(q);
-    sigma[i] = std::max(0.01, options.range_noise * rays[i].range * std::abs(up.dot(rays[i].direction)));
     if (z < -options.clear_m) plane[i] = 1;
     if (z > options.clear_m) plane[i] = 2;
     // The planes' first heights from the points near the rig, which any offset bends least.
@@ -171,16 +221,29 @@ DisparityOffset estimateDisparityOffset(const PointCloud& cloud, double baseline
     constexpr double kStep = 1e-5;
     for (std::size_t i = 0; i < rays.size(); ++i) {
       const int k = plane[i];
-      if (k == 0 || !planes[k]) continue;
+      if (k == 0 || !planes[k] || !rays[i].level_surface) continue;
       const double z = levelHeight(rays[i], top, baseline_m, h[0], up);
-      if (rho[i] > reach || !std::isfinite(z) || std::abs(z - h[k]) > options.band_m + 3.0 * sigma[i]) continue;
-      const double dz = (levelHeight(rays[i], top, baseline_m, h[0] + kStep, up) -
-                         levelHeight(rays[i], top, baseline_m, h[0] - kStep, up)) / (2.0 * kStep);
+      // The slope and the noise are taken where the ray meets the plane, not at the
+      // point's own range: a range read long both lowers a floor point and steepens its
+      // slope and noise, and weighting by its own range would tilt the fit towards the
+      // points read short (an offset compressing the room).
+      const double along = up.dot(rays[i].direction);
+      if (std::abs(along) < 1e-6) continue;
+      TopRay on_plane = rays[i];
+      on_plane.range = (h[k] - up.dot(top)) / along;
+      if (!(on_plane.range > 0.0) || !std::isfinite(z)) continue;
+      // on_plane.range is the corrected range; the measured one it came from:
+      on_plane.range = rangeWithoutDisparityOffset(on_plane.range, on_plane.polar, baseline_m, -h[0]);
+      if (!std::isfinite(on_plane.range)) continue;
+      const double noise = std::max(0.01, options.range_noise * on_plane.range * std::abs(along));
+      if (rho[i] > reach || std::abs(z - h[k]) > options.band_m + 3.0 * noise) continue;
+      const double dz = (levelHeight(on_plane, top, baseline_m, h[0] + kStep, up) -
+                         levelHeight(on_plane, top, baseline_m, h[0] - kStep, up)) / (2.0 * kStep);
       if (!std::isfinite(dz)) continue;
       Eigen::Vector3d j = Eigen::Vector3d::Zero();
       j[0] = dz;
       j[k] = -1.0;
-      const double w = 1.0 / (sigma[i] * sigma[i]);
+      const double w = 1.0 / (noise * noise);
       const double e = z - h[k];
       normal += w * j * j.transpose();
       gradient += w * j * e;
