@@ -11,7 +11,7 @@
 // the top one, as every real pair is; BM_PairToPointCloudWithoutPlanes without the tiles'
 // planes (SphericalStereoOptions::planar_refinement), for their cost in the same run. BM_PointCloudToRoomModel times the second half, the
 // point cloud to a room model with materials (roomLayoutFromCloud: layout fit, material
-// step and relief), with its accuracy as counters:
+// step and relief, after the stereo's disparity offset is looked for), with its accuracy as counters:
 //   size_err_cm    largest error of the room's three dimensions [cm] (ceiling-less: two)
 //   yaw_err_deg    rig yaw error [deg]
 //   iou_min        lowest 3D IoU of a true object at least 0.5 m in its largest side with
@@ -22,6 +22,7 @@
 //   objects        fitted objects, over true_objects in the scene
 //   material_pct   share of the true box faces' area whose material has the true look
 //                  (texture family) [%]
+//   range_bias_s   median wall-clock time of the disparity offset's estimate [s]
 //   layout_s       median wall-clock time of the layout fit (cloud -> cuboids) [s]
 //   materials_s    median wall-clock time of the material step [s]
 //   relief_s       median wall-clock time of the relief step [s]
@@ -163,7 +164,7 @@ void BM_PointCloudToRoomModel(benchmark::State& state) {
   VisualRouteOptions options;
   loadDefaultMaterialModels(options);
   RoomLayout layout;
-  std::vector<double> layout_s, materials_s, relief_s;
+  std::vector<double> range_bias_s, layout_s, materials_s, relief_s;
   for (auto _ : state) {
     VisualRouteTimes times;
     try {
@@ -173,6 +174,7 @@ void BM_PointCloudToRoomModel(benchmark::State& state) {
       return;
     }
     benchmark::DoNotOptimize(layout.model.objects.data());
+    range_bias_s.push_back(times.range_bias_s);
     layout_s.push_back(times.layout_s);
     materials_s.push_back(times.materials_s);
     relief_s.push_back(times.relief_s);
@@ -208,6 +210,7 @@ void BM_PointCloudToRoomModel(benchmark::State& state) {
   state.counters["true_objects"] = static_cast<double>(truth.room.objects.size());
   state.counters["iou_furniture"] = iou_furniture;
   state.counters["material_pct"] = 100.0 * right / std::max(total, 1e-9);
+  state.counters["range_bias_s"] = median(range_bias_s);
   state.counters["layout_s"] = median(layout_s);
   state.counters["materials_s"] = median(materials_s);
   state.counters["relief_s"] = median(relief_s);

@@ -62,6 +62,7 @@ RoomModelServer::RoomModelServer(::ros::NodeHandle nh, ::ros::NodeHandle private
   typedParam(private_nh_, "build_on_cloud", build_on_cloud_, false);
   typedParam(private_nh_, "level_from_cloud", options_.level_from_cloud, false);
   typedParam(private_nh_, "surface_relief", options_.relief.enabled, true);
+  typedParam(private_nh_, "disparity_offset_correction", options_.disparity_offset.enabled, true);
   options_.stereo = stereoOptionsFromConfig(stereoConfigFromParams(private_nh_));
   readLayoutParams(private_nh_, options_.layout);
   std::string classifier_file, families_file;

@@ -26,6 +26,7 @@ const char* kHelp = R"(usage: room_reverb room-model --top TOP.png (--bottom BOT
                               [--baseline M] [--fisheye] [--calibration FILE] [--width W]
                               [--leveling image|none] [--cloud CLOUD.pcd] [--range RANGE.tiff]
                               [--materials-override FILE.yaml] [--no-relief]
+                              [--no-range-correction]
 
 The paper's visual route on a capture from two vertically aligned 360° cameras: spherical
 stereo along the image columns, the point cloud in the rig frame, the room box (walls,
@@ -59,6 +60,10 @@ or dual-fisheye with --fisheye. `room_reverb make-capture` renders test pairs.
   --no-relief                 plain faces: no relief scattering from what the cloud shows
                               standing on the faces or inside the objects' boxes (by default
                               each gets one, as relief_scattering in the model)
+  --no-range-correction       ranges as the depth gives them; by default a disparity
+                              offset of the stereo (1 mrad or more, on which the floor and
+                              the ceiling agree) is found from how they bend and every range
+                              corrected for it, with a warning saying by how much
 
 Prints the room's size, the objects, each face's and object's material with its
 confidence and runner-up (the next likeliest) and its relief (the share of its seen area
@@ -141,7 +146,8 @@ void printRoom(const RoomLayout& layout, const std::vector<SurfaceMaterialDecisi
       std::cout << "    " << reliefNote(layout.object_relief[k]) << "\n";
     }
   }
-  std::cout << "time: stereo " << t.stereo_s << " s, cloud " << t.cloud_s << " s, layout " << t.layout_s
+  std::cout << "time: stereo " << t.stereo_s << " s, cloud " << t.cloud_s << " s, range bias " << t.range_bias_s
+            << " s, layout " << t.layout_s
             << " s, materials " << t.materials_s << " s, relief " << t.relief_s << " s\n";
 }
 
@@ -149,7 +155,7 @@ int runRoomModel(const std::vector<std::string>& raw) {
   const Arguments args(raw,
                        {"top", "bottom", "depth", "out", "baseline", "calibration", "width", "leveling", "cloud", "range",
                         "materials-override"},
-                       {"fisheye", "no-relief"});
+                       {"fisheye", "no-relief", "no-range-correction"});
   if (!args.positional().empty()) throw UsageError("unexpected argument '" + args.positional().front() + "'");
   for (const char* required : {"top", "out"}) {
     if (!args.has(required)) throw UsageError(std::string("--") + required + " is required");
@@ -189,6 +195,7 @@ int runRoomModel(const std::vector<std::string>& raw) {
   loadDefaultMaterialModels(options);
   options.materials.override_file = override_file;
   options.relief.enabled = !args.has("no-relief");
+  options.disparity_offset.enabled = !args.has("no-range-correction");
   options.level_from_cloud = pair.level_from_cloud;
   VisualRoute route;
   if (depth_given) {

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,7 @@
 
 using namespace room_reverb::core;
 using room_reverb::test::expectInputError;
+using room_reverb::test::RoomScanOptions;
 using room_reverb::test::scanRoomModel;
 using room_reverb::test::stereoLikeScanOptions;
 
@@ -35,6 +37,26 @@ constexpr double kPixel2048 = M_PI / 1024.0;
 // The scan's points as a stereo pair with its disparity offset by `offset_rad` would
 // range them: each along its ray from the top camera.
 PointCloud bent(const PointCloud& cloud, double offset_rad) { return removeDisparityOffset(cloud, kBaseline, -offset_rad); }
+
+// A room scanned as stereo ranges it: the noise in each point's disparity (1-sigma
+// `disparity_noise_rad`), so that the range noise grows with the square of the range, as
+// it does for a matcher; 3 % strays beyond the walls, no range near the poles.
+PointCloud stereoScan(const RoomModel& room, std::uint32_t seed, double disparity_noise_rad = 1e-3) {
+  RoomScanOptions options = stereoLikeScanOptions(seed);
+  options.range_noise_fraction = 0.0;
+  PointCloud cloud = scanRoomModel(room, options).cloud;
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> gauss(0.0, disparity_noise_rad);
+  const Eigen::Vector3d top(0.0, 0.0, kBaseline / 2.0);
+  for (CloudPoint& point : cloud.points) {
+    const Eigen::Vector3d v = point.p.cast<double>() - top;
+    const double range = v.norm();
+    const double polar = std::acos(std::clamp(v.z() / range, -1.0, 1.0));
+    const double noisy = rangeWithoutDisparityOffset(range, polar, kBaseline, gauss(rng));
+    if (std::isfinite(noisy) && noisy < 30.0) point.p = (top + noisy * v / range).cast<float>();
+  }
+  return cloud;
+}
 
 Eigen::Matrix3d levelOf(const RoomModel& scanned) { return scanned.rig_rotation.toRotationMatrix(); }
 
@@ -79,38 +101,41 @@ TEST(RangeBias, AnOffsetThatBentTheRoomIsFoundAndTakenOut) {
   int index = 1;
   for (double px : offsets_px) {
     const ClutteredRoom room = clutteredRoom(ClutterSet::kDevelopment, index++);
-    const PointCloud scan = scanRoomModel(room.scanned, stereoLikeScanOptions(5)).cloud;
-    const PointCloud seen = bent(scan, px * kPixel2048);
+    const PointCloud seen = bent(stereoScan(room.scanned, 5), px * kPixel2048);
     const DisparityOffset found = estimateDisparityOffset(seen, kBaseline, levelOf(room.scanned));
     const double bent_error = worstBoxError(fitRoomLayout(seen).model, room.truth);
     const double corrected_error =
         worstBoxError(fitRoomLayout(removeDisparityOffset(seen, kBaseline, found.offset_rad)).model, room.truth);
-    std::printf("[ measured ] %s offset %+.2f px: found %+.3f +- %.3f px, box error %.2f %% bent, %.2f %% "
-                "corrected\n",
-                room.name.c_str(), px, found.offset_rad / kPixel2048, found.standard_error_rad / kPixel2048, 100.0 * bent_error,
+    std::printf("[ measured ] %s offset %+.2f px: found %+.3f px (floor %+.3f, ceiling %+.3f)%s, box error %.2f %% "
+                "bent, %.2f %% corrected\n",
+                room.name.c_str(), px, found.offset_rad / kPixel2048, found.floor_offset_rad / kPixel2048,
+                found.ceiling_offset_rad / kPixel2048, found.applied ? " applied" : "", 100.0 * bent_error,
                 100.0 * corrected_error);
     EXPECT_TRUE(found.applied) << room.name;
-    EXPECT_NEAR(found.offset_rad / kPixel2048, px, 0.1) << room.name;
-    EXPECT_GT(bent_error, 0.015) << room.name << ": the offset should bend the room measurably";
-    EXPECT_LE(corrected_error, 0.01) << room.name;
+    // The matcher's noise (1 mrad a point) and what stands on the floor leave about a
+    // quarter of a pixel at this width; the box comes within 1.5 % from 2.5-5 %.
+    EXPECT_NEAR(found.offset_rad / kPixel2048, px, 0.25) << room.name;
+    EXPECT_GT(bent_error, 0.02) << room.name << ": the offset should bend the room measurably";
+    EXPECT_LE(corrected_error, 0.015) << room.name;
+    EXPECT_LE(corrected_error, bent_error / 2.5) << room.name;
   }
 }
 
 TEST(RangeBias, AnUnbentCloudStaysAsItIs) {
   for (int index = 4; index <= 6; ++index) {
     const ClutteredRoom room = clutteredRoom(ClutterSet::kDevelopment, index);
-    const PointCloud scan = scanRoomModel(room.scanned, stereoLikeScanOptions(6)).cloud;
-    const DisparityOffset found = estimateDisparityOffset(scan, kBaseline, levelOf(room.scanned));
+    const DisparityOffset found = estimateDisparityOffset(stereoScan(room.scanned, 6), kBaseline, levelOf(room.scanned));
     std::printf("[ measured ] %s unbent: found %+.3f +- %.3f px%s\n", room.name.c_str(),
                 found.offset_rad / kPixel2048, found.standard_error_rad / kPixel2048, found.applied ? ", applied" : "");
-    EXPECT_LE(std::abs(found.offset_rad), 0.1 * kPixel2048) << room.name;
+    EXPECT_FALSE(found.applied) << room.name;
+    EXPECT_LE(std::abs(found.offset_rad), 0.2 * kPixel2048) << room.name;
   }
 }
 
 TEST(RangeBias, ARoomOpenToTheSkyHasItsFloor) {
   ClutteredRoom room = clutteredRoom(ClutterSet::kDevelopment, 7);
   room.scanned.has_ceiling = false;
-  const PointCloud seen = bent(scanRoomModel(room.scanned, stereoLikeScanOptions(8)).cloud, 0.8 * kPixel2048);
+  const PointCloud seen = bent(stereoScan(room.scanned, 8), 0.8 * kPixel2048);
   const DisparityOffset found = estimateDisparityOffset(seen, kBaseline, levelOf(room.scanned));
   std::printf("[ measured ] %s without a ceiling, offset +0.80 px: found %+.3f px\n", room.name.c_str(),
               found.offset_rad / kPixel2048);
@@ -149,7 +174,7 @@ TEST(RangeBiasReport, Summary) {
     int applied = 0, within_bent = 0, within_corrected = 0;
     for (int index = first; index < first + rooms; ++index) {
       const ClutteredRoom room = clutteredRoom(development ? ClutterSet::kDevelopment : ClutterSet::kHeldOut, index);
-      const PointCloud seen = bent(scanRoomModel(room.scanned, stereoLikeScanOptions(9)).cloud, px * kPixel2048);
+      const PointCloud seen = bent(stereoScan(room.scanned, 9), px * kPixel2048);
       const DisparityOffset found = estimateDisparityOffset(seen, kBaseline, levelOf(room.scanned));
       applied += found.applied ? 1 : 0;
       found_error.push_back(std::abs(found.offset_rad / kPixel2048 - px));
@@ -173,24 +198,5 @@ TEST(RangeBiasReport, Summary) {
                 within_bent, within_corrected, 100.0 * median(bent_error), 100.0 * median(corrected_error),
                 100.0 * *std::max_element(bent_error.begin(), bent_error.end()),
                 100.0 * *std::max_element(corrected_error.begin(), corrected_error.end()));
-  }
-}
-
-TEST(RangeBiasScratch, EmptyBox) {
-  for (int index = 4; index <= 6; ++index) {
-    ClutteredRoom room = clutteredRoom(ClutterSet::kDevelopment, index);
-    room.scanned.objects.clear();
-    room.scanned.size_m = room.truth.size_m;
-    for (double noise : {0.0, 0.015}) {
-      auto o = stereoLikeScanOptions(6);
-      o.range_noise_fraction = noise;
-      o.stray_fraction = 0.0;
-      const PointCloud scan = scanRoomModel(room.scanned, o).cloud;
-      for (double px : {0.0, 1.0}) {
-        const DisparityOffset found = estimateDisparityOffset(bent(scan, px * kPixel2048), kBaseline, levelOf(room.scanned));
-        std::printf("[ measured ] %s empty noise %.3f offset %.1f: found %+.3f +- %.3f px\n", room.name.c_str(), noise, px,
-                    found.offset_rad / kPixel2048, found.standard_error_rad / kPixel2048);
-      }
-    }
   }
 }

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "room_reverb/acoustics/room_model.h"
+#include "room_reverb/vision/range_bias.h"
 #include "room_reverb/synthetic_capture/capture_scene.h"
 #include "test_files.h"
 #include "tool_run.h"
@@ -131,6 +132,37 @@ TEST(RoomModelTool, DepthFromARangeImageOrAPointCloud) {
   const std::string bad_pcd = tempPath("rm_bad.pcd").string();
   std::ofstream(bad_pcd) << "VERSION 0.7\nFIELDS a b\n";
   expectOneLineError(runTool("room-model --top " + top + " --depth " + bad_pcd + out), "rm_bad.pcd");
+}
+
+TEST(RoomModelTool, ARangeBentByADisparityOffsetIsStraightened) {
+  // The generator's exact range, bent as a stereo pair whose disparity reads 3 mrad (half
+  // a pixel at 1024 px) too large would range it: the far wall, 5.3 m from the rig, comes
+  // in by about 8 %.
+  const std::string dir = capture();
+  cv::Mat range = cv::imread(dir + "/top_range.tiff", cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(range.type(), CV_32FC1);
+  const double offset = 3e-3;
+  for (int v = 0; v < range.rows; ++v) {
+    const double polar = (v + 0.5) * M_PI / range.rows;
+    for (int u = 0; u < range.cols; ++u) {
+      float& r = range.at<float>(v, u);
+      if (std::isfinite(r)) r = static_cast<float>(rangeWithoutDisparityOffset(r, polar, 0.2, -offset));
+    }
+  }
+  const std::string bent = writeImage("room_model_tool_bent_range.tiff", range);
+  const std::string corrected = tempPath("room_model_tool_bent_corrected.yaml").string();
+  auto run = runTool("room-model --top " + dir + "/top.png --depth " + bent + " --out " + corrected);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.err.find("warning: range: the floor and ceiling lie flat with the stereo's disparity offset by +3."),
+            std::string::npos)
+      << run.err;
+  expectMeetingRoom(corrected, "bent range, corrected");
+  const std::string kept = tempPath("room_model_tool_bent_kept.yaml").string();
+  run = runTool("room-model --top " + dir + "/top.png --depth " + bent + " --out " + kept + " --no-range-correction");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(run.err.find("warning: range:"), std::string::npos) << run.err;
+  const RoomModel truth = loadCaptureScene(kMr).room;
+  EXPECT_LT(loadRoomModel(kept).size_m.x(), 0.96 * truth.size_m.x()) << "the bend should shorten the room";
 }
 
 TEST(RoomModelTool, BadInputIsOneLineAndExitTwo) {

@@ -135,11 +135,12 @@ const VisualRouteOptions& routeOptions() {
   static const VisualRouteOptions options = [] {
     VisualRouteOptions o;
     loadDefaultMaterialModels(o);
-    // ROOM_REVERB_ROUTE_WITHOUT=exposure,noise,subpixel,planes,texture,junctions,joints,patch_cap:
+    // ROOM_REVERB_ROUTE_WITHOUT=exposure,noise,subpixel,planes,texture,junctions,joints,patch_cap,range_bias:
     // the stereo without matching the cameras' exposures, without its sub-pixel refinement,
     // without the tiles' planes or keeping the matches the noise drowns, the layout without
     // its noisier retries or the ceiling's junctions in the image, the materials without the
-    // tiles' joints or with every patch of a face, to measure what each gives.
+    // tiles' joints or with every patch of a face, without the correction of the stereo's
+    // disparity offset, to measure what each gives.
     const char* without_env = std::getenv("ROOM_REVERB_ROUTE_WITHOUT");
     const std::string without = without_env != nullptr ? without_env : "";
     if (without.find("exposure") != std::string::npos) o.stereo.match_exposure = false;
@@ -150,6 +151,7 @@ const VisualRouteOptions& routeOptions() {
     if (without.find("junctions") != std::string::npos) o.layout.wall_ceiling_junctions = false;
     if (without.find("joints") != std::string::npos) o.materials.tile_joints = false;
     if (without.find("patch_cap") != std::string::npos) o.materials.max_patches_per_face = 0;
+    if (without.find("range_bias") != std::string::npos) o.disparity_offset.enabled = false;
     const char* threshold = std::getenv("ROOM_REVERB_MIN_CONFIDENCE");
     if (threshold != nullptr && *threshold != '\0') {
       auto families = std::make_shared<MaterialFamilyTable>(*o.families);
@@ -258,7 +260,20 @@ RouteScore scoreRoom(const ClutteredRoom& room, int index, const std::string& ph
     image_rotation = ingested.leveling.image_rotation;
     VisualRouteOptions options = routeOptions();
     options.level_from_cloud = ingested.level_from_cloud;
-    route = runVisualRoute(ingested.top, ingested.bottom, kBaseline, options, ingested.leveling.tilt);
+    // The steps of runVisualRoute, with ROOM_REVERB_DISPARITY_OFFSET_PX bending the
+    // stereo's ranges as a disparity offset of that many pixels would (range_bias.h).
+    route.depth = computeSphericalDepth(ingested.top, ingested.bottom, kBaseline, options.stereo);
+    route.cloud = depthToPointCloud(route.depth, ingested.top, kBaseline, options.cloud);
+    if (const char* px = std::getenv("ROOM_REVERB_DISPARITY_OFFSET_PX"); px != nullptr && std::atof(px) != 0.0) {
+      route.cloud = removeDisparityOffset(route.cloud, kBaseline, -std::atof(px) * kPi / ingested.top.rows);
+    }
+    route.layout = roomLayoutFromCloud(route.cloud, ingested.top, kBaseline, options, ingested.leveling.tilt,
+                                       &route.times, &route.materials);
+    if (const char* bias = std::getenv("ROOM_REVERB_PRINT_RANGE_BIAS"); bias != nullptr && *bias == '1') {
+      const DisparityOffset found = estimateDisparityOffset(route.cloud, kBaseline, ingested.leveling.tilt);
+      std::printf("             disparity offset %+.2f mrad (floor %+.2f, ceiling %+.2f)%s\n", 1e3 * found.offset_rad,
+                  1e3 * found.floor_offset_rad, 1e3 * found.ceiling_offset_rad, found.applied ? " applied" : "");
+    }
     score.warnings = ingested.warnings;
   } catch (const InputError& e) {
     score.refused = true;

@@ -6,10 +6,13 @@
 // that is not quite the one given), bends the room: the range error grows with the
 // square of the distance, so a floor seen from 1.5 m up rises towards the rig beyond a
 // few metres, a ceiling sinks towards it and the far walls come in (a tenth of a degree
-// at a 0.2 m baseline shortens a wall 6 m away by 3 %). Flat planes do not bend, so the
-// offset that makes the cloud's heights sharpest (the floor and the ceiling each at one
-// height, as vision/cloud_leveling.h measures it) is the one the stereo had, and every
-// range is corrected for it before the fit.
+// at a 0.2 m baseline brings a wall 6 m away 5 % nearer). Flat planes do not bend, so the
+// offset is the one that puts the points of the floor and of the ceiling back on a
+// horizontal plane each, found as a disparity: each point's measured disparity less the
+// disparity its ray has where it meets its plane is the offset plus the matcher's noise.
+// On the route's own stereo, which has none, the estimate scatters within about 1 mrad
+// (docs/visual-route.md), so only a larger offset, on which the floor and the ceiling
+// agree, is corrected.
 #include <Eigen/Core>
 
 #include "room_reverb/vision/point_cloud.h"
@@ -22,21 +25,27 @@ struct DisparityOffsetOptions {
   // a tenth of the disparity of a point 2 m away at a 0.2 m baseline.
   double max_offset_rad = 0.01;
   // Applied only where it is at least min_offset_rad and min_significance standard errors
-  // of its own fit: an unbiased cloud's estimate scatters about zero by the noise and
-  // stays as it is.
-  double min_offset_rad = 2e-4;
+  // of its own fit. On the route's rendered rooms, which have no offset, the estimate
+  // reaches 0.8 mrad where the planes agree; corrected, that costs up to 1 % of the box.
+  double min_offset_rad = 1e-3;
   double min_significance = 4.0;
+  // And only where the floor alone and the ceiling alone ask for offsets within the larger
+  // of these of each other (a room without a ceiling has its floor only).
+  double max_disagreement_rad = 5e-4;
+  double max_disagreement_share = 0.35;
   double voxel_size_m = 0.05;  // one point per voxel, so area counts, not point density
   double bin_m = 0.01;         // height histogram resolution of the planes' first heights
-  double range_noise = 0.01;   // the stereo's range noise over range (1-sigma), as the layout fit's
+  // The residuals' first scale [rad] (about 0.3 px at 2048 px), then their own; a point
+  // counts fully within huber_scales of it and not at all beyond max_residual_scales.
+  double disparity_noise_rad = 0.001;
+  double huber_scales = 1.5;
+  double max_residual_scales = 6.0;
   // The floor is sought below this distance under the rig's centre, the ceiling above it.
   double clear_m = 0.3;
   // The planes' first heights from the points within near_m of the rig in plan; the fit
-  // then grows outwards by grow_m an iteration. A point belongs to its plane within band_m
-  // and three times its expected noise of it.
+  // then grows outwards by grow_m every third iteration.
   double near_m = 2.0;
   double grow_m = 0.5;
-  double band_m = 0.05;
   // Only points on horizontal surfaces count: the normal of their neighbours within
   // neighbourhood_m within max_normal_tilt_rad of up.
   double neighbourhood_m = 0.15;
@@ -49,6 +58,9 @@ struct DisparityOffsetOptions {
 struct DisparityOffset {
   double offset_rad = 0.0;          // measured disparity = true disparity + offset_rad
   double standard_error_rad = 0.0;  // of offset_rad, from the fit's scatter
+  double floor_offset_rad = 0.0;    // the floor alone's, and the ceiling alone's
+  double ceiling_offset_rad = 0.0;
+  bool planes_agree = true;         // within max_disagreement of each other
   bool applied = false;             // large and clear enough to correct the cloud for
   std::size_t points = 0;           // voxel points the estimate rests on
 };

@@ -10,6 +10,7 @@
 #include "room_reverb/vision/cloud_leveling.h"
 #include "room_reverb/vision/depth_cloud.h"
 #include "room_reverb/vision/point_cloud.h"
+#include "room_reverb/vision/range_bias.h"
 #include "room_reverb/vision/room_layout.h"
 #include "room_reverb/vision/spherical_stereo.h"
 #include "room_reverb/vision/surface_materials.h"
@@ -31,6 +32,9 @@ struct VisualRouteOptions {
   // where the images could not (IngestedCapture::level_from_cloud); applied after `tilt`.
   bool level_from_cloud = false;
   CloudLevelingOptions cloud_leveling;
+  // The stereo's disparity offset found from the floor's and ceiling's flatness and taken
+  // out of every range before the fit (vision/range_bias.h), where it is clear.
+  DisparityOffsetOptions disparity_offset;
   // The material classifier and the family -> material table. Null: the shipped ones
   // (config/material_classifier.yml.gz, config/material_families.yaml) are loaded on each
   // call; callers that build more than one room load them once (loadDefaultMaterialModels).
@@ -45,6 +49,7 @@ void loadDefaultMaterialModels(VisualRouteOptions& options);
 struct VisualRouteTimes {
   double stereo_s = 0.0;     // pair -> range image
   double cloud_s = 0.0;      // range image -> point cloud
+  double range_bias_s = 0.0; // the stereo's disparity offset from the floor and ceiling
   double layout_s = 0.0;     // cloud -> cuboids
   double materials_s = 0.0;  // cuboids -> materials
   double relief_s = 0.0;     // cloud and cuboids -> each face's and object's relief

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <unordered_map>
 #include <unordered_set>
@@ -18,6 +16,7 @@ namespace room_reverb::core {
 namespace {
 
 constexpr std::size_t kMaxPoints = 40000;
+constexpr std::size_t kMaxSample = 200000;
 
 // A point as the top camera sees it: range and the angle from the baseline's up direction.
 struct TopRay {
@@ -86,9 +85,8 @@ void markLevelSurfaces(std::vector<TopRay>& rays, const Eigen::Vector3d& top, co
   }
 }
 
-// One point per occupied voxel, off the poles and with disparity enough to survive any
-// offset searched (a far point's disparity could otherwise be corrected through zero).
-std::vector<TopRay> voxelRays(const PointCloud& cloud, const Eigen::Vector3d& top, double baseline,
+// One point per occupied voxel, off the poles.
+std::vector<TopRay> voxelRays(const PointCloud& cloud, const Eigen::Vector3d& top,
                               const Eigen::RowVector3d& up, const DisparityOffsetOptions& o) {
   std::unordered_set<std::uint64_t> seen;
   std::vector<TopRay> rays;
@@ -96,8 +94,6 @@ std::vector<TopRay> voxelRays(const PointCloud& cloud, const Eigen::Vector3d& to
     const Eigen::Vector3d p = c.p.cast<double>();
     const TopRay ray = topRay(p, top);
     if (!(ray.range > 0.0) || !offPoles(ray.polar, o.min_polar_rad)) continue;
-    const double disparity = std::atan2(baseline * std::sin(ray.polar), ray.range + baseline * std::cos(ray.polar));
-    if (disparity < 3.0 * o.max_offset_rad) continue;
     std::uint64_t key = 0;
     for (int a = 0; a < 3; ++a) {
       const auto cell = static_cast<std::int64_t>(std::floor(p[a] / o.voxel_size_m)) + (1 << 20);
@@ -143,13 +139,6 @@ double densestHeight(const std::vector<double>& heights, double bin_m, int reach
   return n > 0 ? sum / n : mode;
 }
 
-// A point's levelled height with the offset taken out.
-double levelHeight(const TopRay& ray, const Eigen::Vector3d& top, double baseline, double offset,
-                   const Eigen::RowVector3d& up) {
-  const double range = rangeWithoutDisparityOffset(ray.range, ray.polar, baseline, offset);
-  return std::isfinite(range) ? up.dot(top + range * ray.direction) : std::numeric_limits<double>::quiet_NaN();
-}
-
 }  // namespace
 
 double rangeWithoutDisparityOffset(double range_m, double polar_rad, double baseline_m, double offset_rad) {
@@ -162,21 +151,17 @@ double rangeWithoutDisparityOffset(double range_m, double polar_rad, double base
   return baseline_m * std::sin(polar_rad - corrected) / std::sin(corrected);
 }
 
-DisparityOffset estimateDisparityOffset(const PointCloud& cloud, double baseline_m, const Eigen::Matrix3d& level,
-                                        const DisparityOffsetOptions& options) {
-  if (!(baseline_m > 0.0) || !std::isfinite(baseline_m)) throw InputError("range bias: the baseline must be positive");
-  if (!(options.max_offset_rad > 0.0 && options.max_offset_rad < 0.1) || !(options.voxel_size_m > 0.0) ||
-      !(options.bin_m > 0.0) || !(options.band_m > 0.0) || !(options.near_m > 0.0) || !(options.grow_m > 0.0) || !(options.range_noise > 0.0) ||
-      !(options.min_offset_rad >= 0.0) || !(options.min_significance >= 0.0) ||
-      !(options.min_polar_rad >= 0.0 && options.min_polar_rad < 1.5)) {
-    throw InputError("range bias: max_offset_rad must be in (0, 0.1), min_polar_rad in [0, 1.5) and the sizes, noise "
-                     "and thresholds positive");
-  }
-  checkPointCloud(cloud, 1000);
+namespace {
+
+// One fit of the offset on the cloud as it stands; `only` 1 or 2 fits the floor or the
+// ceiling alone, 0 both.
+DisparityOffset fitDisparityOffset(const PointCloud& cloud, double baseline_m, const Eigen::Matrix3d& level,
+                                   const DisparityOffsetOptions& options, int only = 0) {
   const Eigen::Vector3d top(0.0, 0.0, 0.5 * baseline_m);
-  const std::vector<TopRay> rays = voxelRays(cloud, top, baseline_m, level.row(2), options);
+  const std::vector<TopRay> rays = voxelRays(cloud, top, level.row(2), options);
   DisparityOffset out;
   out.points = rays.size();
+  out.standard_error_rad = std::numeric_limits<double>::infinity();
   if (rays.size() < 1000) return out;
   // The floor and the ceiling as two horizontal planes, heights h[1] and h[2], sharing
   // the offset h[0]: a least-squares fit of the points' levelled heights to their planes,
@@ -199,7 +184,7 @@ DisparityOffset estimateDisparityOffset(const PointCloud& cloud, double baseline
   }
   Eigen::Vector3d h(0.0, near_floor.empty() ? 0.0 : densestHeight(near_floor, options.bin_m, 2),
                     near_ceiling.empty() ? 0.0 : densestHeight(near_ceiling, options.bin_m, 2));
-  const bool planes[3] = {false, !near_floor.empty(), !near_ceiling.empty()};
+  const bool planes[3] = {false, !near_floor.empty() && only != 2, !near_ceiling.empty() && only != 1};
   Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
   double residual = 0.0, weight_sum = 0.0;
   std::size_t used = 0;
@@ -209,42 +194,53 @@ DisparityOffset estimateDisparityOffset(const PointCloud& cloud, double baseline
     const double z = up.dot(q);
     rho[i] = std::sqrt(std::max(0.0, q.squaredNorm() - z * z));
   }
-  const int kIterations = 16;
-  for (int iteration = 0; iteration < kIterations; ++iteration) {
-    // Grown outwards from the rig half a metre an iteration, so that the far points, which
-    // the offset bends most, join a fit that already follows the bend nearer in.
-    const double reach = options.near_m + options.grow_m * iteration;
+  // Each point's measured disparity against the disparity its ray would have where it
+  // meets its plane: their difference is the offset plus the stereo's noise, linear in
+  // the offset, with the noise in the measurement alone (a fit of heights would put the
+  // noise into the slope as well and favour the points read short). What stands on the
+  // floor or hangs from the ceiling is ranged short of the plane, with a disparity too
+  // large: it only ever adds residuals above zero. So the residuals' spread is taken from
+  // those below zero alone (1.48 median absolute deviations), and a point counts within
+  // max_residual_scales of it either side, fully within huber_scales.
+  const auto disparityOf = [&](double range, double polar) {
+    return std::atan2(baseline_m * std::sin(polar), range + baseline_m * std::cos(polar));
+  };
+  std::vector<double> measured(rays.size());
+  for (std::size_t i = 0; i < rays.size(); ++i) measured[i] = disparityOf(rays[i].range, rays[i].polar);
+  double scale = options.disparity_noise_rad;
+  // Grown outwards from the rig by grow_m every third iteration, so that the far points,
+  // which tell the offset from the planes' heights, join a fit already near them.
+  const int kSteps = 16, kIterationsPerStep = 3;
+  std::vector<double> residuals;
+  for (int iteration = 0; iteration < kSteps * kIterationsPerStep; ++iteration) {
+    const double reach = options.near_m + options.grow_m * (iteration / kIterationsPerStep);
     normal.setZero();
     Eigen::Vector3d gradient = Eigen::Vector3d::Zero();
     residual = weight_sum = 0.0;
     used = 0;
-    constexpr double kStep = 1e-5;
+    residuals.clear();
+    constexpr double kStep = 1e-4;
     for (std::size_t i = 0; i < rays.size(); ++i) {
       const int k = plane[i];
-      if (k == 0 || !planes[k] || !rays[i].level_surface) continue;
-      const double z = levelHeight(rays[i], top, baseline_m, h[0], up);
-      // The slope and the noise are taken where the ray meets the plane, not at the
-      // point's own range: a range read long both lowers a floor point and steepens its
-      // slope and noise, and weighting by its own range would tilt the fit towards the
-      // points read short (an offset compressing the room).
+      if (k == 0 || !planes[k] || !rays[i].level_surface || rho[i] > reach) continue;
       const double along = up.dot(rays[i].direction);
       if (std::abs(along) < 1e-6) continue;
-      TopRay on_plane = rays[i];
-      on_plane.range = (h[k] - up.dot(top)) / along;
-      if (!(on_plane.range > 0.0) || !std::isfinite(z)) continue;
-      // on_plane.range is the corrected range; the measured one it came from:
-      on_plane.range = rangeWithoutDisparityOffset(on_plane.range, on_plane.polar, baseline_m, -h[0]);
-      if (!std::isfinite(on_plane.range)) continue;
-      const double noise = std::max(0.01, options.range_noise * on_plane.range * std::abs(along));
-      if (rho[i] > reach || std::abs(z - h[k]) > options.band_m + 3.0 * noise) continue;
-      const double dz = (levelHeight(on_plane, top, baseline_m, h[0] + kStep, up) -
-                         levelHeight(on_plane, top, baseline_m, h[0] - kStep, up)) / (2.0 * kStep);
-      if (!std::isfinite(dz)) continue;
+      const double to_plane = (h[k] - up.dot(top)) / along;
+      const double to_plane_up = (h[k] + kStep - up.dot(top)) / along;
+      if (!(to_plane > 0.0) || !(to_plane_up > 0.0)) continue;
+      const double expected = disparityOf(to_plane, rays[i].polar);
+      // Far points are left out by where their plane is, not by their own range: cut by
+      // the measured disparity, the far points read long would go and those read short
+      // stay, which biases the offset up. Beyond this a point's disparity could be
+      // corrected through zero by an offset searched.
+      if (expected < 3.0 * options.max_offset_rad) continue;
+      const double e = measured[i] - h[0] - expected;
+      if (std::abs(e) > options.max_residual_scales * scale) continue;
+      if (e < 0.0) residuals.push_back(-e);
       Eigen::Vector3d j = Eigen::Vector3d::Zero();
-      j[0] = dz;
-      j[k] = -1.0;
-      const double w = 1.0 / (noise * noise);
-      const double e = z - h[k];
+      j[0] = -1.0;
+      j[k] = -(disparityOf(to_plane_up, rays[i].polar) - expected) / kStep;
+      const double w = std::abs(e) <= options.huber_scales * scale ? 1.0 : options.huber_scales * scale / std::abs(e);
       normal += w * j * j.transpose();
       gradient += w * j * e;
       residual += w * e * e, weight_sum += w;
@@ -254,24 +250,75 @@ DisparityOffset estimateDisparityOffset(const PointCloud& cloud, double baseline
       if (!planes[k] || normal(k, k) == 0.0) normal(k, k) = 1.0;  // an absent plane stays put
     }
     if (used < 1000 || std::abs(normal.determinant()) < 1e-300) break;
-    const Eigen::Vector3d step = normal.ldlt().solve(-gradient);
-    h += step;
-    if (std::getenv("RB_IT")) std::fprintf(stderr, "it %d used %zu h %.4f %.4f %.4f px %.3f rms %.4f\n", iteration, used, h[0], h[1], h[2], h[0] / (M_PI / 1024), std::sqrt(residual / weight_sum));
+    h += normal.ldlt().solve(-gradient);
     h[0] = std::clamp(h[0], -options.max_offset_rad, options.max_offset_rad);
+    if (residuals.empty()) break;
+    std::nth_element(residuals.begin(), residuals.begin() + static_cast<std::ptrdiff_t>(residuals.size() / 2),
+                     residuals.end());
+    scale = std::max(1e-5, 1.4826 * residuals[residuals.size() / 2]);
   }
   out.offset_rad = h[0];
   // The offset's standard error from the fit's own scatter: the weighted residual's
   // variance over that expected from the noise, times the normal matrix's inverse.
   if (used >= 1000 && weight_sum > 0.0) {
-    const double scale = residual / static_cast<double>(used - 3);
-    out.standard_error_rad = std::sqrt(std::max(0.0, normal.inverse()(0, 0) * scale));
+    const double variance = residual / static_cast<double>(used - 3);
+    out.standard_error_rad = std::sqrt(std::max(0.0, normal.inverse()(0, 0) * variance));
   } else {
     out.standard_error_rad = std::numeric_limits<double>::infinity();
   }
-  out.applied = std::abs(out.offset_rad) >= options.min_offset_rad &&
-                std::abs(out.offset_rad) >= options.min_significance * out.standard_error_rad &&
-                std::abs(out.offset_rad) < options.max_offset_rad;
   return out;
+}
+
+}  // namespace
+
+DisparityOffset estimateDisparityOffset(const PointCloud& cloud, double baseline_m, const Eigen::Matrix3d& level,
+                                        const DisparityOffsetOptions& options) {
+  if (!(baseline_m > 0.0) || !std::isfinite(baseline_m)) throw InputError("range bias: the baseline must be positive");
+  if (!(options.max_offset_rad > 0.0 && options.max_offset_rad < 0.1) || !(options.voxel_size_m > 0.0) ||
+      !(options.bin_m > 0.0) || !(options.near_m > 0.0) || !(options.grow_m > 0.0) || !(options.disparity_noise_rad > 0.0) || !(options.huber_scales > 0.0) || !(options.max_residual_scales > 0.0) ||
+      !(options.min_offset_rad >= 0.0) || !(options.min_significance >= 0.0) ||
+      !(options.min_polar_rad >= 0.0 && options.min_polar_rad < 1.5)) {
+    throw InputError("range bias: max_offset_rad must be in (0, 0.1), min_polar_rad in [0, 1.5) and the sizes, noise "
+                     "and thresholds positive");
+  }
+  checkPointCloud(cloud, 1000);
+  // Which points lie on the floor and the ceiling is judged on the cloud as corrected so
+  // far: judged on the bent cloud, the choice would follow the bend, and the estimate
+  // with it. The fit is repeated on the corrected cloud until its change is below a
+  // hundredth of the smallest offset applied.
+  // An even subsample bounds the cost of the passes (a 2048 x 1024 pair gives a million
+  // points, the fit keeps at most 40 000 voxels of them).
+  PointCloud sample;
+  const std::size_t stride = cloud.points.size() / kMaxSample + 1;
+  sample.points.reserve(cloud.points.size() / stride + 1);
+  for (std::size_t i = 0; i < cloud.points.size(); i += stride) sample.points.push_back(cloud.points[i]);
+  DisparityOffset total = fitDisparityOffset(sample, baseline_m, level, options);
+  for (int pass = 1; pass < 4 && std::isfinite(total.standard_error_rad); ++pass) {
+    const DisparityOffset more =
+        fitDisparityOffset(removeDisparityOffset(sample, baseline_m, total.offset_rad, options.min_polar_rad), baseline_m,
+                           level, options);
+    total.offset_rad = std::clamp(total.offset_rad + more.offset_rad, -options.max_offset_rad, options.max_offset_rad);
+    total.standard_error_rad = more.standard_error_rad;
+    total.points = more.points;
+    if (std::abs(more.offset_rad) < 0.01 * std::max(options.min_offset_rad, 1e-5)) break;
+  }
+  // A disparity offset bends the floor and the ceiling alike; where each alone asks for a
+  // different one, what bends them is not the offset (a matcher's bias on one of them, a
+  // floor that is not flat), and nothing is corrected.
+  const PointCloud corrected = removeDisparityOffset(sample, baseline_m, total.offset_rad, options.min_polar_rad);
+  const DisparityOffset floor = fitDisparityOffset(corrected, baseline_m, level, options, 1);
+  const DisparityOffset ceiling = fitDisparityOffset(corrected, baseline_m, level, options, 2);
+  total.floor_offset_rad = total.offset_rad + floor.offset_rad;
+  total.ceiling_offset_rad = total.offset_rad + ceiling.offset_rad;
+  const bool both = std::isfinite(floor.standard_error_rad) && std::isfinite(ceiling.standard_error_rad) &&
+                    floor.points > 0 && ceiling.points > 0;
+  total.planes_agree = !both || std::abs(total.floor_offset_rad - total.ceiling_offset_rad) <=
+                                    std::max(options.max_disagreement_rad,
+                                             options.max_disagreement_share * std::abs(total.offset_rad));
+  total.applied = std::abs(total.offset_rad) >= options.min_offset_rad &&
+                  std::abs(total.offset_rad) >= options.min_significance * total.standard_error_rad &&
+                  std::abs(total.offset_rad) < options.max_offset_rad && total.planes_agree;
+  return total;
 }
 
 PointCloud removeDisparityOffset(const PointCloud& cloud, double baseline_m, double offset_rad, double min_polar_rad) {

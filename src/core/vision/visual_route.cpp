@@ -1,6 +1,7 @@
 #include "room_reverb/vision/visual_route.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -15,6 +16,28 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 }
 
 bool isIdentity(const Eigen::Matrix3d& r) { return (r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-12; }
+
+// The cloud with the stereo's disparity offset taken out where one is found (range_bias.h;
+// the fit, the image's rays and the relief all use it), `storage` holding it; the cloud
+// itself otherwise. `note` says what was corrected.
+const PointCloud& withoutDisparityOffset(const PointCloud& cloud, double baseline_m, const Eigen::Matrix3d& level,
+                                         const DisparityOffsetOptions& options, int image_rows, PointCloud& storage,
+                                         std::string& note) {
+  if (!options.enabled) return cloud;
+  const DisparityOffset bias = estimateDisparityOffset(cloud, baseline_m, level, options);
+  if (!bias.applied) return cloud;
+  storage = removeDisparityOffset(cloud, baseline_m, bias.offset_rad, options.min_polar_rad);
+  // What the offset does to a point level with the rig 5 m away, for the user to judge.
+  const double at_5m = rangeWithoutDisparityOffset(5.0, 0.5 * M_PI, baseline_m, bias.offset_rad);
+  char line[240];
+  std::snprintf(line, sizeof line,
+                "range: the floor and ceiling lie flat with the stereo's disparity offset by %+.2f mrad (%+.2f px at "
+                "this width; floor %+.2f, ceiling %+.2f mrad); every range corrected for it (%+.1f %% at 5 m)",
+                1e3 * bias.offset_rad, bias.offset_rad * image_rows / M_PI, 1e3 * bias.floor_offset_rad,
+                1e3 * bias.ceiling_offset_rad, std::isfinite(at_5m) ? 100.0 * (at_5m / 5.0 - 1.0) : 100.0);
+  note = line;
+  return storage;
+}
 
 }  // namespace
 
@@ -42,6 +65,14 @@ RoomLayout roomLayoutFromCloud(const PointCloud& cloud, const cv::Mat& top_color
                   by_cloud.tilt_rad * 180.0 / 3.14159265358979323846);
     leveled = line;
   }
+  const double leveling_s = secondsSince(start);
+  start = std::chrono::steady_clock::now();
+  PointCloud corrected;
+  std::string bias_note;
+  const PointCloud& fitted_cloud = withoutDisparityOffset(cloud, baseline_m, level_tilt, options.disparity_offset,
+                                                          top_color.rows, corrected, bias_note);
+  if (times != nullptr) times->range_bias_s = secondsSince(start);
+  start = std::chrono::steady_clock::now();
   RoomLayout layout;
   // The cloud as the fit sees it is levelled; the image is the unlevelled top camera's,
   // half the baseline above the rig's centre.
@@ -49,9 +80,9 @@ RoomLayout roomLayoutFromCloud(const PointCloud& cloud, const cv::Mat& top_color
   image.color = top_color;
   image.camera_from_rig = Eigen::Translation3d(0.0, 0.0, -0.5 * baseline_m) * Eigen::Isometry3d(level_tilt.transpose());
   if (isIdentity(level_tilt)) {
-    layout = fitRoomLayout(cloud, options.layout, &image);
+    layout = fitRoomLayout(fitted_cloud, options.layout, &image);
   } else {
-    PointCloud level = cloud;
+    PointCloud level = fitted_cloud;
     const Eigen::Matrix3f tilt_f = level_tilt.cast<float>();
     for (CloudPoint& point : level.points) point.p = tilt_f * point.p;
     layout = fitRoomLayout(level, options.layout, &image);
@@ -60,7 +91,8 @@ RoomLayout roomLayoutFromCloud(const PointCloud& cloud, const cv::Mat& top_color
     layout.model.rig_rotation = Eigen::Quaterniond(layout.room_from_rig.rotation()).normalized();
   }
   if (!leveled.empty()) layout.warnings.insert(layout.warnings.begin(), leveled);
-  if (times != nullptr) times->layout_s = secondsSince(start);
+  if (!bias_note.empty()) layout.warnings.push_back(bias_note);
+  if (times != nullptr) times->layout_s = leveling_s + secondsSince(start);
 
   start = std::chrono::steady_clock::now();
   VisualRouteOptions loaded;
@@ -74,7 +106,8 @@ RoomLayout roomLayoutFromCloud(const PointCloud& cloud, const cv::Mat& top_color
   if (times != nullptr) times->materials_s = secondsSince(start);
   if (options.relief.enabled && options.layout.assign_points) {
     start = std::chrono::steady_clock::now();
-    applySurfaceRelief(layout, estimateSurfaceRelief(cloud, layout, layout.room_from_rig, options.layout, options.relief));
+    applySurfaceRelief(layout,
+                       estimateSurfaceRelief(fitted_cloud, layout, layout.room_from_rig, options.layout, options.relief));
     if (times != nullptr) times->relief_s = secondsSince(start);
   }
   return layout;
