@@ -3,12 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <unordered_map>
-#include <unordered_set>
-
-#include <Eigen/Eigenvalues>
 #include <vector>
 
+#include <Eigen/Eigenvalues>
+
+#include "cell_index.h"
 #include "room_reverb/common/error.h"
 
 namespace room_reverb::core {
@@ -38,27 +37,29 @@ TopRay topRay(const Eigen::Vector3d& p, const Eigen::Vector3d& top) {
 
 bool offPoles(double polar, double min_polar) { return polar >= min_polar && polar <= M_PI - min_polar; }
 
+Eigen::Vector3i cellOf(const Eigen::Vector3d& p, double size) { return (p / size).array().floor().cast<int>(); }
+
 // Marks the points whose neighbours within neighbourhood_m lie on a horizontal surface:
 // the smallest principal axis of their spread within max_normal_tilt_rad of up. The walls'
 // feet and the furniture's sides, which lie next to the floor at every offset, are not.
 void markLevelSurfaces(std::vector<TopRay>& rays, const Eigen::Vector3d& top, const Eigen::RowVector3d& up,
                        const DisparityOffsetOptions& o) {
   const double cell = o.neighbourhood_m;
-  const auto key = [cell](const Eigen::Vector3d& p, int dx, int dy, int dz) {
-    std::uint64_t k = 0;
-    const int d[3] = {dx, dy, dz};
-    for (int a = 0; a < 3; ++a) {
-      const auto c = static_cast<std::int64_t>(std::floor(p[a] / cell)) + d[a] + (1 << 20);
-      k = (k << 21) | (static_cast<std::uint64_t>(c) & 0x1fffff);
-    }
-    return k;
-  };
+  // The points sorted by their cell of neighbourhood_m, each cell filed under its first.
   std::vector<Eigen::Vector3d> points(rays.size());
-  std::unordered_map<std::uint64_t, std::vector<std::size_t>> cells;
+  std::vector<Eigen::Vector3i> cells(rays.size());
+  std::vector<std::size_t> order(rays.size());
   for (std::size_t i = 0; i < rays.size(); ++i) {
     points[i] = top + rays[i].range * rays[i].direction;
-    cells[key(points[i], 0, 0, 0)].push_back(i);
+    cells[i] = cellOf(points[i], cell);
+    order[i] = i;
   }
+  const auto less = [&](std::size_t a, std::size_t b) {
+    return std::lexicographical_compare(cells[a].data(), cells[a].data() + 3, cells[b].data(), cells[b].data() + 3);
+  };
+  std::sort(order.begin(), order.end(), less);
+  layout::CellIndex first(rays.size());
+  for (std::size_t k = 0; k < order.size(); ++k) first.insert(cells[order[k]], static_cast<std::uint32_t>(k));
   const double cos_tilt = std::cos(o.max_normal_tilt_rad);
   for (std::size_t i = 0; i < rays.size(); ++i) {
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
@@ -67,11 +68,11 @@ void markLevelSurfaces(std::vector<TopRay>& rays, const Eigen::Vector3d& top, co
     for (int dx = -1; dx <= 1; ++dx) {
       for (int dy = -1; dy <= 1; ++dy) {
         for (int dz = -1; dz <= 1; ++dz) {
-          const auto it = cells.find(key(points[i], dx, dy, dz));
-          if (it == cells.end()) continue;
-          for (std::size_t j : it->second) {
-            if ((points[j] - points[i]).squaredNorm() > cell * cell) continue;
-            mean += points[j], second += points[j] * points[j].transpose(), ++n;
+          const Eigen::Vector3i c = cells[i] + Eigen::Vector3i(dx, dy, dz);
+          for (std::uint32_t k = first.find(c); k < order.size() && cells[order[k]] == c; ++k) {
+            const Eigen::Vector3d& q = points[order[k]];
+            if ((q - points[i]).squaredNorm() > cell * cell) continue;
+            mean += q, second += q * q.transpose(), ++n;
           }
         }
       }
@@ -80,26 +81,20 @@ void markLevelSurfaces(std::vector<TopRay>& rays, const Eigen::Vector3d& top, co
     mean /= n;
     const Eigen::Matrix3d covariance = second / n - mean * mean.transpose();
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
-    const Eigen::Vector3d normal = solver.eigenvectors().col(0);
-    rays[i].level_surface = std::abs(up.dot(normal)) >= cos_tilt;
+    rays[i].level_surface = std::abs(up.dot(solver.eigenvectors().col(0))) >= cos_tilt;
   }
 }
 
 // One point per occupied voxel, off the poles.
 std::vector<TopRay> voxelRays(const PointCloud& cloud, const Eigen::Vector3d& top,
                               const Eigen::RowVector3d& up, const DisparityOffsetOptions& o) {
-  std::unordered_set<std::uint64_t> seen;
+  layout::CellIndex seen;
   std::vector<TopRay> rays;
   for (const CloudPoint& c : cloud.points) {
     const Eigen::Vector3d p = c.p.cast<double>();
     const TopRay ray = topRay(p, top);
     if (!(ray.range > 0.0) || !offPoles(ray.polar, o.min_polar_rad)) continue;
-    std::uint64_t key = 0;
-    for (int a = 0; a < 3; ++a) {
-      const auto cell = static_cast<std::int64_t>(std::floor(p[a] / o.voxel_size_m)) + (1 << 20);
-      key = (key << 21) | (static_cast<std::uint64_t>(cell) & 0x1fffff);
-    }
-    if (seen.insert(key).second) rays.push_back(ray);
+    if (seen.insert(cellOf(p, o.voxel_size_m), static_cast<std::uint32_t>(rays.size())).second) rays.push_back(ray);
   }
   const std::size_t stride = rays.size() / kMaxPoints + 1;
   std::vector<TopRay> kept;
