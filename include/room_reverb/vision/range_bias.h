@@ -31,8 +31,8 @@ struct DisparityOffsetOptions {
   double min_significance = 4.0;
   // And only where the floor alone and the ceiling alone ask for offsets within the larger
   // of these of each other (a room without a ceiling has its floor only).
-  double max_disagreement_rad = 5e-4;
-  double max_disagreement_share = 0.35;
+  double max_disagreement_rad = 7.5e-4;
+  double max_disagreement_share = 0.4;
   double voxel_size_m = 0.05;  // one point per voxel, so area counts, not point density
   double bin_m = 0.01;         // height histogram resolution of the planes' first heights
   // The residuals' first scale [rad] (about 0.3 px at 2048 px), then their own; a point
@@ -43,9 +43,9 @@ struct DisparityOffsetOptions {
   // The floor is sought below this distance under the rig's centre, the ceiling above it.
   double clear_m = 0.3;
   // The planes' first heights from the points within near_m of the rig in plan; the fit
-  // then grows outwards by grow_m every third iteration.
+  // then grows outwards by grow_m every other iteration.
   double near_m = 2.0;
-  double grow_m = 0.5;
+  double grow_m = 1.0;
   // Only points on horizontal surfaces count: the normal of their neighbours within
   // neighbourhood_m within max_normal_tilt_rad of up.
   double neighbourhood_m = 0.15;

@@ -16,6 +16,7 @@ namespace {
 
 constexpr std::size_t kMaxPoints = 40000;
 constexpr std::size_t kMaxSample = 200000;
+constexpr double kSettled = 2e-5;  // rad: a fiftieth of the smallest offset corrected
 
 // A point as the top camera sees it: range and the angle from the baseline's up direction.
 struct TopRay {
@@ -86,8 +87,7 @@ void markLevelSurfaces(std::vector<TopRay>& rays, const Eigen::Vector3d& top, co
 }
 
 // One point per occupied voxel, off the poles.
-std::vector<TopRay> voxelRays(const PointCloud& cloud, const Eigen::Vector3d& top,
-                              const Eigen::RowVector3d& up, const DisparityOffsetOptions& o) {
+std::vector<TopRay> voxelRays(const PointCloud& cloud, const Eigen::Vector3d& top, const DisparityOffsetOptions& o) {
   layout::CellIndex seen;
   std::vector<TopRay> rays;
   for (const CloudPoint& c : cloud.points) {
@@ -99,7 +99,6 @@ std::vector<TopRay> voxelRays(const PointCloud& cloud, const Eigen::Vector3d& to
   const std::size_t stride = rays.size() / kMaxPoints + 1;
   std::vector<TopRay> kept;
   for (std::size_t i = 0; i < rays.size(); i += stride) kept.push_back(rays[i]);
-  markLevelSurfaces(kept, top, up, o);
   return kept;
 }
 
@@ -148,97 +147,112 @@ double rangeWithoutDisparityOffset(double range_m, double polar_rad, double base
 
 namespace {
 
-// One fit of the offset on the cloud as it stands; `only` 1 or 2 fits the floor or the
-// ceiling alone, 0 both.
-DisparityOffset fitDisparityOffset(const PointCloud& cloud, double baseline_m, const Eigen::Matrix3d& level,
-                                   const DisparityOffsetOptions& options, int only = 0) {
+// The rays of the floor and the ceiling of one pass, with what the fit needs of each.
+struct PlaneRays {
+  std::vector<int> plane;  // 1 floor, 2 ceiling
+  std::vector<double> rho, measured, along, b_sin, b_cos;
+  Eigen::Vector3d start = Eigen::Vector3d::Zero();  // offset 0 and the planes' first heights
+  bool has[3] = {false, false, false};
+  std::size_t voxels = 0;
+};
+
+// The rays with `offset_rad` taken out of their ranges: which of them lie on the floor and
+// the ceiling, how far out and the planes' first heights are judged on the cloud as
+// corrected so far, since judged on the bent cloud the choice would follow the bend, and
+// the estimate with it.
+PlaneRays planeRays(std::vector<TopRay> rays, double offset_rad, double baseline_m, const Eigen::Matrix3d& level,
+                    const DisparityOffsetOptions& options) {
   const Eigen::Vector3d top(0.0, 0.0, 0.5 * baseline_m);
-  const std::vector<TopRay> rays = voxelRays(cloud, top, level.row(2), options);
-  DisparityOffset out;
-  out.points = rays.size();
-  out.standard_error_rad = std::numeric_limits<double>::infinity();
-  if (rays.size() < 1000) return out;
-  // The floor and the ceiling as two horizontal planes, heights h[1] and h[2], sharing
-  // the offset h[0]: a least-squares fit of the points' levelled heights to their planes,
-  // each weighted by its expected noise (range_noise of its range along the ray, at least
-  // a centimetre), a point taken within band_m and three times that noise of its plane
-  // (the walls' feet, the tables and the hanging lights fall out). Gauss-Newton, the
-  // offset's effect on a height smooth and nearly linear over the range searched.
   const Eigen::RowVector3d up = level.row(2);
-  std::vector<int> plane(rays.size(), 0);  // 1 floor, 2 ceiling, 0 neither
+  for (TopRay& ray : rays) {
+    const double range = rangeWithoutDisparityOffset(ray.range, ray.polar, baseline_m, offset_rad);
+    ray.range = std::isfinite(range) ? range : 0.0;
+  }
+  rays.erase(std::remove_if(rays.begin(), rays.end(), [](const TopRay& ray) { return !(ray.range > 0.0); }), rays.end());
+  PlaneRays out;
+  out.voxels = rays.size();
   std::vector<double> near_floor, near_ceiling;
-  for (std::size_t i = 0; i < rays.size(); ++i) {
-    const Eigen::Vector3d q = top + rays[i].range * rays[i].direction;
+  for (const TopRay& ray : rays) {
+    const Eigen::Vector3d q = top + ray.range * ray.direction;
     const double z = up.dot(q);
-    if (z < -options.clear_m) plane[i] = 1;
-    if (z > options.clear_m) plane[i] = 2;
-    // The planes' first heights from the points near the rig, which any offset bends least.
+    const int plane = z < -options.clear_m ? 1 : (z > options.clear_m ? 2 : 0);
+    const double along = up.dot(ray.direction);
+    if (plane == 0 || !ray.level_surface || std::abs(along) < 1e-6) continue;
     const double rho = std::sqrt(std::max(0.0, q.squaredNorm() - z * z));
-    if (rho < options.near_m && plane[i] == 1) near_floor.push_back(z);
-    if (rho < options.near_m && plane[i] == 2) near_ceiling.push_back(z);
+    // The planes' first heights from the points near the rig, which any offset bends least.
+    if (rho < options.near_m) (plane == 1 ? near_floor : near_ceiling).push_back(z);
+    out.plane.push_back(plane);
+    out.rho.push_back(rho);
+    out.along.push_back(along);
+    out.b_sin.push_back(baseline_m * std::sin(ray.polar));
+    out.b_cos.push_back(baseline_m * std::cos(ray.polar));
+    out.measured.push_back(std::atan2(out.b_sin.back(), ray.range + out.b_cos.back()));
   }
-  Eigen::Vector3d h(0.0, near_floor.empty() ? 0.0 : densestHeight(near_floor, options.bin_m, 2),
-                    near_ceiling.empty() ? 0.0 : densestHeight(near_ceiling, options.bin_m, 2));
-  const bool planes[3] = {false, !near_floor.empty() && only != 2, !near_ceiling.empty() && only != 1};
+  out.has[1] = !near_floor.empty(), out.has[2] = !near_ceiling.empty();
+  if (out.has[1]) out.start[1] = densestHeight(near_floor, options.bin_m, 2);
+  if (out.has[2]) out.start[2] = densestHeight(near_ceiling, options.bin_m, 2);
+  // Heights are of the levelled frame about the rig's centre; the rays start at the top
+  // camera, up.dot(top) above it.
+  out.start[1] -= up.dot(top), out.start[2] -= up.dot(top);
+  return out;
+}
+
+// The offset and the planes' heights (h[0], h[1] the floor, h[2] the ceiling, heights
+// from the top camera) fitted to the rays; `only` 1 or 2 fits the floor or the ceiling
+// alone, 0 both. Each point's measured disparity against the disparity its ray has where
+// it meets its plane: their difference is the offset plus the matcher's noise, linear in
+// the offset, with the noise in the measurement alone (a fit of heights would put the
+// noise into the slope as well and favour the points read short). What stands on the
+// floor or hangs from the ceiling is ranged short of the plane, with a disparity too
+// large: it only ever adds residuals above zero. So the residuals' spread is taken from
+// those below zero alone (1.48 median absolute deviations), and a point counts within
+// max_residual_scales of it either side, fully within huber_scales. Gauss-Newton, grown
+// outwards from the rig by grow_m every other iteration, so that the far points, which
+// tell the offset from the planes' heights, join a fit already near them.
+DisparityOffset fitDisparityOffset(const PlaneRays& r, const DisparityOffsetOptions& options, int only = 0) {
+  DisparityOffset out;
+  out.points = r.voxels;
+  out.standard_error_rad = std::numeric_limits<double>::infinity();
+  const bool planes[3] = {false, r.has[1] && only != 2, r.has[2] && only != 1};
+  if (r.plane.size() < 1000 || !(planes[1] || planes[2])) return out;
+  Eigen::Vector3d h = r.start;
   Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
-  double residual = 0.0, weight_sum = 0.0;
+  double residual = 0.0, scale = options.disparity_noise_rad;
   std::size_t used = 0;
-  std::vector<double> rho(rays.size());
-  for (std::size_t i = 0; i < rays.size(); ++i) {
-    const Eigen::Vector3d q = top + rays[i].range * rays[i].direction;
-    const double z = up.dot(q);
-    rho[i] = std::sqrt(std::max(0.0, q.squaredNorm() - z * z));
-  }
-  // Each point's measured disparity against the disparity its ray would have where it
-  // meets its plane: their difference is the offset plus the stereo's noise, linear in
-  // the offset, with the noise in the measurement alone (a fit of heights would put the
-  // noise into the slope as well and favour the points read short). What stands on the
-  // floor or hangs from the ceiling is ranged short of the plane, with a disparity too
-  // large: it only ever adds residuals above zero. So the residuals' spread is taken from
-  // those below zero alone (1.48 median absolute deviations), and a point counts within
-  // max_residual_scales of it either side, fully within huber_scales.
-  const auto disparityOf = [&](double range, double polar) {
-    return std::atan2(baseline_m * std::sin(polar), range + baseline_m * std::cos(polar));
-  };
-  std::vector<double> measured(rays.size());
-  for (std::size_t i = 0; i < rays.size(); ++i) measured[i] = disparityOf(rays[i].range, rays[i].polar);
-  double scale = options.disparity_noise_rad;
-  // Grown outwards from the rig by grow_m every third iteration, so that the far points,
-  // which tell the offset from the planes' heights, join a fit already near them.
-  const int kSteps = 16, kIterationsPerStep = 3;
   std::vector<double> residuals;
+  constexpr int kSteps = 10, kIterationsPerStep = 2;
   for (int iteration = 0; iteration < kSteps * kIterationsPerStep; ++iteration) {
-    const double reach = options.near_m + options.grow_m * (iteration / kIterationsPerStep);
+    const int step = iteration / kIterationsPerStep;
+    const double reach = step + 1 < kSteps ? options.near_m + options.grow_m * step
+                                           : std::numeric_limits<double>::infinity();
     normal.setZero();
     Eigen::Vector3d gradient = Eigen::Vector3d::Zero();
-    residual = weight_sum = 0.0;
+    residual = 0.0;
     used = 0;
     residuals.clear();
-    constexpr double kStep = 1e-4;
-    for (std::size_t i = 0; i < rays.size(); ++i) {
-      const int k = plane[i];
-      if (k == 0 || !planes[k] || !rays[i].level_surface || rho[i] > reach) continue;
-      const double along = up.dot(rays[i].direction);
-      if (std::abs(along) < 1e-6) continue;
-      const double to_plane = (h[k] - up.dot(top)) / along;
-      const double to_plane_up = (h[k] + kStep - up.dot(top)) / along;
-      if (!(to_plane > 0.0) || !(to_plane_up > 0.0)) continue;
-      const double expected = disparityOf(to_plane, rays[i].polar);
+    for (std::size_t i = 0; i < r.plane.size(); ++i) {
+      const int k = r.plane[i];
+      if (!planes[k] || r.rho[i] > reach) continue;
+      const double to_plane = h[k] / r.along[i];
+      if (!(to_plane > 0.0)) continue;
+      const double x = to_plane + r.b_cos[i];
+      const double expected = std::atan2(r.b_sin[i], x);
       // Far points are left out by where their plane is, not by their own range: cut by
       // the measured disparity, the far points read long would go and those read short
       // stay, which biases the offset up. Beyond this a point's disparity could be
       // corrected through zero by an offset searched.
       if (expected < 3.0 * options.max_offset_rad) continue;
-      const double e = measured[i] - h[0] - expected;
+      const double e = r.measured[i] - h[0] - expected;
       if (std::abs(e) > options.max_residual_scales * scale) continue;
       if (e < 0.0) residuals.push_back(-e);
       Eigen::Vector3d j = Eigen::Vector3d::Zero();
       j[0] = -1.0;
-      j[k] = -(disparityOf(to_plane_up, rays[i].polar) - expected) / kStep;
+      // d(disparity)/d(height) through the range along the ray.
+      j[k] = r.b_sin[i] / (x * x + r.b_sin[i] * r.b_sin[i]) / r.along[i];
       const double w = std::abs(e) <= options.huber_scales * scale ? 1.0 : options.huber_scales * scale / std::abs(e);
       normal += w * j * j.transpose();
       gradient += w * j * e;
-      residual += w * e * e, weight_sum += w;
+      residual += w * e * e;
       ++used;
     }
     for (int k = 1; k < 3; ++k) {
@@ -253,13 +267,11 @@ DisparityOffset fitDisparityOffset(const PointCloud& cloud, double baseline_m, c
     scale = std::max(1e-5, 1.4826 * residuals[residuals.size() / 2]);
   }
   out.offset_rad = h[0];
-  // The offset's standard error from the fit's own scatter: the weighted residual's
-  // variance over that expected from the noise, times the normal matrix's inverse.
-  if (used >= 1000 && weight_sum > 0.0) {
+  // The offset's standard error from the fit's own scatter: the weighted residuals'
+  // variance times the normal matrix's inverse.
+  if (used >= 1000) {
     const double variance = residual / static_cast<double>(used - 3);
     out.standard_error_rad = std::sqrt(std::max(0.0, normal.inverse()(0, 0) * variance));
-  } else {
-    out.standard_error_rad = std::numeric_limits<double>::infinity();
   }
   return out;
 }
@@ -279,30 +291,33 @@ DisparityOffset estimateDisparityOffset(const PointCloud& cloud, double baseline
   checkPointCloud(cloud, 1000);
   // Which points lie on the floor and the ceiling is judged on the cloud as corrected so
   // far: judged on the bent cloud, the choice would follow the bend, and the estimate
-  // with it. The fit is repeated on the corrected cloud until its change is below a
-  // hundredth of the smallest offset applied.
-  // An even subsample bounds the cost of the passes (a 2048 x 1024 pair gives a million
+  // with it. The fit is repeated on the corrected cloud, at most three times, until it
+  // changes by less than kSettled. An even subsample bounds the cost of the passes (a 2048 x 1024 pair gives a million
   // points, the fit keeps at most 40 000 voxels of them).
   PointCloud sample;
   const std::size_t stride = cloud.points.size() / kMaxSample + 1;
   sample.points.reserve(cloud.points.size() / stride + 1);
   for (std::size_t i = 0; i < cloud.points.size(); i += stride) sample.points.push_back(cloud.points[i]);
-  DisparityOffset total = fitDisparityOffset(sample, baseline_m, level, options);
-  for (int pass = 1; pass < 4 && std::isfinite(total.standard_error_rad); ++pass) {
-    const DisparityOffset more =
-        fitDisparityOffset(removeDisparityOffset(sample, baseline_m, total.offset_rad, options.min_polar_rad), baseline_m,
-                           level, options);
+  // The voxels and their surfaces' orientation once: an offset bends a 15 cm patch by a
+  // small fraction of a degree.
+  const Eigen::Vector3d top(0.0, 0.0, 0.5 * baseline_m);
+  std::vector<TopRay> voxels = voxelRays(sample, top, options);
+  markLevelSurfaces(voxels, top, level.row(2), options);
+  PlaneRays rays = planeRays(voxels, 0.0, baseline_m, level, options);
+  DisparityOffset total = fitDisparityOffset(rays, options);
+  for (int pass = 1; pass < 3 && std::isfinite(total.standard_error_rad); ++pass) {
+    rays = planeRays(voxels, total.offset_rad, baseline_m, level, options);
+    const DisparityOffset more = fitDisparityOffset(rays, options);
     total.offset_rad = std::clamp(total.offset_rad + more.offset_rad, -options.max_offset_rad, options.max_offset_rad);
     total.standard_error_rad = more.standard_error_rad;
     total.points = more.points;
-    if (std::abs(more.offset_rad) < 0.01 * std::max(options.min_offset_rad, 1e-5)) break;
+    if (std::abs(more.offset_rad) < kSettled) break;
   }
   // A disparity offset bends the floor and the ceiling alike; where each alone asks for a
   // different one, what bends them is not the offset (a matcher's bias on one of them, a
   // floor that is not flat), and nothing is corrected.
-  const PointCloud corrected = removeDisparityOffset(sample, baseline_m, total.offset_rad, options.min_polar_rad);
-  const DisparityOffset floor = fitDisparityOffset(corrected, baseline_m, level, options, 1);
-  const DisparityOffset ceiling = fitDisparityOffset(corrected, baseline_m, level, options, 2);
+  const DisparityOffset floor = fitDisparityOffset(rays, options, 1);
+  const DisparityOffset ceiling = fitDisparityOffset(rays, options, 2);
   total.floor_offset_rad = total.offset_rad + floor.offset_rad;
   total.ceiling_offset_rad = total.offset_rad + ceiling.offset_rad;
   const bool both = std::isfinite(floor.standard_error_rad) && std::isfinite(ceiling.standard_error_rad) &&
