@@ -140,6 +140,8 @@ TEST(RangeBias, ARoomOpenToTheSkyHasItsFloor) {
   std::printf("[ measured ] %s without a ceiling, offset +0.80 px: found %+.3f px\n", room.name.c_str(),
               found.offset_rad / kPixel2048);
   EXPECT_TRUE(found.applied);
+  EXPECT_TRUE(found.floor_fitted);
+  EXPECT_FALSE(found.ceiling_fitted);
   EXPECT_NEAR(found.offset_rad / kPixel2048, 0.8, 0.15);
 }
 

@@ -60,6 +60,8 @@ struct DisparityOffset {
   double standard_error_rad = 0.0;  // of offset_rad, from the fit's scatter
   double floor_offset_rad = 0.0;    // the floor alone's, and the ceiling alone's
   double ceiling_offset_rad = 0.0;
+  bool floor_fitted = false;        // whether each plane had points enough to fit alone
+  bool ceiling_fitted = false;
   bool planes_agree = true;         // within max_disagreement of each other
   bool applied = false;             // large and clear enough to correct the cloud for
   std::size_t points = 0;           // voxel points the estimate rests on

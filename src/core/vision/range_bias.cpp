@@ -320,8 +320,9 @@ DisparityOffset estimateDisparityOffset(const PointCloud& cloud, double baseline
   const DisparityOffset ceiling = fitDisparityOffset(rays, options, 2);
   total.floor_offset_rad = total.offset_rad + floor.offset_rad;
   total.ceiling_offset_rad = total.offset_rad + ceiling.offset_rad;
-  const bool both = std::isfinite(floor.standard_error_rad) && std::isfinite(ceiling.standard_error_rad) &&
-                    floor.points > 0 && ceiling.points > 0;
+  total.floor_fitted = std::isfinite(floor.standard_error_rad);
+  total.ceiling_fitted = std::isfinite(ceiling.standard_error_rad);
+  const bool both = total.floor_fitted && total.ceiling_fitted;
   total.planes_agree = !both || std::abs(total.floor_offset_rad - total.ceiling_offset_rad) <=
                                     std::max(options.max_disagreement_rad,
                                              options.max_disagreement_share * std::abs(total.offset_rad));

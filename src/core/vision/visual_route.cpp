@@ -29,12 +29,20 @@ const PointCloud& withoutDisparityOffset(const PointCloud& cloud, double baselin
   storage = removeDisparityOffset(cloud, baseline_m, bias.offset_rad, options.min_polar_rad);
   // What the offset does to a point level with the rig 5 m away, for the user to judge.
   const double at_5m = rangeWithoutDisparityOffset(5.0, 0.5 * M_PI, baseline_m, bias.offset_rad);
-  char line[240];
+  char planes[80];
+  if (bias.floor_fitted && bias.ceiling_fitted) {
+    std::snprintf(planes, sizeof planes, "floor %+.2f, ceiling %+.2f mrad", 1e3 * bias.floor_offset_rad,
+                  1e3 * bias.ceiling_offset_rad);
+  } else {
+    std::snprintf(planes, sizeof planes, "from the %s alone", bias.ceiling_fitted ? "ceiling" : "floor");
+  }
+  char line[280];
   std::snprintf(line, sizeof line,
-                "range: the floor and ceiling lie flat with the stereo's disparity offset by %+.2f mrad (%+.2f px at "
-                "this width; floor %+.2f, ceiling %+.2f mrad); every range corrected for it (%+.1f %% at 5 m)",
-                1e3 * bias.offset_rad, bias.offset_rad * image_rows / M_PI, 1e3 * bias.floor_offset_rad,
-                1e3 * bias.ceiling_offset_rad, std::isfinite(at_5m) ? 100.0 * (at_5m / 5.0 - 1.0) : 100.0);
+                "range: the %s lie%s flat with the stereo's disparity offset by %+.2f mrad (%+.2f px at this width; "
+                "%s); every range corrected for it (%+.1f %% at 5 m)",
+                bias.floor_fitted && bias.ceiling_fitted ? "floor and ceiling" : (bias.ceiling_fitted ? "ceiling" : "floor"),
+                bias.floor_fitted && bias.ceiling_fitted ? "" : "s", 1e3 * bias.offset_rad,
+                bias.offset_rad * image_rows / M_PI, planes, std::isfinite(at_5m) ? 100.0 * (at_5m / 5.0 - 1.0) : 100.0);
   note = line;
   return storage;
 }
