@@ -2,8 +2,7 @@
 // The stereo's range bias, found from the room's own flat floor and ceiling. Spherical
 // stereo on a vertical baseline ranges a point from the angle between the two cameras'
 // views of it (its disparity). An offset in that angle, the same for every pixel (a
-// matcher's sub-pixel bias, a camera mounted a little off the baseline's axis, a baseline
-// that is not quite the one given), bends the room: the range error grows with the
+// matcher's sub-pixel bias, a camera turned a little about the bar), bends the room: the range error grows with the
 // square of the distance, so a floor seen from 1.5 m up rises towards the rig beyond a
 // few metres, a ceiling sinks towards it and the far walls come in (a tenth of a degree
 // at a 0.2 m baseline brings a wall 6 m away 5 % nearer). Flat planes do not bend, so the
@@ -64,7 +63,6 @@ struct DisparityOffset {
   bool ceiling_fitted = false;
   bool planes_agree = true;         // within max_disagreement of each other
   bool applied = false;             // large and clear enough to correct the cloud for
-  std::size_t points = 0;           // voxel points the estimate rests on
 };
 
 // The range from the top camera a point would have if its disparity, measured with

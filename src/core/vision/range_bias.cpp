@@ -36,6 +36,11 @@ TopRay topRay(const Eigen::Vector3d& p, const Eigen::Vector3d& top) {
   return ray;
 }
 
+// The disparity of a point `range` from the top camera, its direction's polar angle given
+// as the baseline times its sine and cosine: the angle at the point in the triangle of
+// the two cameras and the point.
+double disparityAt(double range, double b_sin, double b_cos) { return std::atan2(b_sin, range + b_cos); }
+
 bool offPoles(double polar, double min_polar) { return polar >= min_polar && polar <= M_PI - min_polar; }
 
 Eigen::Vector3i cellOf(const Eigen::Vector3d& p, double size) { return (p / size).array().floor().cast<int>(); }
@@ -139,7 +144,7 @@ double rangeWithoutDisparityOffset(double range_m, double polar_rad, double base
   // The triangle of the two cameras and the point: the angle at the point is the
   // disparity d, the bottom camera sees the point at polar angle polar - d, and by the law
   // of sines range / sin(polar - d) = baseline / sin(d).
-  const double disparity = std::atan2(baseline_m * std::sin(polar_rad), range_m + baseline_m * std::cos(polar_rad));
+  const double disparity = disparityAt(range_m, baseline_m * std::sin(polar_rad), baseline_m * std::cos(polar_rad));
   const double corrected = disparity - offset_rad;
   if (!(corrected > 0.0)) return std::numeric_limits<double>::quiet_NaN();
   return baseline_m * std::sin(polar_rad - corrected) / std::sin(corrected);
@@ -153,7 +158,6 @@ struct PlaneRays {
   std::vector<double> rho, measured, along, b_sin, b_cos;
   Eigen::Vector3d start = Eigen::Vector3d::Zero();  // offset 0 and the planes' first heights
   bool has[3] = {false, false, false};
-  std::size_t voxels = 0;
 };
 
 // The rays with `offset_rad` taken out of their ranges: which of them lie on the floor and
@@ -170,7 +174,6 @@ PlaneRays planeRays(std::vector<TopRay> rays, double offset_rad, double baseline
   }
   rays.erase(std::remove_if(rays.begin(), rays.end(), [](const TopRay& ray) { return !(ray.range > 0.0); }), rays.end());
   PlaneRays out;
-  out.voxels = rays.size();
   std::vector<double> near_floor, near_ceiling;
   for (const TopRay& ray : rays) {
     const Eigen::Vector3d q = top + ray.range * ray.direction;
@@ -186,7 +189,7 @@ PlaneRays planeRays(std::vector<TopRay> rays, double offset_rad, double baseline
     out.along.push_back(along);
     out.b_sin.push_back(baseline_m * std::sin(ray.polar));
     out.b_cos.push_back(baseline_m * std::cos(ray.polar));
-    out.measured.push_back(std::atan2(out.b_sin.back(), ray.range + out.b_cos.back()));
+    out.measured.push_back(disparityAt(ray.range, out.b_sin.back(), out.b_cos.back()));
   }
   out.has[1] = !near_floor.empty(), out.has[2] = !near_ceiling.empty();
   if (out.has[1]) out.start[1] = densestHeight(near_floor, options.bin_m, 2);
@@ -211,7 +214,6 @@ PlaneRays planeRays(std::vector<TopRay> rays, double offset_rad, double baseline
 // tell the offset from the planes' heights, join a fit already near them.
 DisparityOffset fitDisparityOffset(const PlaneRays& r, const DisparityOffsetOptions& options, int only = 0) {
   DisparityOffset out;
-  out.points = r.voxels;
   out.standard_error_rad = std::numeric_limits<double>::infinity();
   const bool planes[3] = {false, r.has[1] && only != 2, r.has[2] && only != 1};
   if (r.plane.size() < 1000 || !(planes[1] || planes[2])) return out;
@@ -236,7 +238,7 @@ DisparityOffset fitDisparityOffset(const PlaneRays& r, const DisparityOffsetOpti
       const double to_plane = h[k] / r.along[i];
       if (!(to_plane > 0.0)) continue;
       const double x = to_plane + r.b_cos[i];
-      const double expected = std::atan2(r.b_sin[i], x);
+      const double expected = disparityAt(to_plane, r.b_sin[i], r.b_cos[i]);
       // Far points are left out by where their plane is, not by their own range: cut by
       // the measured disparity, the far points read long would go and those read short
       // stay, which biases the offset up. Beyond this a point's disparity could be
@@ -310,7 +312,6 @@ DisparityOffset estimateDisparityOffset(const PointCloud& cloud, double baseline
     const DisparityOffset more = fitDisparityOffset(rays, options);
     total.offset_rad = std::clamp(total.offset_rad + more.offset_rad, -options.max_offset_rad, options.max_offset_rad);
     total.standard_error_rad = more.standard_error_rad;
-    total.points = more.points;
     if (std::abs(more.offset_rad) < kSettled) break;
   }
   // A disparity offset bends the floor and the ceiling alike; where each alone asks for a
