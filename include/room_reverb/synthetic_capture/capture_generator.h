@@ -67,6 +67,12 @@ struct CameraImperfections {
   // with daylight do in a room exposed for its walls).
   std::vector<std::string> emitter_labels;
   double emitter_grey = 400.0;
+  // The cameras as they stand on the bar, each turned by an angle-axis vector [deg]: the
+  // top camera against the rig's frame (the bar along its z) and the bottom camera against
+  // the top one. Two cameras screwed to a bar stand within a degree or two of each other.
+  // The truth images are each camera's as it stands.
+  Eigen::Vector3d top_turn_deg = Eigen::Vector3d::Zero();
+  Eigen::Vector3d bottom_turn_deg = Eigen::Vector3d::Zero();
 };
 
 struct CaptureOptions {

@@ -13,6 +13,7 @@
 #include "room_reverb/vision/dual_fisheye.h"
 #include "room_reverb/vision/image_leveling.h"
 #include "room_reverb/vision/manhattan_from_image.h"
+#include "room_reverb/vision/pair_rectification.h"
 
 namespace room_reverb::core {
 
@@ -36,11 +37,18 @@ struct CaptureIngestOptions {
   int width = 0;  // output equirect width [px]; 0: the input's width (2 S for dual fisheye)
   LevelingSource leveling = LevelingSource::kImage;
   ManhattanImageOptions manhattan;
+  // How the two cameras stand on the bar, found from the pair and taken out before the
+  // levelling (vision/pair_rectification.h); `enabled` false: the pair as it comes.
+  PairRectificationOptions rectification;
 };
 
 struct IngestedCapture {
-  cv::Mat top;     // equirectangular, in the aligned rig frame (turned by leveling.image_rotation)
+  // Equirectangular, rectified (the bottom camera facing as the top one) and turned by
+  // leveling.image_rotation: the bottom image is the input's turned by
+  // leveling.image_rotation * rectification.bottom_rotation.
+  cv::Mat top;
   cv::Mat bottom;
+  PairRectification rectification;
   ImageLeveling leveling;  // identity for LevelingSource::kNone
   std::optional<ManhattanImageEstimate> manhattan;  // when the images were used
   // The images asked to level the capture show too little Manhattan structure: they are

@@ -49,6 +49,17 @@ void checkCamera(const CameraImperfections& c) {
   if (!(c.emitter_grey >= 0.0) || !std::isfinite(c.emitter_grey)) {
     throw InputError("capture camera.emitter_grey " + text(c.emitter_grey) + ": must be a finite brightness >= 0 in grey levels");
   }
+  for (const auto& [key, turn] : {std::pair{"top_turn_deg", c.top_turn_deg}, std::pair{"bottom_turn_deg", c.bottom_turn_deg}}) {
+    if (!turn.allFinite() || turn.norm() > 10.0) {
+      throw InputError(std::string("capture camera.") + key + " " + vectorText(turn) + ": must be a turn of at most 10 degrees");
+    }
+  }
+}
+
+// An angle-axis vector in degrees as a rotation.
+Eigen::Quaterniond turnOf(const Eigen::Vector3d& turn_deg) {
+  const double angle = turn_deg.norm() * M_PI / 180.0;
+  return angle > 0.0 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, turn_deg.normalized())) : Eigen::Quaterniond::Identity();
 }
 
 void checkOptions(const CaptureOptions& options) {
@@ -194,10 +205,11 @@ StereoCapture renderCapture(const RoomModel& room, const MaterialLibrary& librar
   for (const char* face : kRoomSurfaceNames) capture.object_names.emplace_back(face);
   for (const CuboidObject& object : room.objects) capture.object_names.push_back(object.label);
   const CapturePainter painter = makeCapturePainter(room, library, options, capture.material_names);
-  const Eigen::Quaterniond rotation = room.rig_rotation.normalized();
+  const Eigen::Quaterniond top_rotation = room.rig_rotation.normalized() * turnOf(options.camera.top_turn_deg);
+  const Eigen::Quaterniond bottom_rotation = top_rotation * turnOf(options.camera.bottom_turn_deg);
   const Exposure bottom{options.camera.bottom_exposure, options.camera.bottom_white_balance};
-  capture.top = renderCamera(painter, options, topCameraPosition(room, options.baseline_m), rotation, topExposure(options), 0);
-  capture.bottom = renderCamera(painter, options, bottomCameraPosition(room, options.baseline_m), rotation, bottom, 1);
+  capture.top = renderCamera(painter, options, topCameraPosition(room, options.baseline_m), top_rotation, topExposure(options), 0);
+  capture.bottom = renderCamera(painter, options, bottomCameraPosition(room, options.baseline_m), bottom_rotation, bottom, 1);
   return capture;
 }
 

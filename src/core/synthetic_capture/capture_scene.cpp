@@ -79,13 +79,14 @@ class CaptureSectionReader : public YamlReader {
     requireMap(node, "capture.camera");
     static const char* const kKeys[] = {"through_lenses", "lens_offset_m", "vignetting", "back_lens_gain", "top_exposure",
                                         "bottom_exposure", "bottom_white_balance", "jpeg_quality", "native_scale", "emitter_labels",
-                                        "emitter_grey"};
+                                        "emitter_grey", "top_turn_deg", "bottom_turn_deg"};
     for (const auto& entry : node) {
       const std::string key = entry.first.as<std::string>();
       if (std::find(std::begin(kKeys), std::end(kKeys), key) == std::end(kKeys)) {
         fail(entry.first, "capture.camera." + key,
              "unknown key (use through_lenses, lens_offset_m, vignetting, back_lens_gain, top_exposure, bottom_exposure, "
-             "bottom_white_balance, jpeg_quality, native_scale, emitter_labels, emitter_grey)");
+             "bottom_white_balance, jpeg_quality, native_scale, emitter_labels, emitter_grey, top_turn_deg, "
+             "bottom_turn_deg)");
       }
     }
     c.through_lenses = flagOr(node, "through_lenses", "capture.camera.through_lenses", c.through_lenses);
@@ -102,6 +103,10 @@ class CaptureSectionReader : public YamlReader {
     c.native_scale = wholeNumber(node, "capture.camera.", "native_scale", c.native_scale);
     readNames(node["emitter_labels"], "capture.camera.emitter_labels", "object labels", c.emitter_labels);
     c.emitter_grey = numberOr(node, "emitter_grey", "capture.camera.emitter_grey", c.emitter_grey);
+    if (node["top_turn_deg"].IsDefined()) c.top_turn_deg = vector3(node["top_turn_deg"], "capture.camera.top_turn_deg");
+    if (node["bottom_turn_deg"].IsDefined()) {
+      c.bottom_turn_deg = vector3(node["bottom_turn_deg"], "capture.camera.bottom_turn_deg");
+    }
   }
 
   // `parent[name]` (its key `prefix` + name in messages), a whole number 0..10^6.
@@ -207,7 +212,8 @@ std::string captureSceneToYaml(const CaptureScene& scene, const StereoCapture* r
                          c.back_lens_gain != ideal.back_lens_gain || c.top_exposure != ideal.top_exposure ||
                          c.bottom_exposure != ideal.bottom_exposure || c.bottom_white_balance != ideal.bottom_white_balance ||
                          c.jpeg_quality != ideal.jpeg_quality || c.native_scale != ideal.native_scale ||
-                         !c.emitter_labels.empty();
+                         !c.emitter_labels.empty() || c.top_turn_deg != ideal.top_turn_deg ||
+                         c.bottom_turn_deg != ideal.bottom_turn_deg;
   if (imperfect) {
     out << "  camera:  # what the camera does to the light (CameraImperfections)\n"
         << "    through_lenses: " << (c.through_lenses ? "true" : "false") << "\n"
@@ -220,7 +226,9 @@ std::string captureSceneToYaml(const CaptureScene& scene, const StereoCapture* r
         << "    jpeg_quality: " << c.jpeg_quality << "\n"
         << "    native_scale: " << c.native_scale << "\n"
         << "    emitter_labels: " << nameList(c.emitter_labels) << "\n"
-        << "    emitter_grey: " << number(c.emitter_grey) << "\n";
+        << "    emitter_grey: " << number(c.emitter_grey) << "\n"
+        << "    top_turn_deg: " << vectorText(c.top_turn_deg) << "\n"
+        << "    bottom_turn_deg: " << vectorText(c.bottom_turn_deg) << "\n";
   }
   if (!scene.photo_textures.empty()) {
     out << "  photo_textures: " << nameText(scene.photo_textures) << "\n"

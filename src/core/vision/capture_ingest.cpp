@@ -1,5 +1,7 @@
 #include "room_reverb/vision/capture_ingest.h"
 
+#include <cmath>
+#include <cstdio>
 #include <opencv2/imgproc.hpp>
 
 #include "room_reverb/common/error.h"
@@ -59,6 +61,24 @@ IngestedCapture ingestCapture(const cv::Mat& top, const cv::Mat& bottom, const C
     out.bottom = bottom;
   }
 
+  // The pair rectified; the levelling sees the rectified pair, and each image is
+  // resampled once, through both turns.
+  const cv::Mat top_as_captured = out.top, bottom_as_captured = out.bottom;  // headers: no copies
+  out.rectification = estimatePairRectification(out.top, out.bottom, options.rectification);
+  const PairRectification& pair = out.rectification;
+  if (pair.applied) {
+    char line[320];
+    std::snprintf(line, sizeof line,
+                  "pair: the bottom camera stands turned %.2f deg against the top one (%d of %d feature matches "
+                  "agree); the pair is rectified",
+                  pair.turn_rad * 180.0 / M_PI, pair.inliers, pair.matches);
+    out.warnings.emplace_back(line);
+    out.bottom = rotateEquirect(bottom_as_captured, pair.bottom_rotation, cv::INTER_LINEAR);
+  } else if (options.rectification.enabled && !pair.estimated) {
+    out.warnings.push_back("pair: too few features match between the two images (" + std::to_string(pair.matches) +
+                           ") to tell how the cameras stand; the pair is used as it comes");
+  }
+
   switch (options.leveling) {
     case LevelingSource::kNone:
       return out;
@@ -73,7 +93,7 @@ IngestedCapture ingestCapture(const cv::Mat& top, const cv::Mat& bottom, const C
         out.manhattan = estimateManhattanFrame(std::vector<cv::Mat>{out.top, out.bottom}, manhattan);
       } catch (const ManhattanStructureError& e) {
         out.level_from_cloud = true;
-        out.warnings.push_back(std::string("leveling: ") + e.what() + "; the images are used as captured" +
+        out.warnings.push_back(std::string("leveling: ") + e.what() + "; the images are not levelled" +
                                (uses_imu ? " (tilted by the IMU)" : "") + " and the point cloud levels the room");
         if (uses_imu) out.leveling = levelingFromImu(*imu_camera_to_world);
         return out;
@@ -82,8 +102,8 @@ IngestedCapture ingestCapture(const cv::Mat& top, const cv::Mat& bottom, const C
       break;
     }
   }
-  out.top = rotateEquirect(out.top, out.leveling.image_rotation, cv::INTER_LINEAR);
-  out.bottom = rotateEquirect(out.bottom, out.leveling.image_rotation, cv::INTER_LINEAR);
+  out.top = rotateEquirect(top_as_captured, out.leveling.image_rotation, cv::INTER_LINEAR);
+  out.bottom = rotateEquirect(bottom_as_captured, out.leveling.image_rotation * pair.bottom_rotation, cv::INTER_LINEAR);
   return out;
 }
 

@@ -1,0 +1,255 @@
+#include "room_reverb/vision/pair_rectification.h"
+
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "room_reverb/common/error.h"
+#include "room_reverb/vision/equirect.h"
+
+namespace room_reverb::core {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct Match {
+  Eigen::Vector3d top, bottom;  // unit bearings, each camera's frame
+};
+
+// The turn as an angle-axis vector: turns of a few degrees are all two cameras on a bar
+// have, and the vector's components are the small angles about the three axes.
+struct Pose {
+  Eigen::Vector3d turn = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d rotation() const {
+    const double angle = turn.norm();
+    return angle > 0.0 ? Eigen::AngleAxisd(angle, turn / angle).toRotationMatrix() : Eigen::Matrix3d::Identity();
+  }
+};
+
+// The angle between the two rays' views along the baseline: positive where the top
+// camera, the higher one, sees the point further from the pole than the bottom one does.
+double parallax(const Match& m, const Eigen::Matrix3d& R) {
+  return std::acos(std::clamp(m.top.z(), -1.0, 1.0)) - std::acos(std::clamp((R * m.bottom).z(), -1.0, 1.0));
+}
+
+double residualOf(const Match& m, const Eigen::Matrix3d& R) {
+  return epipolarResidual(m.top, m.bottom, R, Eigen::Vector3d::UnitZ());
+}
+
+// Gauss-Newton on the matches `use` (weights by Huber at `huber_rad`, 0: plain least
+// squares). Returns false where the normal equations are singular.
+bool gaussNewton(const std::vector<Match>& matches, const std::vector<std::size_t>& use, double huber_rad,
+                 int iterations, Pose& pose, Eigen::Matrix3d* normal = nullptr) {
+  constexpr double kStep = 1e-7;
+  Eigen::Matrix3d JtJ;
+  for (int iteration = 0; iteration < iterations; ++iteration) {
+    JtJ.setZero();
+    Eigen::Vector3d Jtr = Eigen::Vector3d::Zero();
+    const Eigen::Matrix3d R = pose.rotation();
+    std::array<Eigen::Matrix3d, 3> stepped;
+    for (int k = 0; k < 3; ++k) {
+      Pose step = pose;
+      step.turn[k] += kStep;
+      stepped[static_cast<std::size_t>(k)] = step.rotation();
+    }
+    for (std::size_t i : use) {
+      const double r = residualOf(matches[i], R);
+      Eigen::Vector3d J;
+      for (int k = 0; k < 3; ++k) J[k] = (residualOf(matches[i], stepped[static_cast<std::size_t>(k)]) - r) / kStep;
+      const double w = huber_rad > 0.0 && std::abs(r) > huber_rad ? huber_rad / std::abs(r) : 1.0;
+      JtJ += w * J * J.transpose();
+      Jtr += w * J * r;
+    }
+    const Eigen::FullPivLU<Eigen::Matrix3d> lu(JtJ);
+    if (lu.rank() < 3) return false;
+    const Eigen::Vector3d delta = lu.solve(-Jtr);
+    pose.turn += delta;
+    if (delta.norm() < 1e-9) break;
+  }
+  if (normal != nullptr) *normal = JtJ;
+  return true;
+}
+
+std::vector<std::size_t> inliersOf(const std::vector<Match>& matches, const Pose& pose, double tolerance_rad) {
+  std::vector<std::size_t> inliers;
+  const Eigen::Matrix3d R = pose.rotation();
+  for (std::size_t i = 0; i < matches.size(); ++i) {
+    if (std::abs(residualOf(matches[i], R)) < tolerance_rad && parallax(matches[i], R) > -tolerance_rad) {
+      inliers.push_back(i);
+    }
+  }
+  return inliers;
+}
+
+double medianAbsoluteResidual(const std::vector<Match>& matches, const std::vector<std::size_t>& use, const Pose& p) {
+  std::vector<double> r;
+  r.reserve(use.size());
+  const Eigen::Matrix3d R = p.rotation();
+  for (std::size_t i : use) r.push_back(std::abs(residualOf(matches[i], R)));
+  if (r.empty()) return 0.0;
+  std::nth_element(r.begin(), r.begin() + static_cast<std::ptrdiff_t>(r.size() / 2), r.end());
+  return r[r.size() / 2];
+}
+
+// The standard error of the angle |v| along its own direction, from the covariance of v.
+double angleStandardError(const Eigen::Vector3d& v, const Eigen::Matrix3d& covariance) {
+  const double n = v.norm();
+  if (!(n > 0.0)) return std::sqrt(std::max(0.0, covariance.diagonal().maxCoeff()));
+  const Eigen::Vector3d u = v / n;
+  return std::sqrt(std::max(0.0, u.dot(covariance * u)));
+}
+
+void checkImages(const cv::Mat& top, const cv::Mat& bottom, const PairRectificationOptions& o) {
+  const std::string who = "pair rectification: ";
+  if (top.empty() || bottom.empty()) throw InputError(who + "an image is empty");
+  if (top.size() != bottom.size() || top.type() != bottom.type()) {
+    throw InputError(who + "the top and bottom images differ in size or type");
+  }
+  if (top.cols != 2 * top.rows) throw InputError(who + "the images must be equirectangular (twice as wide as high)");
+  if (top.depth() != CV_8U || (top.channels() != 1 && top.channels() != 3)) {
+    throw InputError(who + "the images must be 8-bit grey or colour");
+  }
+  if (o.feature_width < 0 || (o.feature_width > 0 && o.feature_width < 64) || o.max_features < 10 ||
+      !(o.max_elevation_rad > 0.0 && o.max_elevation_rad < kPi / 2) || !(o.ratio > 0.0 && o.ratio <= 1.0) ||
+      !(o.max_parallax_rad > 0.0 && o.max_parallax_rad < 1.0) || !(o.max_turn_rad > 0.0 && o.max_turn_rad < 0.5) ||
+      !(o.inlier_tolerance_px > 0.0) || o.ransac_iterations < 1 || o.min_inliers < 5 || !(o.min_angle_rad >= 0.0) ||
+      !(o.min_significance >= 0.0)) {
+    throw InputError(who + "options out of range");
+  }
+}
+
+cv::Mat featureImage(const cv::Mat& image, int width) {
+  cv::Mat grey;
+  if (image.channels() == 3) {
+    cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+  } else {
+    grey = image;
+  }
+  if (width > 0 && grey.cols > width) {
+    cv::Mat small;
+    cv::resize(grey, small, cv::Size(width, width / 2), 0, 0, cv::INTER_AREA);
+    return small;
+  }
+  return grey;
+}
+
+std::vector<Match> matchFeatures(const cv::Mat& top, const cv::Mat& bottom, const PairRectificationOptions& o) {
+  const EquirectGeometry g{top.cols, top.rows};
+  // Rows within max_elevation_rad of the horizon.
+  cv::Mat mask = cv::Mat::zeros(top.size(), CV_8U);
+  const int margin = static_cast<int>(std::ceil((kPi / 2 - o.max_elevation_rad) / kPi * top.rows));
+  mask.rowRange(margin, top.rows - margin).setTo(255);
+  const cv::Ptr<cv::ORB> orb = cv::ORB::create(o.max_features);
+  std::vector<cv::KeyPoint> top_points, bottom_points;
+  cv::Mat top_descriptors, bottom_descriptors;
+  orb->detectAndCompute(top, mask, top_points, top_descriptors);
+  orb->detectAndCompute(bottom, mask, bottom_points, bottom_descriptors);
+  std::vector<Match> matches;
+  if (top_points.size() < 2 || bottom_points.size() < 2) return matches;
+  cv::BFMatcher matcher(cv::NORM_HAMMING);
+  std::vector<std::vector<cv::DMatch>> knn;
+  matcher.knnMatch(top_descriptors, bottom_descriptors, knn, 2);
+  const double max_angle = o.max_parallax_rad + o.max_turn_rad;
+  std::vector<cv::Point2f> top_at, bottom_at;
+  for (const std::vector<cv::DMatch>& pair : knn) {
+    if (pair.size() < 2 || pair[0].distance >= o.ratio * pair[1].distance) continue;
+    const cv::Point2f a = top_points[static_cast<std::size_t>(pair[0].queryIdx)].pt;
+    const cv::Point2f b = bottom_points[static_cast<std::size_t>(pair[0].trainIdx)].pt;
+    if (std::acos(std::clamp(equirectPixelDirection(g, a.x, a.y).dot(equirectPixelDirection(g, b.x, b.y)), -1.0, 1.0)) >
+        max_angle) {
+      continue;
+    }
+    top_at.push_back(a);
+    bottom_at.push_back(b);
+  }
+  if (top_at.empty()) return matches;
+  // ORB places its keypoints on its pyramid's pixel grid: a match is known to half a
+  // pixel of the level it was found on, 3 mrad and more at 1024 px, where the turn is
+  // wanted to a few tenths. Each top keypoint is followed into the bottom image from its
+  // match by Lucas-Kanade to a fraction of a pixel; one that does not converge within a
+  // pixel of its match is dropped.
+  std::vector<cv::Point2f> refined = bottom_at;
+  std::vector<unsigned char> status;
+  std::vector<float> error;
+  cv::calcOpticalFlowPyrLK(top, bottom, top_at, refined, status, error, cv::Size(15, 15), 1,
+                           cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01),
+                           cv::OPTFLOW_USE_INITIAL_FLOW);
+  for (std::size_t i = 0; i < top_at.size(); ++i) {
+    if (!status[i] || std::hypot(refined[i].x - bottom_at[i].x, refined[i].y - bottom_at[i].y) > 1.5) continue;
+    matches.push_back({equirectPixelDirection(g, top_at[i].x, top_at[i].y),
+                       equirectPixelDirection(g, refined[i].x, refined[i].y)});
+  }
+  return matches;
+}
+
+}  // namespace
+
+double epipolarResidual(const Eigen::Vector3d& b_top, const Eigen::Vector3d& b_bottom, const Eigen::Matrix3d& R,
+                        const Eigen::Vector3d& t) {
+  const Eigen::Vector3d normal = t.cross(R * b_bottom);
+  const double n = normal.norm();
+  if (!(n > 0.0)) return 0.0;
+  return std::asin(std::clamp(b_top.normalized().dot(normal / n), -1.0, 1.0));
+}
+
+PairRectification estimatePairRectification(const cv::Mat& top, const cv::Mat& bottom,
+                                             const PairRectificationOptions& options) {
+  checkImages(top, bottom, options);
+  PairRectification out;
+  if (!options.enabled) return out;
+  const cv::Mat top_grey = featureImage(top, options.feature_width);
+  const cv::Mat bottom_grey = featureImage(bottom, options.feature_width);
+  const std::vector<Match> matches = matchFeatures(top_grey, bottom_grey, options);
+  out.matches = static_cast<int>(matches.size());
+  if (out.matches < options.min_inliers) return out;
+  const double tolerance = options.inlier_tolerance_px * 2.0 * kPi / top_grey.cols;
+
+  // RANSAC: three matches fix the turn.
+  std::mt19937_64 random(options.seed);
+  std::uniform_int_distribution<std::size_t> pick(0, matches.size() - 1);
+  std::vector<std::size_t> best;
+  for (int iteration = 0; iteration < options.ransac_iterations; ++iteration) {
+    const std::vector<std::size_t> sample{pick(random), pick(random), pick(random)};
+    if (sample[0] == sample[1] || sample[1] == sample[2] || sample[0] == sample[2]) continue;
+    Pose pose;
+    if (!gaussNewton(matches, sample, 0.0, 4, pose) || pose.turn.norm() > options.max_turn_rad) continue;
+    std::vector<std::size_t> inliers = inliersOf(matches, pose, tolerance);
+    if (inliers.size() > best.size()) best = std::move(inliers);
+  }
+  if (static_cast<int>(best.size()) < options.min_inliers) return out;
+
+  // The turn on every inlier, the inliers counted again with it. The baseline stays on
+  // the top camera's pole: its lean shows only in the parallax of near points, a tenth
+  // of the turn's signal, and on the rendered rooms a fit of it picked up 1-18 mrad of
+  // lean from the matches' own errors where the bar stood true.
+  Pose pose;
+  std::vector<std::size_t> inliers = best;
+  Eigen::Matrix3d normal;
+  for (int round = 0; round < 3; ++round) {
+    if (!gaussNewton(matches, inliers, 0.5 * tolerance, 8, pose, &normal)) return out;
+    inliers = inliersOf(matches, pose, tolerance);
+    if (static_cast<int>(inliers.size()) < options.min_inliers) return out;
+  }
+  out.estimated = true;
+  out.residual_rad = medianAbsoluteResidual(matches, inliers, pose);
+  const double sigma = 1.4826 * out.residual_rad;
+  const Eigen::Matrix3d covariance = sigma * sigma * normal.inverse();
+  out.bottom_to_top = pose.rotation();
+  out.turn_rad = pose.turn.norm();
+  out.turn_standard_error_rad = angleStandardError(pose.turn, covariance);
+  out.inliers = static_cast<int>(inliers.size());
+  out.applied =
+      out.turn_rad >= options.min_angle_rad && out.turn_rad >= options.min_significance * out.turn_standard_error_rad;
+  if (out.applied) out.bottom_rotation = out.bottom_to_top;
+  return out;
+}
+
+}  // namespace room_reverb::core
