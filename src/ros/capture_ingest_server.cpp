@@ -46,6 +46,7 @@ CaptureIngestServer::CaptureIngestServer(::ros::NodeHandle nh, ::ros::NodeHandle
   options_.format = core::parseCaptureImageFormat(format, "parameter ~input_format");
   options_.leveling = core::parseLevelingSource(leveling, "parameter ~leveling");
   typedParam(private_nh_, "width", options_.width, 0);
+  typedParam(private_nh_, "rectify_pair", options_.rectification.enabled, true);
   if (options_.width < 0 || options_.width % 2 != 0) {
     throw core::InputError("parameter ~width must be 0 (as the input) or an even number of pixels");
   }

@@ -26,7 +26,7 @@ const char* kHelp = R"(usage: room_reverb room-model --top TOP.png (--bottom BOT
                               [--baseline M] [--fisheye] [--calibration FILE] [--width W]
                               [--leveling image|none] [--cloud CLOUD.pcd] [--range RANGE.tiff]
                               [--materials-override FILE.yaml] [--no-relief]
-                              [--no-range-correction]
+                              [--no-range-correction] [--no-rectification]
 
 The paper's visual route on a capture from two vertically aligned 360° cameras: spherical
 stereo along the image columns, the point cloud in the rig frame, the room box (walls,
@@ -62,8 +62,13 @@ or dual-fisheye with --fisheye. `room_reverb make-capture` renders test pairs.
                               each gets one, as relief_scattering in the model)
   --no-range-correction       ranges as the depth gives them; by default a disparity
                               offset of the stereo (1 mrad or more, on which the floor and
-                              the ceiling agree) is found from how they bend and every range
+                              the ceiling agree; constant, or with the azimuth as a tilted
+                              camera gives it) is found from how they bend and every range
                               corrected for it, with a warning saying by how much
+  --no-rectification          the pair as it comes; by default the bottom camera's turn
+                              against the top one (1 mrad or more) is found from features
+                              matched between the images and the bottom image turned to
+                              face as the top one does, with a warning saying by how much
 
 Prints the room's size, the objects, each face's and object's material with its
 confidence and runner-up (the next likeliest) and its relief (the share of its seen area
@@ -155,7 +160,7 @@ int runRoomModel(const std::vector<std::string>& raw) {
   const Arguments args(raw,
                        {"top", "bottom", "depth", "out", "baseline", "calibration", "width", "leveling", "cloud", "range",
                         "materials-override"},
-                       {"fisheye", "no-relief", "no-range-correction"});
+                       {"fisheye", "no-relief", "no-range-correction", "no-rectification"});
   if (!args.positional().empty()) throw UsageError("unexpected argument '" + args.positional().front() + "'");
   for (const char* required : {"top", "out"}) {
     if (!args.has(required)) throw UsageError(std::string("--") + required + " is required");
@@ -180,6 +185,8 @@ int runRoomModel(const std::vector<std::string>& raw) {
     throw UsageError("--leveling takes image or none (an IMU's orientation is for the capture_ingest node)");
   }
   ingest.width = args.intValue("width", 0);
+  // With --depth there is no second camera to rectify against.
+  ingest.rectification.enabled = !depth_given && !args.has("no-rectification");
   if (args.has("fisheye")) {
     ingest.format = CaptureImageFormat::kDualFisheye;
     ingest.calibration = loadDualFisheyeCalibration(args.value("calibration", defaultDualFisheyeCalibrationPath()));

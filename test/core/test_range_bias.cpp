@@ -1,8 +1,8 @@
 // The stereo's range bias found from the room's flat floor and ceiling
 // (vision/range_bias.h): the disparity offset's geometry against an independent
 // triangulation, and cluttered rooms (synthetic_capture/cluttered_rooms.h) scanned as
-// stereo ranges them (test/support/room_scan.h) and bent by known offsets, fitted with and
-// without the correction. A report over many rooms and offsets:
+// stereo ranges them (test/support/room_scan.h) and bent by known offsets, constant and
+// with the azimuth, fitted with and without the correction; a levelling that is off. A report over many rooms and offsets:
 // ROOM_REVERB_ROOMS=20 [ROOM_REVERB_FIRST_ROOM=1] [ROOM_REVERB_ROOM_SET=development]
 //   .ws/devel/lib/room_reverb/test_range_bias --gtest_filter='*Report*'
 #include <gtest/gtest.h>
@@ -128,7 +128,9 @@ TEST(RangeBias, AnUnbentCloudStaysAsItIs) {
     std::printf("[ measured ] %s unbent: found %+.3f +- %.3f px%s\n", room.name.c_str(),
                 found.offset_rad / kPixel2048, found.standard_error_rad / kPixel2048, found.applied ? ", applied" : "");
     EXPECT_FALSE(found.applied) << room.name;
+    EXPECT_FALSE(found.azimuth_applied) << room.name;
     EXPECT_LE(std::abs(found.offset_rad), 0.2 * kPixel2048) << room.name;
+    EXPECT_LE(std::hypot(found.cos_rad, found.sin_rad), 0.2 * kPixel2048) << room.name;
   }
 }
 
@@ -143,6 +145,60 @@ TEST(RangeBias, ARoomOpenToTheSkyHasItsFloor) {
   EXPECT_TRUE(found.floor_fitted);
   EXPECT_FALSE(found.ceiling_fitted);
   EXPECT_NEAR(found.offset_rad / kPixel2048, 0.8, 0.15);
+}
+
+TEST(RangeBias, AnOffsetThatGoesWithTheAzimuthIsFoundAndTakenOut) {
+  // The bottom camera tilted against the top one by one pixel at 2048 x 1024 (3 mrad) about
+  // axes of three directions, one of them with half a pixel of constant offset as well.
+  struct Case {
+    double cos_px, sin_px, constant_px;
+  };
+  const Case cases[] = {{1.0, 0.0, 0.0}, {-0.5, 0.87, 0.0}, {-0.34, -0.94, 0.5}};
+  int index = 1;
+  for (const Case& c : cases) {
+    const ClutteredRoom room = clutteredRoom(ClutterSet::kDevelopment, index++);
+    DisparityOffset planted;
+    planted.offset_rad = -c.constant_px * kPixel2048;
+    planted.cos_rad = -c.cos_px * kPixel2048;
+    planted.sin_rad = -c.sin_px * kPixel2048;
+    planted.applied = planted.azimuth_applied = true;
+    const PointCloud seen = removeDisparityOffset(stereoScan(room.scanned, 5), kBaseline, planted);
+    const DisparityOffset found = estimateDisparityOffset(seen, kBaseline, levelOf(room.scanned));
+    const double bent_error = worstBoxError(fitRoomLayout(seen).model, room.truth);
+    const double corrected_error =
+        worstBoxError(fitRoomLayout(removeDisparityOffset(seen, kBaseline, found)).model, room.truth);
+    std::printf("[ measured ] %s offset %+.2f px + (%+.2f, %+.2f) px with the azimuth: found %+.3f + (%+.3f, %+.3f) px "
+                "(+- %.3f)%s%s, plane tilt %.2f mrad; box error %.2f %% bent, %.2f %% corrected\n",
+                room.name.c_str(), c.constant_px, c.cos_px, c.sin_px, found.offset_rad / kPixel2048,
+                found.cos_rad / kPixel2048, found.sin_rad / kPixel2048, found.azimuth_standard_error_rad / kPixel2048,
+                found.applied ? " applied" : "", found.azimuth_applied ? ", azimuth applied" : "",
+                1e3 * found.plane_tilt_rad, 100.0 * bent_error, 100.0 * corrected_error);
+    EXPECT_TRUE(found.azimuth_applied) << room.name;
+    EXPECT_EQ(found.applied, c.constant_px != 0.0) << room.name;
+    EXPECT_NEAR(found.cos_rad / kPixel2048, c.cos_px, 0.25) << room.name;
+    EXPECT_NEAR(found.sin_rad / kPixel2048, c.sin_px, 0.25) << room.name;
+    // Opposite walls move opposite ways: the box's sizes change less than its walls.
+    EXPECT_GT(bent_error, 0.015) << room.name;
+    EXPECT_LE(corrected_error, 0.015) << room.name;
+  }
+}
+
+TEST(RangeBias, ALevelThatIsOffIsNotTakenForAnOffset) {
+  // The levelling 3 mrad off (a sixth of a degree): the floor and the ceiling tilt alike,
+  // which no disparity offset does.
+  for (int index = 4; index <= 5; ++index) {
+    const ClutteredRoom room = clutteredRoom(ClutterSet::kDevelopment, index);
+    const Eigen::Matrix3d off_level =
+        Eigen::AngleAxisd(0.003, Eigen::Vector3d(0.6, 0.8, 0.0)).toRotationMatrix() * levelOf(room.scanned);
+    const DisparityOffset found = estimateDisparityOffset(stereoScan(room.scanned, 6), kBaseline, off_level);
+    std::printf("[ measured ] %s levelled 3 mrad off: found %+.3f + (%+.3f, %+.3f) px, plane tilt %.2f mrad%s%s\n",
+                room.name.c_str(), found.offset_rad / kPixel2048, found.cos_rad / kPixel2048,
+                found.sin_rad / kPixel2048, 1e3 * found.plane_tilt_rad, found.applied ? ", applied" : "",
+                found.azimuth_applied ? ", azimuth applied" : "");
+    EXPECT_FALSE(found.applied) << room.name;
+    EXPECT_FALSE(found.azimuth_applied) << room.name;
+    EXPECT_NEAR(found.plane_tilt_rad, 0.003, 0.001) << room.name;
+  }
 }
 
 TEST(RangeBias, BadInput) {

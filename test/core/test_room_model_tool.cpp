@@ -267,3 +267,34 @@ TEST(RoomModelTool, MaterialsOverrideIsWrittenPrintedAndSimulates) {
   expectOneLineError(runTool(pair + bad_out + " --materials-override " + index), "objects[0].index: 99 is past the room's objects");
   EXPECT_FALSE(std::filesystem::exists(tempPath("room_model_tool_override_bad.yaml")));
 }
+
+TEST(RoomModelTool, APairWhoseCamerasStandTurnedIsRectified) {
+  // The meeting room as two cameras on a bar capture it: the bottom one turned by 0.7
+  // degrees against the top one (a scene file says so, as a user's would).
+  std::ifstream scene_in(kMr);
+  const std::string scene_text((std::istreambuf_iterator<char>(scene_in)), std::istreambuf_iterator<char>());
+  const std::string scene =
+      room_reverb::test::writeFile("rm_turned_scene.yaml", scene_text + "  camera:\n    bottom_turn_deg: [0.5, -0.4, 0.3]\n");
+  const std::string dir = tempPath("room_model_tool_turned").string();
+  auto run = runTool("make-capture --scene " + scene + " --out " + dir + " --width 1024");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string pair = "room-model --top " + dir + "/top.png --bottom " + dir + "/bottom.png --out ";
+  const std::string rectified = tempPath("room_model_tool_turned.yaml").string();
+  run = runTool(pair + rectified);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.err.find("warning: pair: the bottom camera stands turned 0.7"), std::string::npos) << run.err;
+  expectMeetingRoom(rectified, "turned cameras, rectified");
+  // As it comes, the stereo's columns do not meet: no room, or a wrong one.
+  const std::string kept = tempPath("room_model_tool_turned_kept.yaml").string();
+  run = runTool(pair + kept + " --no-rectification");
+  EXPECT_EQ(run.err.find("warning: pair:"), std::string::npos) << run.err;
+  if (run.exit_code == 0) {
+    const RoomModel truth = loadCaptureScene(kMr).room;
+    const RoomModel got = loadRoomModel(kept);
+    double worst = 0.0;
+    for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(got.size_m[k] / truth.size_m[k] - 1.0));
+    EXPECT_GT(worst, 0.03) << "a 0.7 degree turn should spoil the box";
+  } else {
+    EXPECT_EQ(run.exit_code, 2) << run.err;
+  }
+}

@@ -11,14 +11,17 @@
 //   ROOM_REVERB_REALISTIC_ROOMS=20 [ROOM_REVERB_FIRST_ROOM=201] [ROOM_REVERB_PHOTO_SOURCE=sweethome3d]
 //   [ROOM_REVERB_CAPTURE_WIDTH=2048] [ROOM_REVERB_ROOM_SET=development|development_large]
 //   [ROOM_REVERB_MIN_CONFIDENCE=0.35] (the material fallback's threshold)
-//   [ROOM_REVERB_CAMERA=consumer] (consumerCamera: lenses, seams, exposure, JPEG, lights)
+//   [ROOM_REVERB_CAMERA=consumer] (consumerCamera: lenses, seams, exposure, JPEG, lights, the
+//   cameras' turns on the bar; ROOM_REVERB_CAMERA_WITHOUT=... turns effects off)
+//   [ROOM_REVERB_PRINT_RECTIFICATION=1] (the bottom camera's turn found against the truth)
 //   [ROOM_REVERB_SAVE_PAIRS=DIR] (each room's two images as DIR/roomN_top.png, _bottom.png)
 //   [ROOM_REVERB_STEREO_STATS=1] (the stereo's range error by surface)
 //   [ROOM_REVERB_PRINT_FACES=1] (where each face of the box lies against the truth)
 //   [ROOM_REVERB_PRINT_OBJECTS=1] (the fitted objects: label, centre, size, yaw, material)
 //   [ROOM_REVERB_PRINT_RELIEF=1] (each face's and object's relief: seen share off its plane,
 //   scattering at 1 kHz)
-//   [ROOM_REVERB_ROUTE_WITHOUT=exposure,noise,subpixel,planes,texture,junctions,joints,patch_cap] (routeOptions)
+//   [ROOM_REVERB_ROUTE_WITHOUT=exposure,noise,subpixel,planes,texture,junctions,joints,patch_cap,range_bias,
+//   rectification] (routeOptions, ingestOptions)
 //   [ROOM_REVERB_SENSOR_NOISE=2] (the cameras' noise, grey levels at the capture's width)
 //   .ws/devel/lib/room_reverb/test_visual_route_realistic --gtest_filter='*Report*'
 #include <gtest/gtest.h>
@@ -198,7 +201,8 @@ double between(std::uint64_t& state, double lo, double hi) { return lo + (hi - l
 // each camera on its own auto-exposure (the bottom within a third of a stop of the top)
 // and white balance (8 % per channel), recorded at twice the capture's width with JPEG at
 // quality 70-95 and shrunk (a 4K live stream shrunk to 2048 px is 1.9 times; a Theta still
-// is 2.6-3.3 times), ceiling panels and windows glowing past white.
+// is 2.6-3.3 times), ceiling panels and windows glowing past white, and the two cameras
+// standing a little turned against each other on the bar.
 CameraImperfections consumerCamera(int index) {
   std::uint64_t state = 0x9e3779b97f4a7c15ULL ^ static_cast<std::uint64_t>(index);
   CameraImperfections c;
@@ -212,7 +216,7 @@ CameraImperfections consumerCamera(int index) {
   c.jpeg_quality = static_cast<int>(between(state, 70.0, 95.0));
   c.native_scale = 2;
   c.emitter_labels = {"light", "window"};
-  // ROOM_REVERB_CAMERA_WITHOUT=lenses,offset,vignetting,exposure,jpeg,native,lights turns effects off, to
+  // ROOM_REVERB_CAMERA_WITHOUT=lenses,offset,vignetting,exposure,jpeg,native,lights,mount turns effects off, to
   // measure what each costs.
   const char* without_env = std::getenv("ROOM_REVERB_CAMERA_WITHOUT");
   const std::string without = without_env != nullptr ? without_env : "";
@@ -225,7 +229,24 @@ CameraImperfections consumerCamera(int index) {
   if (off("jpeg")) c.jpeg_quality = 0;
   if (off("native")) c.native_scale = 1;
   if (off("lights")) c.emitter_labels.clear();
+  // The two cameras as screwed to the bar: the bottom one turned against the top one by up
+  // to a degree about each axis, the bar leaning up to half a degree off the top camera's
+  // pole.
+  for (int i = 0; i < 3; ++i) c.bottom_turn_deg[i] = between(state, -1.0, 1.0);
+  for (int i = 0; i < 2; ++i) c.top_turn_deg[i] = between(state, -0.5, 0.5);
+  if (off("mount")) c.bottom_turn_deg.setZero(), c.top_turn_deg.setZero();
   return c;
+}
+
+// As `room_reverb room-model` ingests a pair; ROOM_REVERB_ROUTE_WITHOUT=rectification takes
+// the pair as it comes.
+CaptureIngestOptions ingestOptions() {
+  CaptureIngestOptions o;
+  const char* without_env = std::getenv("ROOM_REVERB_ROUTE_WITHOUT");
+  if (without_env != nullptr && std::string(without_env).find("rectification") != std::string::npos) {
+    o.rectification.enabled = false;
+  }
+  return o;
 }
 
 RouteScore scoreRoom(const ClutteredRoom& room, int index, const std::string& photo_source, int width, bool consumer_camera = false) {
@@ -256,7 +277,18 @@ RouteScore scoreRoom(const ClutteredRoom& room, int index, const std::string& ph
   Eigen::Matrix3d image_rotation = Eigen::Matrix3d::Identity();
   try {
     // As `room_reverb room-model` runs it: the pair levelled by its images first.
-    const IngestedCapture ingested = ingestCapture(pair.top.color, pair.bottom.color, CaptureIngestOptions{});
+    const IngestedCapture ingested = ingestCapture(pair.top.color, pair.bottom.color, ingestOptions());
+    if (const char* print = std::getenv("ROOM_REVERB_PRINT_RECTIFICATION"); print != nullptr && *print == '1') {
+      const Eigen::Vector3d truth = capture.camera.bottom_turn_deg * kPi / 180.0;
+      const Eigen::Matrix3d true_turn =
+          truth.norm() > 0.0 ? Eigen::AngleAxisd(truth.norm(), truth.normalized()).toRotationMatrix()
+                             : Eigen::Matrix3d::Identity();
+      const PairRectification& r = ingested.rectification;
+      std::printf("             pair: turn %.2f mrad (truth %.2f), off by %.2f mrad, %d of %d matches%s\n",
+                  1e3 * r.turn_rad, 1e3 * truth.norm(),
+                  1e3 * Eigen::AngleAxisd(r.bottom_to_top.transpose() * true_turn).angle(), r.inliers, r.matches,
+                  r.applied ? ", rectified" : "");
+    }
     image_rotation = ingested.leveling.image_rotation;
     VisualRouteOptions options = routeOptions();
     options.level_from_cloud = ingested.level_from_cloud;
@@ -271,8 +303,11 @@ RouteScore scoreRoom(const ClutteredRoom& room, int index, const std::string& ph
                                        &route.times, &route.materials);
     if (const char* bias = std::getenv("ROOM_REVERB_PRINT_RANGE_BIAS"); bias != nullptr && *bias == '1') {
       const DisparityOffset found = estimateDisparityOffset(route.cloud, kBaseline, ingested.leveling.tilt);
-      std::printf("             disparity offset %+.2f mrad (floor %+.2f, ceiling %+.2f)%s\n", 1e3 * found.offset_rad,
-                  1e3 * found.floor_offset_rad, 1e3 * found.ceiling_offset_rad, found.applied ? " applied" : "");
+      std::printf("             disparity offset %+.2f mrad (floor %+.2f, ceiling %+.2f)%s, with the azimuth "
+                  "(%+.2f, %+.2f) mrad%s, planes' tilt %.2f mrad\n",
+                  1e3 * found.offset_rad, 1e3 * found.floor_offset_rad, 1e3 * found.ceiling_offset_rad,
+                  found.applied ? " applied" : "", 1e3 * found.cos_rad, 1e3 * found.sin_rad,
+                  found.azimuth_applied ? " applied" : "", 1e3 * found.plane_tilt_rad);
     }
     score.warnings = ingested.warnings;
   } catch (const InputError& e) {
@@ -285,9 +320,11 @@ RouteScore scoreRoom(const ClutteredRoom& room, int index, const std::string& ph
   score.face_relief = route.layout.face_relief;
   score.object_relief = route.layout.object_relief;
   score.warnings.insert(score.warnings.end(), route.layout.warnings.begin(), route.layout.warnings.end());
-  // The fit's rig frame is the camera's turned by the levelling's image rotation.
-  const Eigen::Matrix3d truth_from_fit = room.truth.rig_rotation.toRotationMatrix() * image_rotation.transpose() *
-                                         route.layout.room_from_rig.linear().transpose();
+  // The fit's rig frame is the top camera's (the rig's turned by the camera's own turn on
+  // the bar) turned by the levelling's image rotation.
+  const Eigen::Matrix3d top_on_bar = scanned.rig_rotation.toRotationMatrix().transpose() * pair.top.rotation.toRotationMatrix();
+  const Eigen::Matrix3d truth_from_fit = room.truth.rig_rotation.toRotationMatrix() * top_on_bar *
+                                         image_rotation.transpose() * route.layout.room_from_rig.linear().transpose();
   // The box's own sizes, each against the truth's axis nearest to it (a fit may swap x and
   // y); its turn against the truth is the yaw error, not a change of size.
   Eigen::Vector3d fitted_size = Eigen::Vector3d::Zero();

@@ -1,17 +1,26 @@
 #pragma once
 // The stereo's range bias, found from the room's own flat floor and ceiling. Spherical
 // stereo on a vertical baseline ranges a point from the angle between the two cameras'
-// views of it (its disparity). An offset in that angle, the same for every pixel (a
-// matcher's sub-pixel bias, a camera turned a little about the bar), bends the room: the range error grows with the
-// square of the distance, so a floor seen from 1.5 m up rises towards the rig beyond a
-// few metres, a ceiling sinks towards it and the far walls come in (a tenth of a degree
-// at a 0.2 m baseline brings a wall 6 m away 5 % nearer). Flat planes do not bend, so the
-// offset is the one that puts the points of the floor and of the ceiling back on a
-// horizontal plane each, found as a disparity: each point's measured disparity less the
-// disparity its ray has where it meets its plane is the offset plus the matcher's noise.
-// On the route's own stereo, which has none, the estimate scatters within about 1 mrad
-// (docs/visual-route.md), so only a larger offset, on which the floor and the ceiling
-// agree, is corrected.
+// views of it (its disparity). An offset in that angle bends the room: the range error
+// grows with the square of the distance, so a floor seen from 1.5 m up rises towards the
+// rig beyond a few metres, a ceiling sinks towards it and the far walls come in (a tenth
+// of a degree at a 0.2 m baseline brings a wall 6 m away 5 % nearer). Two kinds:
+//
+// - the same for every pixel: a matcher's sub-pixel bias, a camera whose projection
+//   places every elevation a little off;
+// - one that goes with the azimuth as a cos(az) + b sin(az): the bottom camera tilted
+//   against the top one (a tilt moves each point's elevation by the tilt times the sine
+//   of its azimuth from the tilt's axis, whatever its elevation), as the pair's
+//   rectification leaves it within a fraction of a mrad (vision/pair_rectification.h).
+//
+// Flat planes do not bend, so the offset is the one that puts the points of the floor and
+// of the ceiling back on a plane each, found as a disparity: each point's measured
+// disparity less the disparity its ray has where it meets its plane is the offset plus
+// the matcher's noise. The planes' common tilt against `level` (the levelling's own
+// error) is fitted alongside: it lifts the floor and the ceiling alike where an offset
+// with the azimuth lifts one and lowers the other. On the route's own stereo, which has
+// no offset, the estimate scatters within about 1 mrad (docs/visual-route.md), so only a
+// larger offset, on which the floor and the ceiling agree, is corrected.
 #include <Eigen/Core>
 
 #include "room_reverb/vision/point_cloud.h"
@@ -54,8 +63,10 @@ struct DisparityOffsetOptions {
   double min_polar_rad = 0.35;
 };
 
+// measured disparity = true disparity + offset_rad + cos_rad cos(az) + sin_rad sin(az),
+// az the azimuth of the point's ray in the rig frame.
 struct DisparityOffset {
-  double offset_rad = 0.0;          // measured disparity = true disparity + offset_rad
+  double offset_rad = 0.0;          // the same for every pixel
   double standard_error_rad = 0.0;  // of offset_rad, from the fit's scatter
   double floor_offset_rad = 0.0;    // the floor alone's, and the ceiling alone's
   double ceiling_offset_rad = 0.0;
@@ -63,6 +74,17 @@ struct DisparityOffset {
   bool ceiling_fitted = false;
   bool planes_agree = true;         // within max_disagreement of each other
   bool applied = false;             // large and clear enough to correct the cloud for
+  // The part that goes with the azimuth: fitted only where the room shows both its floor
+  // and its ceiling (with one plane it cannot be told from the plane's tilt).
+  double cos_rad = 0.0, sin_rad = 0.0;
+  double azimuth_standard_error_rad = 0.0;  // of its amplitude hypot(cos_rad, sin_rad)
+  Eigen::Vector2d floor_azimuth = Eigen::Vector2d::Zero();  // (cos, sin) of the floor alone, and of the ceiling
+  Eigen::Vector2d ceiling_azimuth = Eigen::Vector2d::Zero();
+  bool azimuth_planes_agree = true;
+  bool azimuth_applied = false;     // large, clear and agreed on: the cloud is corrected for it
+  double plane_tilt_rad = 0.0;      // the planes' tilt against `level`, fitted alongside
+  // The offset the cloud is corrected for along azimuth `az` [rad]: the parts applied.
+  double correctionAt(double azimuth_rad) const;
 };
 
 // The range from the top camera a point would have if its disparity, measured with
@@ -83,6 +105,9 @@ DisparityOffset estimateDisparityOffset(const PointCloud& cloud, double baseline
 // rangeWithoutDisparityOffset gives; points whose corrected disparity vanishes, or that lie
 // within min_polar_rad of the poles, keep their place.
 PointCloud removeDisparityOffset(const PointCloud& cloud, double baseline_m, double offset_rad,
+                                 double min_polar_rad = DisparityOffsetOptions{}.min_polar_rad);
+// The same for the parts of `offset` that are applied (DisparityOffset::correctionAt).
+PointCloud removeDisparityOffset(const PointCloud& cloud, double baseline_m, const DisparityOffset& offset,
                                  double min_polar_rad = DisparityOffsetOptions{}.min_polar_rad);
 
 }  // namespace room_reverb::core

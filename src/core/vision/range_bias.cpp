@@ -1,10 +1,12 @@
 #include "room_reverb/vision/range_bias.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
 
+#include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
 
 #include "cell_index.h"
@@ -20,7 +22,7 @@ constexpr double kSettled = 2e-5;  // rad: a fiftieth of the smallest offset cor
 
 // A point as the top camera sees it: range and the angle from the baseline's up direction.
 struct TopRay {
-  double range = 0.0, polar = 0.0;
+  double range = 0.0, polar = 0.0, azimuth = 0.0;
   Eigen::Vector3d direction = Eigen::Vector3d::Zero();  // unit, rig frame
   bool level_surface = false;  // its neighbourhood is a horizontal surface (floor, ceiling, a top)
 };
@@ -32,6 +34,7 @@ TopRay topRay(const Eigen::Vector3d& p, const Eigen::Vector3d& top) {
   if (ray.range > 0.0) {
     ray.direction = v / ray.range;
     ray.polar = std::acos(std::clamp(ray.direction.z(), -1.0, 1.0));
+    ray.azimuth = std::atan2(ray.direction.y(), ray.direction.x());
   }
   return ray;
 }
@@ -152,24 +155,36 @@ double rangeWithoutDisparityOffset(double range_m, double polar_rad, double base
 
 namespace {
 
+// The fit's parameters: the offset's constant part, the floor's and the ceiling's heights
+// from the top camera (indexed by the plane, 1 and 2), the offset's cos and sin parts, and
+// the planes' tilt against `level` along its x and y (their normal up + x ex + y ey).
+enum Parameter { kConstant = 0, kFloor = 1, kCeiling = 2, kCos = 3, kSin = 4, kTiltX = 5, kTiltY = 6, kParameters = 7 };
+using Vector7 = Eigen::Matrix<double, kParameters, 1>;
+using Matrix7 = Eigen::Matrix<double, kParameters, kParameters>;
+
+double offsetAt(const Vector7& x, double cos_az, double sin_az) {
+  return x[kConstant] + x[kCos] * cos_az + x[kSin] * sin_az;
+}
+
 // The rays of the floor and the ceiling of one pass, with what the fit needs of each.
 struct PlaneRays {
   std::vector<int> plane;  // 1 floor, 2 ceiling
-  std::vector<double> rho, measured, along, b_sin, b_cos;
-  Eigen::Vector3d start = Eigen::Vector3d::Zero();  // offset 0 and the planes' first heights
+  std::vector<double> rho, measured, along, across_x, across_y, cos_az, sin_az, b_sin, b_cos;
+  Vector7 start = Vector7::Zero();  // no offset, no tilt and the planes' first heights
   bool has[3] = {false, false, false};
 };
 
-// The rays with `offset_rad` taken out of their ranges: which of them lie on the floor and
-// the ceiling, how far out and the planes' first heights are judged on the cloud as
+// The rays with the offset `x` takes out of their ranges: which of them lie on the floor
+// and the ceiling, how far out and the planes' first heights are judged on the cloud as
 // corrected so far, since judged on the bent cloud the choice would follow the bend, and
 // the estimate with it.
-PlaneRays planeRays(std::vector<TopRay> rays, double offset_rad, double baseline_m, const Eigen::Matrix3d& level,
+PlaneRays planeRays(std::vector<TopRay> rays, const Vector7& x, double baseline_m, const Eigen::Matrix3d& level,
                     const DisparityOffsetOptions& options) {
   const Eigen::Vector3d top(0.0, 0.0, 0.5 * baseline_m);
   const Eigen::RowVector3d up = level.row(2);
   for (TopRay& ray : rays) {
-    const double range = rangeWithoutDisparityOffset(ray.range, ray.polar, baseline_m, offset_rad);
+    const double offset = offsetAt(x, std::cos(ray.azimuth), std::sin(ray.azimuth));
+    const double range = rangeWithoutDisparityOffset(ray.range, ray.polar, baseline_m, offset);
     ray.range = std::isfinite(range) ? range : 0.0;
   }
   rays.erase(std::remove_if(rays.begin(), rays.end(), [](const TopRay& ray) { return !(ray.range > 0.0); }), rays.end());
@@ -187,38 +202,48 @@ PlaneRays planeRays(std::vector<TopRay> rays, double offset_rad, double baseline
     out.plane.push_back(plane);
     out.rho.push_back(rho);
     out.along.push_back(along);
+    out.across_x.push_back(level.row(0).dot(ray.direction));
+    out.across_y.push_back(level.row(1).dot(ray.direction));
+    out.cos_az.push_back(std::cos(ray.azimuth));
+    out.sin_az.push_back(std::sin(ray.azimuth));
     out.b_sin.push_back(baseline_m * std::sin(ray.polar));
     out.b_cos.push_back(baseline_m * std::cos(ray.polar));
     out.measured.push_back(disparityAt(ray.range, out.b_sin.back(), out.b_cos.back()));
   }
   out.has[1] = !near_floor.empty(), out.has[2] = !near_ceiling.empty();
-  if (out.has[1]) out.start[1] = densestHeight(near_floor, options.bin_m, 2);
-  if (out.has[2]) out.start[2] = densestHeight(near_ceiling, options.bin_m, 2);
+  if (out.has[1]) out.start[kFloor] = densestHeight(near_floor, options.bin_m, 2);
+  if (out.has[2]) out.start[kCeiling] = densestHeight(near_ceiling, options.bin_m, 2);
   // Heights are of the levelled frame about the rig's centre; the rays start at the top
   // camera, up.dot(top) above it.
-  out.start[1] -= up.dot(top), out.start[2] -= up.dot(top);
+  out.start[kFloor] -= up.dot(top), out.start[kCeiling] -= up.dot(top);
   return out;
 }
 
-// The offset and the planes' heights (h[0], h[1] the floor, h[2] the ceiling, heights
-// from the top camera) fitted to the rays; `only` 1 or 2 fits the floor or the ceiling
-// alone, 0 both. Each point's measured disparity against the disparity its ray has where
-// it meets its plane: their difference is the offset plus the matcher's noise, linear in
-// the offset, with the noise in the measurement alone (a fit of heights would put the
-// noise into the slope as well and favour the points read short). What stands on the
-// floor or hangs from the ceiling is ranged short of the plane, with a disparity too
-// large: it only ever adds residuals above zero. So the residuals' spread is taken from
-// those below zero alone (1.48 median absolute deviations), and a point counts within
-// max_residual_scales of it either side, fully within huber_scales. Gauss-Newton, grown
-// outwards from the rig by grow_m every other iteration, so that the far points, which
-// tell the offset from the planes' heights, join a fit already near them.
-DisparityOffset fitDisparityOffset(const PlaneRays& r, const DisparityOffsetOptions& options, int only = 0) {
-  DisparityOffset out;
-  out.standard_error_rad = std::numeric_limits<double>::infinity();
-  const bool planes[3] = {false, r.has[1] && only != 2, r.has[2] && only != 1};
+struct OffsetFit {
+  Vector7 x = Vector7::Zero();
+  Matrix7 covariance = Matrix7::Zero();
+  bool fitted = false;  // points enough, and the normal equations solvable
+};
+
+// The parameters marked `free` fitted to the rays from `start` (the others held); the
+// planes whose heights are not free are left out. Each point's measured disparity
+// against the disparity its ray has where it meets its plane: their difference is the
+// offset plus the matcher's noise, with the noise in the measurement alone (a fit of
+// heights would put the noise into the slope as well and favour the points read short).
+// What stands on the floor or hangs from the ceiling is ranged short of the plane, with a
+// disparity too large: it only ever adds residuals above zero. So the residuals' spread
+// is taken from those below zero alone (1.48 median absolute deviations), and a point
+// counts within max_residual_scales of it either side, fully within huber_scales.
+// Gauss-Newton, grown outwards from the rig by grow_m every other iteration, so that the
+// far points, which tell the offset from the planes' heights, join a fit already near
+// them.
+OffsetFit fitDisparityOffset(const PlaneRays& r, const DisparityOffsetOptions& options,
+                             const std::array<bool, kParameters>& free, const Vector7& start) {
+  OffsetFit out;
+  const bool planes[3] = {false, r.has[1] && free[kFloor], r.has[2] && free[kCeiling]};
   if (r.plane.size() < 1000 || !(planes[1] || planes[2])) return out;
-  Eigen::Vector3d h = r.start;
-  Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+  Vector7 x = start;
+  Matrix7 normal = Matrix7::Zero();
   double residual = 0.0, scale = options.disparity_noise_rad;
   std::size_t used = 0;
   std::vector<double> residuals;
@@ -228,54 +253,75 @@ DisparityOffset fitDisparityOffset(const PlaneRays& r, const DisparityOffsetOpti
     const double reach = step + 1 < kSteps ? options.near_m + options.grow_m * step
                                            : std::numeric_limits<double>::infinity();
     normal.setZero();
-    Eigen::Vector3d gradient = Eigen::Vector3d::Zero();
+    Vector7 gradient = Vector7::Zero();
     residual = 0.0;
     used = 0;
     residuals.clear();
     for (std::size_t i = 0; i < r.plane.size(); ++i) {
       const int k = r.plane[i];
       if (!planes[k] || r.rho[i] > reach) continue;
-      const double to_plane = h[k] / r.along[i];
+      const double along = r.along[i] + x[kTiltX] * r.across_x[i] + x[kTiltY] * r.across_y[i];
+      const double to_plane = x[k] / along;
       if (!(to_plane > 0.0)) continue;
-      const double x = to_plane + r.b_cos[i];
       const double expected = disparityAt(to_plane, r.b_sin[i], r.b_cos[i]);
       // Far points are left out by where their plane is, not by their own range: cut by
       // the measured disparity, the far points read long would go and those read short
       // stay, which biases the offset up. Beyond this a point's disparity could be
       // corrected through zero by an offset searched.
       if (expected < 3.0 * options.max_offset_rad) continue;
-      const double e = r.measured[i] - h[0] - expected;
+      const double e = r.measured[i] - offsetAt(x, r.cos_az[i], r.sin_az[i]) - expected;
       if (std::abs(e) > options.max_residual_scales * scale) continue;
       if (e < 0.0) residuals.push_back(-e);
-      Eigen::Vector3d j = Eigen::Vector3d::Zero();
-      j[0] = -1.0;
-      // d(disparity)/d(height) through the range along the ray.
-      j[k] = r.b_sin[i] / (x * x + r.b_sin[i] * r.b_sin[i]) / r.along[i];
+      // d(disparity)/d(range along the ray), less its sign.
+      const double xx = to_plane + r.b_cos[i];
+      const double slope = r.b_sin[i] / (xx * xx + r.b_sin[i] * r.b_sin[i]);
+      Vector7 j = Vector7::Zero();
+      j[kConstant] = -1.0;
+      j[kCos] = -r.cos_az[i];
+      j[kSin] = -r.sin_az[i];
+      j[k] = slope / along;
+      j[kTiltX] = -slope * x[k] * r.across_x[i] / (along * along);
+      j[kTiltY] = -slope * x[k] * r.across_y[i] / (along * along);
+      for (int p = 0; p < kParameters; ++p) {
+        if (!free[static_cast<std::size_t>(p)]) j[p] = 0.0;
+      }
       const double w = std::abs(e) <= options.huber_scales * scale ? 1.0 : options.huber_scales * scale / std::abs(e);
       normal += w * j * j.transpose();
       gradient += w * j * e;
       residual += w * e * e;
       ++used;
     }
-    for (int k = 1; k < 3; ++k) {
-      if (!planes[k] || normal(k, k) == 0.0) normal(k, k) = 1.0;  // an absent plane stays put
+    for (int p = 0; p < kParameters; ++p) {
+      // A held parameter, or an absent plane, stays put.
+      if (normal(p, p) == 0.0) normal(p, p) = 1.0;
     }
-    if (used < 1000 || std::abs(normal.determinant()) < 1e-300) break;
-    h += normal.ldlt().solve(-gradient);
-    h[0] = std::clamp(h[0], -options.max_offset_rad, options.max_offset_rad);
+    const Eigen::FullPivLU<Matrix7> lu(normal);
+    if (used < 1000 || lu.rank() < kParameters) return out;
+    x += lu.solve(-gradient);
+    x[kConstant] = std::clamp(x[kConstant], -options.max_offset_rad, options.max_offset_rad);
     if (residuals.empty()) break;
     std::nth_element(residuals.begin(), residuals.begin() + static_cast<std::ptrdiff_t>(residuals.size() / 2),
                      residuals.end());
     scale = std::max(1e-5, 1.4826 * residuals[residuals.size() / 2]);
   }
-  out.offset_rad = h[0];
-  // The offset's standard error from the fit's own scatter: the weighted residuals'
-  // variance times the normal matrix's inverse.
-  if (used >= 1000) {
-    const double variance = residual / static_cast<double>(used - 3);
-    out.standard_error_rad = std::sqrt(std::max(0.0, normal.inverse()(0, 0) * variance));
-  }
+  out.x = x;
+  // The standard errors from the fit's own scatter: the weighted residuals' variance
+  // times the normal matrix's inverse.
+  int count = 0;
+  for (bool f : free) count += f ? 1 : 0;
+  const double variance = residual / static_cast<double>(used - static_cast<std::size_t>(count));
+  out.covariance = normal.inverse() * variance;
+  out.fitted = true;
   return out;
+}
+
+// The standard error of the amplitude of (cos, sin) along its own direction.
+double amplitudeStandardError(const Vector7& x, const Matrix7& covariance) {
+  const Eigen::Vector2d v(x[kCos], x[kSin]);
+  const Eigen::Matrix2d c = covariance.block<2, 2>(kCos, kCos);
+  if (!(v.norm() > 0.0)) return std::sqrt(std::max(0.0, c.diagonal().maxCoeff()));
+  const Eigen::Vector2d u = v.normalized();
+  return std::sqrt(std::max(0.0, u.dot(c * u)));
 }
 
 }  // namespace
@@ -305,41 +351,89 @@ DisparityOffset estimateDisparityOffset(const PointCloud& cloud, double baseline
   const Eigen::Vector3d top(0.0, 0.0, 0.5 * baseline_m);
   std::vector<TopRay> voxels = voxelRays(sample, top, options);
   markLevelSurfaces(voxels, top, level.row(2), options);
-  PlaneRays rays = planeRays(voxels, 0.0, baseline_m, level, options);
-  DisparityOffset total = fitDisparityOffset(rays, options);
-  for (int pass = 1; pass < 3 && std::isfinite(total.standard_error_rad); ++pass) {
-    rays = planeRays(voxels, total.offset_rad, baseline_m, level, options);
-    const DisparityOffset more = fitDisparityOffset(rays, options);
-    total.offset_rad = std::clamp(total.offset_rad + more.offset_rad, -options.max_offset_rad, options.max_offset_rad);
-    total.standard_error_rad = more.standard_error_rad;
-    if (std::abs(more.offset_rad) < kSettled) break;
+  PlaneRays rays = planeRays(voxels, Vector7::Zero(), baseline_m, level, options);
+  // The part with the azimuth only where both planes are seen: with one, an offset that
+  // goes with the azimuth bends it as its tilt does.
+  const bool both_planes = rays.has[1] && rays.has[2];
+  const std::array<bool, kParameters> joint{true, true, true, both_planes, both_planes, true, true};
+  OffsetFit fit = fitDisparityOffset(rays, options, joint, rays.start);
+  Vector7 total = fit.x;  // the offsets found so far; the heights and the tilt of the last pass
+  for (int pass = 1; pass < 3 && fit.fitted; ++pass) {
+    rays = planeRays(voxels, total, baseline_m, level, options);
+    Vector7 start = rays.start;
+    start[kTiltX] = total[kTiltX], start[kTiltY] = total[kTiltY];
+    const OffsetFit more = fitDisparityOffset(rays, options, joint, start);
+    if (!more.fitted) break;
+    fit = more;
+    const Eigen::Vector3d step(more.x[kConstant], more.x[kCos], more.x[kSin]);
+    for (int p : {kConstant, kCos, kSin}) total[p] += more.x[p];
+    total[kConstant] = std::clamp(total[kConstant], -options.max_offset_rad, options.max_offset_rad);
+    for (int p : {kFloor, kCeiling, kTiltX, kTiltY}) total[p] = more.x[p];
+    if (step.cwiseAbs().maxCoeff() < kSettled) break;
   }
-  // A disparity offset bends the floor and the ceiling alike; where each alone asks for a
-  // different one, what bends them is not the offset (a matcher's bias on one of them, a
-  // floor that is not flat), and nothing is corrected.
-  const DisparityOffset floor = fitDisparityOffset(rays, options, 1);
-  const DisparityOffset ceiling = fitDisparityOffset(rays, options, 2);
-  total.floor_offset_rad = total.offset_rad + floor.offset_rad;
-  total.ceiling_offset_rad = total.offset_rad + ceiling.offset_rad;
-  total.floor_fitted = std::isfinite(floor.standard_error_rad);
-  total.ceiling_fitted = std::isfinite(ceiling.standard_error_rad);
-  const bool both = total.floor_fitted && total.ceiling_fitted;
-  total.planes_agree = !both || std::abs(total.floor_offset_rad - total.ceiling_offset_rad) <=
-                                    std::max(options.max_disagreement_rad,
-                                             options.max_disagreement_share * std::abs(total.offset_rad));
-  total.applied = std::abs(total.offset_rad) >= options.min_offset_rad &&
-                  std::abs(total.offset_rad) >= options.min_significance * total.standard_error_rad &&
-                  std::abs(total.offset_rad) < options.max_offset_rad && total.planes_agree;
-  return total;
+  DisparityOffset out;
+  out.standard_error_rad = std::numeric_limits<double>::infinity();
+  out.azimuth_standard_error_rad = std::numeric_limits<double>::infinity();
+  if (!fit.fitted) return out;
+  out.offset_rad = total[kConstant];
+  out.standard_error_rad = std::sqrt(std::max(0.0, fit.covariance(kConstant, kConstant)));
+  out.cos_rad = total[kCos];
+  out.sin_rad = total[kSin];
+  out.azimuth_standard_error_rad = both_planes ? amplitudeStandardError(total, fit.covariance) : 0.0;
+  out.plane_tilt_rad = std::atan(std::hypot(total[kTiltX], total[kTiltY]));
+  // An offset bends the floor and the ceiling alike; where each alone asks for a different
+  // one, what bends them is not the offset (a matcher's bias on one of them, a floor that
+  // is not flat), and nothing is corrected. Each alone holds the planes' tilt the two
+  // together found.
+  Vector7 held = rays.start;
+  held[kTiltX] = fit.x[kTiltX], held[kTiltY] = fit.x[kTiltY];
+  const OffsetFit floor =
+      fitDisparityOffset(rays, options, {true, true, false, both_planes, both_planes, false, false}, held);
+  const OffsetFit ceiling =
+      fitDisparityOffset(rays, options, {true, false, true, both_planes, both_planes, false, false}, held);
+  out.floor_fitted = floor.fitted;
+  out.ceiling_fitted = ceiling.fitted;
+  out.floor_offset_rad = total[kConstant] + floor.x[kConstant];
+  out.ceiling_offset_rad = total[kConstant] + ceiling.x[kConstant];
+  out.floor_azimuth = Eigen::Vector2d(total[kCos] + floor.x[kCos], total[kSin] + floor.x[kSin]);
+  out.ceiling_azimuth = Eigen::Vector2d(total[kCos] + ceiling.x[kCos], total[kSin] + ceiling.x[kSin]);
+  const bool both = out.floor_fitted && out.ceiling_fitted;
+  const auto agree = [&](double difference, double size) {
+    return difference <= std::max(options.max_disagreement_rad, options.max_disagreement_share * size);
+  };
+  out.planes_agree = !both || agree(std::abs(out.floor_offset_rad - out.ceiling_offset_rad), std::abs(out.offset_rad));
+  out.applied = std::abs(out.offset_rad) >= options.min_offset_rad &&
+                std::abs(out.offset_rad) >= options.min_significance * out.standard_error_rad &&
+                std::abs(out.offset_rad) < options.max_offset_rad && out.planes_agree;
+  const double amplitude = std::hypot(out.cos_rad, out.sin_rad);
+  out.azimuth_planes_agree = both && agree((out.floor_azimuth - out.ceiling_azimuth).norm(), amplitude);
+  out.azimuth_applied = both_planes && both && amplitude >= options.min_offset_rad &&
+                        amplitude >= options.min_significance * out.azimuth_standard_error_rad &&
+                        amplitude < options.max_offset_rad && out.azimuth_planes_agree;
+  return out;
+}
+
+double DisparityOffset::correctionAt(double azimuth_rad) const {
+  return (applied ? offset_rad : 0.0) +
+         (azimuth_applied ? cos_rad * std::cos(azimuth_rad) + sin_rad * std::sin(azimuth_rad) : 0.0);
 }
 
 PointCloud removeDisparityOffset(const PointCloud& cloud, double baseline_m, double offset_rad, double min_polar_rad) {
+  DisparityOffset constant;
+  constant.offset_rad = offset_rad;
+  constant.applied = true;
+  return removeDisparityOffset(cloud, baseline_m, constant, min_polar_rad);
+}
+
+PointCloud removeDisparityOffset(const PointCloud& cloud, double baseline_m, const DisparityOffset& offset,
+                                 double min_polar_rad) {
   PointCloud out = cloud;
   const Eigen::Vector3d top(0.0, 0.0, 0.5 * baseline_m);
   for (CloudPoint& c : out.points) {
     const TopRay ray = topRay(c.p.cast<double>(), top);
     if (!(ray.range > 0.0) || !offPoles(ray.polar, min_polar_rad)) continue;
-    const double range = rangeWithoutDisparityOffset(ray.range, ray.polar, baseline_m, offset_rad);
+    const double range =
+        rangeWithoutDisparityOffset(ray.range, ray.polar, baseline_m, offset.correctionAt(ray.azimuth));
     if (std::isfinite(range)) c.p = (top + range * ray.direction).cast<float>();
   }
   return out;

@@ -25,24 +25,40 @@ const PointCloud& withoutDisparityOffset(const PointCloud& cloud, double baselin
                                          std::string& note) {
   if (!options.enabled) return cloud;
   const DisparityOffset bias = estimateDisparityOffset(cloud, baseline_m, level, options);
-  if (!bias.applied) return cloud;
-  storage = removeDisparityOffset(cloud, baseline_m, bias.offset_rad, options.min_polar_rad);
-  // What the offset does to a point level with the rig 5 m away, for the user to judge.
-  const double at_5m = rangeWithoutDisparityOffset(5.0, 0.5 * M_PI, baseline_m, bias.offset_rad);
-  char planes[80];
-  if (bias.floor_fitted && bias.ceiling_fitted) {
-    std::snprintf(planes, sizeof planes, "floor %+.2f, ceiling %+.2f mrad", 1e3 * bias.floor_offset_rad,
-                  1e3 * bias.ceiling_offset_rad);
-  } else {
-    std::snprintf(planes, sizeof planes, "from the %s alone", bias.ceiling_fitted ? "ceiling" : "floor");
+  if (!bias.applied && !bias.azimuth_applied) return cloud;
+  storage = removeDisparityOffset(cloud, baseline_m, bias, options.min_polar_rad);
+  const bool both = bias.floor_fitted && bias.ceiling_fitted;
+  std::string line = std::string("range: the ") +
+                     (both ? "floor and ceiling lie" : (bias.ceiling_fitted ? "ceiling lies" : "floor lies")) +
+                     " flat with the stereo's disparity offset by";
+  char part[200];
+  if (bias.applied) {
+    // What the offset does to a point level with the rig 5 m away, for the user to judge.
+    const double at_5m = rangeWithoutDisparityOffset(5.0, 0.5 * M_PI, baseline_m, bias.offset_rad);
+    char planes[80];
+    if (both) {
+      std::snprintf(planes, sizeof planes, "floor %+.2f, ceiling %+.2f mrad", 1e3 * bias.floor_offset_rad,
+                    1e3 * bias.ceiling_offset_rad);
+    } else {
+      std::snprintf(planes, sizeof planes, "from the %s alone", bias.ceiling_fitted ? "ceiling" : "floor");
+    }
+    std::snprintf(part, sizeof part, " %+.2f mrad (%+.2f px at this width; %s; %+.1f %% at 5 m)",
+                  1e3 * bias.offset_rad, bias.offset_rad * image_rows / M_PI, planes,
+                  std::isfinite(at_5m) ? 100.0 * (at_5m / 5.0 - 1.0) : 100.0);
+    line += part;
   }
-  char line[280];
-  std::snprintf(line, sizeof line,
-                "range: the %s lie%s flat with the stereo's disparity offset by %+.2f mrad (%+.2f px at this width; "
-                "%s); every range corrected for it (%+.1f %% at 5 m)",
-                bias.floor_fitted && bias.ceiling_fitted ? "floor and ceiling" : (bias.ceiling_fitted ? "ceiling" : "floor"),
-                bias.floor_fitted && bias.ceiling_fitted ? "" : "s", 1e3 * bias.offset_rad,
-                bias.offset_rad * image_rows / M_PI, planes, std::isfinite(at_5m) ? 100.0 * (at_5m / 5.0 - 1.0) : 100.0);
+  if (bias.azimuth_applied) {
+    // An offset that goes with the azimuth: a camera tilted against the other.
+    const double amplitude = std::hypot(bias.cos_rad, bias.sin_rad);
+    const double at_5m = rangeWithoutDisparityOffset(5.0, 0.5 * M_PI, baseline_m, amplitude);
+    std::snprintf(part, sizeof part,
+                  "%s %.2f mrad with the azimuth, greatest towards %.0f deg (a camera tilted against the other; "
+                  "%+.1f %% at 5 m there)",
+                  bias.applied ? " and" : "", 1e3 * amplitude, std::atan2(bias.sin_rad, bias.cos_rad) * 180.0 / M_PI,
+                  std::isfinite(at_5m) ? 100.0 * (at_5m / 5.0 - 1.0) : 100.0);
+    line += part;
+  }
+  line += "; every range corrected for it";
   note = line;
   return storage;
 }
