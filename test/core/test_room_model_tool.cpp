@@ -283,7 +283,9 @@ TEST(RoomModelTool, APairWhoseCamerasStandTurnedIsRectified) {
   run = runTool(pair + rectified);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_NE(run.err.find("warning: pair: the bottom camera stands turned 0.7"), std::string::npos) << run.err;
-  expectMeetingRoom(rectified, "turned cameras, rectified");
+  // Standing true, this pair comes within 0.7 % at this width; the turn, found within
+  // 0.2-0.9 mrad here, leaves a tilt that moves the far wall by up to 0.5 % more.
+  expectMeetingRoom(rectified, "turned cameras, rectified", 0.015);
   // As it comes, the stereo's columns do not meet: no room, or a wrong one.
   const std::string kept = tempPath("room_model_tool_turned_kept.yaml").string();
   run = runTool(pair + kept + " --no-rectification");

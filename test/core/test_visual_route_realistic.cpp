@@ -216,7 +216,7 @@ CameraImperfections consumerCamera(int index) {
   c.jpeg_quality = static_cast<int>(between(state, 70.0, 95.0));
   c.native_scale = 2;
   c.emitter_labels = {"light", "window"};
-  // ROOM_REVERB_CAMERA_WITHOUT=lenses,offset,vignetting,exposure,jpeg,native,lights,mount turns effects off, to
+  // ROOM_REVERB_CAMERA_WITHOUT=lenses,offset,vignetting,exposure,jpeg,native,lights,mount,lean turns effects off, to
   // measure what each costs.
   const char* without_env = std::getenv("ROOM_REVERB_CAMERA_WITHOUT");
   const std::string without = without_env != nullptr ? without_env : "";
@@ -235,6 +235,7 @@ CameraImperfections consumerCamera(int index) {
   for (int i = 0; i < 3; ++i) c.bottom_turn_deg[i] = between(state, -1.0, 1.0);
   for (int i = 0; i < 2; ++i) c.top_turn_deg[i] = between(state, -0.5, 0.5);
   if (off("mount")) c.bottom_turn_deg.setZero(), c.top_turn_deg.setZero();
+  if (off("lean")) c.top_turn_deg.setZero();
   return c;
 }
 

@@ -66,6 +66,10 @@ IngestedCapture ingestCapture(const cv::Mat& top, const cv::Mat& bottom, const C
   const cv::Mat top_as_captured = out.top, bottom_as_captured = out.bottom;  // headers: no copies
   out.rectification = estimatePairRectification(out.top, out.bottom, options.rectification);
   const PairRectification& pair = out.rectification;
+  // A turned bottom image is resampled where the top one is not, or along other
+  // fractions of a pixel; bilinear weights smooth each by its own amount and the stereo
+  // would match two images of different sharpness. Bicubic keeps both nearly as sharp.
+  const int interpolation = pair.applied ? cv::INTER_CUBIC : cv::INTER_LINEAR;
   if (pair.applied) {
     char line[320];
     std::snprintf(line, sizeof line,
@@ -73,7 +77,7 @@ IngestedCapture ingestCapture(const cv::Mat& top, const cv::Mat& bottom, const C
                   "agree); the pair is rectified",
                   pair.turn_rad * 180.0 / M_PI, pair.inliers, pair.matches);
     out.warnings.emplace_back(line);
-    out.bottom = rotateEquirect(bottom_as_captured, pair.bottom_rotation, cv::INTER_LINEAR);
+    out.bottom = rotateEquirect(bottom_as_captured, pair.bottom_rotation, interpolation);
   } else if (options.rectification.enabled && !pair.estimated) {
     out.warnings.push_back("pair: too few features match between the two images (" + std::to_string(pair.matches) +
                            ") to tell how the cameras stand; the pair is used as it comes");
@@ -102,8 +106,8 @@ IngestedCapture ingestCapture(const cv::Mat& top, const cv::Mat& bottom, const C
       break;
     }
   }
-  out.top = rotateEquirect(top_as_captured, out.leveling.image_rotation, cv::INTER_LINEAR);
-  out.bottom = rotateEquirect(bottom_as_captured, out.leveling.image_rotation * pair.bottom_rotation, cv::INTER_LINEAR);
+  out.top = rotateEquirect(top_as_captured, out.leveling.image_rotation, interpolation);
+  out.bottom = rotateEquirect(bottom_as_captured, out.leveling.image_rotation * pair.bottom_rotation, interpolation);
   return out;
 }
 

@@ -141,6 +141,25 @@ cv::Mat featureImage(const cv::Mat& image, int width) {
   return grey;
 }
 
+// The image with its local mean taken out and its local contrast brought to one (a
+// Gaussian window of about 4 px), as 8 bits about 128: two cameras on their own exposure
+// and white balance, and the light their lenses lose towards the rim, differ by a gain
+// and an offset that vary slowly across the image, and Lucas-Kanade, which compares grey
+// levels, would move each match along their slope.
+cv::Mat contrastNormalised(const cv::Mat& grey) {
+  cv::Mat f, mean, square, variance;
+  grey.convertTo(f, CV_32F);
+  cv::GaussianBlur(f, mean, cv::Size(0, 0), 4.0);
+  cv::GaussianBlur(f.mul(f), square, cv::Size(0, 0), 4.0);
+  variance = square - mean.mul(mean);
+  cv::Mat deviation;
+  cv::sqrt(cv::max(variance, 1.0), deviation);
+  cv::Mat normalised = (f - mean) / deviation;
+  cv::Mat out;
+  normalised.convertTo(out, CV_8U, 40.0, 128.0);
+  return out;
+}
+
 std::vector<Match> matchFeatures(const cv::Mat& top, const cv::Mat& bottom, const PairRectificationOptions& o) {
   const EquirectGeometry g{top.cols, top.rows};
   // Rows within max_elevation_rad of the horizon.
@@ -179,7 +198,8 @@ std::vector<Match> matchFeatures(const cv::Mat& top, const cv::Mat& bottom, cons
   std::vector<cv::Point2f> refined = bottom_at;
   std::vector<unsigned char> status;
   std::vector<float> error;
-  cv::calcOpticalFlowPyrLK(top, bottom, top_at, refined, status, error, cv::Size(15, 15), 1,
+  cv::calcOpticalFlowPyrLK(contrastNormalised(top), contrastNormalised(bottom), top_at, refined, status, error,
+                           cv::Size(15, 15), 1,
                            cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01),
                            cv::OPTFLOW_USE_INITIAL_FLOW);
   for (std::size_t i = 0; i < top_at.size(); ++i) {
