@@ -26,12 +26,17 @@
 //   layout_s       median wall-clock time of the layout fit (cloud -> cuboids) [s]
 //   materials_s    median wall-clock time of the material step [s]
 //   relief_s       median wall-clock time of the relief step [s]
+// BM_PairRectification times the pair's rectification (vision/pair_rectification.h: the
+// features at 1024 px, the fit, the bottom image turned bicubic) on each scene rendered
+// with its bottom camera turned by (0.4, -0.6, 0.3) degrees against the top one:
+//   turn_err_mrad  the turn found against the truth [mrad]
 // Run: scripts/bench (all benchmarks) or .ws/devel/lib/room_reverb/bench_visual_route
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <opencv2/imgproc.hpp>
 #include <utility>
 #include <string>
 #include <vector>
@@ -40,6 +45,8 @@
 #include "room_reverb/common/memory_reuse.h"
 #include "room_reverb/synthetic_capture/capture_scene.h"
 #include "room_reverb/vision/depth_cloud.h"
+#include "room_reverb/vision/equirect_rotation.h"
+#include "room_reverb/vision/pair_rectification.h"
 #include "room_reverb/vision/oriented_box_iou.h"
 #include "room_reverb/vision/spherical_stereo.h"
 #include "room_reverb/vision/texture_family.h"
@@ -154,6 +161,31 @@ BENCHMARK(BM_PairToPointCloudKeepingEveryMatch)->DenseRange(0, static_cast<int>(
 void BM_PairToPointCloudExposedApart(benchmark::State& state) { pairToPointCloud(state, true); }
 BENCHMARK(BM_PairToPointCloudExposedApart)->DenseRange(0, static_cast<int>(kScenes.size()) - 1)
     ->Unit(benchmark::kMillisecond)->Iterations(3)->UseRealTime();
+
+const Eigen::Vector3d kBottomTurnDeg(0.4, -0.6, 0.3);
+
+void BM_PairRectification(benchmark::State& state) {
+  const std::string name = kScenes[static_cast<std::size_t>(state.range(0))];
+  static std::map<std::string, StereoCapture> cache;
+  auto it = cache.find(name);
+  if (it == cache.end()) {
+    CaptureScene s = scene(name);
+    s.options.camera.bottom_turn_deg = kBottomTurnDeg;
+    it = cache.emplace(name, renderCapture(s.room, MaterialLibrary::loadDefault(), s.options)).first;
+  }
+  const StereoCapture& c = it->second;
+  state.SetLabel(name);
+  PairRectification found;
+  for (auto _ : state) {
+    found = estimatePairRectification(c.top.color, c.bottom.color);
+    const cv::Mat turned = rotateEquirect(c.bottom.color, found.bottom_rotation, cv::INTER_CUBIC);
+    benchmark::DoNotOptimize(turned.data);
+  }
+  const double angle = kBottomTurnDeg.norm() * kPi / 180.0;
+  const Eigen::Matrix3d truth = Eigen::AngleAxisd(angle, kBottomTurnDeg.normalized()).toRotationMatrix();
+  state.counters["turn_err_mrad"] = 1e3 * Eigen::AngleAxisd(found.bottom_to_top.transpose() * truth).angle();
+}
+BENCHMARK(BM_PairRectification)->DenseRange(0, static_cast<int>(kScenes.size()) - 1)->Unit(benchmark::kMillisecond);
 
 void BM_PointCloudToRoomModel(benchmark::State& state) {
   const std::string name = kScenes[static_cast<std::size_t>(state.range(0))];

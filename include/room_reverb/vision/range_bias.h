@@ -33,9 +33,13 @@ struct DisparityOffsetOptions {
   // a tenth of the disparity of a point 2 m away at a 0.2 m baseline.
   double max_offset_rad = 0.01;
   // Applied only where it is at least min_offset_rad and min_significance standard errors
-  // of its own fit. On the route's rendered rooms, which have no offset, the estimate
-  // reaches 0.8 mrad where the planes agree; corrected, that costs up to 1 % of the box.
-  double min_offset_rad = 1e-3;
+  // of its own fit. On rendered rooms with no offset, the constant part reaches 0.8 mrad
+  // where the planes agree through the generator's ideal camera, and 1.0-1.5 mrad through
+  // its consumer camera (lenses, JPEG, exposure), whose floors and ceilings then read it
+  // together while the walls stand where they are; corrected, that puts the box 1.5-4.6 %
+  // long. The part with the azimuth reads at most 0.12 mrad there.
+  double min_offset_rad = 2e-3;
+  double min_azimuth_offset_rad = 1e-3;  // of the amplitude of the part with the azimuth
   double min_significance = 4.0;
   // And only where the floor alone and the ceiling alone ask for offsets within the larger
   // of these of each other (a room without a ceiling has its floor only).

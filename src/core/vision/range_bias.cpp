@@ -331,7 +331,8 @@ DisparityOffset estimateDisparityOffset(const PointCloud& cloud, double baseline
   if (!(baseline_m > 0.0) || !std::isfinite(baseline_m)) throw InputError("range bias: the baseline must be positive");
   if (!(options.max_offset_rad > 0.0 && options.max_offset_rad < 0.1) || !(options.voxel_size_m > 0.0) ||
       !(options.bin_m > 0.0) || !(options.near_m > 0.0) || !(options.grow_m > 0.0) || !(options.disparity_noise_rad > 0.0) || !(options.huber_scales > 0.0) || !(options.max_residual_scales > 0.0) ||
-      !(options.min_offset_rad >= 0.0) || !(options.min_significance >= 0.0) ||
+      !(options.min_offset_rad >= 0.0) || !(options.min_azimuth_offset_rad >= 0.0) ||
+      !(options.min_significance >= 0.0) ||
       !(options.min_polar_rad >= 0.0 && options.min_polar_rad < 1.5)) {
     throw InputError("range bias: max_offset_rad must be in (0, 0.1), min_polar_rad in [0, 1.5) and the sizes, noise "
                      "and thresholds positive");
@@ -407,7 +408,7 @@ DisparityOffset estimateDisparityOffset(const PointCloud& cloud, double baseline
                 std::abs(out.offset_rad) < options.max_offset_rad && out.planes_agree;
   const double amplitude = std::hypot(out.cos_rad, out.sin_rad);
   out.azimuth_planes_agree = both && agree((out.floor_azimuth - out.ceiling_azimuth).norm(), amplitude);
-  out.azimuth_applied = both_planes && both && amplitude >= options.min_offset_rad &&
+  out.azimuth_applied = both_planes && both && amplitude >= options.min_azimuth_offset_rad &&
                         amplitude >= options.min_significance * out.azimuth_standard_error_rad &&
                         amplitude < options.max_offset_rad && out.azimuth_planes_agree;
   return out;
