@@ -61,10 +61,11 @@ or dual-fisheye with --fisheye. `room_reverb make-capture` renders test pairs.
                               standing on the faces or inside the objects' boxes (by default
                               each gets one, as relief_scattering in the model)
   --no-range-correction       ranges as the depth gives them; by default a disparity
-                              offset of the stereo (1 mrad or more, on which the floor and
-                              the ceiling agree; constant, or with the azimuth as a tilted
-                              camera gives it) is found from how they bend and every range
-                              corrected for it, with a warning saying by how much
+                              offset of the stereo on which the floor and the ceiling agree
+                              (2 mrad or more the same everywhere, 1 mrad or more with the
+                              azimuth as a tilted camera gives it) is found from how they
+                              bend and every range corrected for it, with a warning saying
+                              by how much
   --no-rectification          the pair as it comes; by default the bottom camera's turn
                               against the top one (1 mrad or more) is found from features
                               matched between the images and the bottom image turned to
