@@ -27,7 +27,7 @@
 //   materials_s    median wall-clock time of the material step [s]
 //   relief_s       median wall-clock time of the relief step [s]
 // BM_PairRectification times the pair's rectification (vision/pair_rectification.h: the
-// features at 1024 px, the fit, the bottom image turned bicubic) on each scene rendered
+// features at feature_width px, the fit, the bottom image turned bicubic) on each scene rendered
 // with its bottom camera turned by (0.4, -0.6, 0.3) degrees against the top one:
 //   turn_err_mrad  the turn found against the truth [mrad]
 // Run: scripts/bench (all benchmarks) or .ws/devel/lib/room_reverb/bench_visual_route
@@ -175,9 +175,11 @@ void BM_PairRectification(benchmark::State& state) {
   }
   const StereoCapture& c = it->second;
   state.SetLabel(name);
+  PairRectificationOptions options;
+  options.feature_width = static_cast<int>(state.range(1));
   PairRectification found;
   for (auto _ : state) {
-    found = estimatePairRectification(c.top.color, c.bottom.color);
+    found = estimatePairRectification(c.top.color, c.bottom.color, options);
     const cv::Mat turned = rotateEquirect(c.bottom.color, found.bottom_rotation, cv::INTER_CUBIC);
     benchmark::DoNotOptimize(turned.data);
   }
@@ -185,7 +187,10 @@ void BM_PairRectification(benchmark::State& state) {
   const Eigen::Matrix3d truth = Eigen::AngleAxisd(angle, kBottomTurnDeg.normalized()).toRotationMatrix();
   state.counters["turn_err_mrad"] = 1e3 * Eigen::AngleAxisd(found.bottom_to_top.transpose() * truth).angle();
 }
-BENCHMARK(BM_PairRectification)->DenseRange(0, static_cast<int>(kScenes.size()) - 1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PairRectification)
+    ->ArgsProduct({benchmark::CreateDenseRange(0, static_cast<int>(kScenes.size()) - 1, 1), {1024, 2048}})
+    ->ArgNames({"scene", "feature_width"})
+    ->Unit(benchmark::kMillisecond);
 
 void BM_PointCloudToRoomModel(benchmark::State& state) {
   const std::string name = kScenes[static_cast<std::size_t>(state.range(0))];
