@@ -36,7 +36,7 @@ struct DisparityOffsetOptions {
   // of its own fit. On rendered rooms with no offset, the constant part reaches 0.8 mrad
   // where the planes agree through the generator's ideal camera, and 1.0-1.5 mrad through
   // its consumer camera (lenses, JPEG, exposure), whose floors and ceilings then read it
-  // together while the walls stand where they are; corrected, that puts the box 1.5-4.6 %
+  // together while the walls stand where they are; corrected, that puts the box 2.6-4.6 %
   // long. The part with the azimuth reads at most 0.12 mrad there.
   double min_offset_rad = 2e-3;
   double min_azimuth_offset_rad = 1e-3;  // of the amplitude of the part with the azimuth
