@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "norm_standard_error.h"
 #include "room_reverb/common/error.h"
 #include "room_reverb/vision/equirect.h"
 
@@ -97,14 +98,6 @@ double medianAbsoluteResidual(const std::vector<Match>& matches, const std::vect
   if (r.empty()) return 0.0;
   std::nth_element(r.begin(), r.begin() + static_cast<std::ptrdiff_t>(r.size() / 2), r.end());
   return r[r.size() / 2];
-}
-
-// The standard error of the angle |v| along its own direction, from the covariance of v.
-double angleStandardError(const Eigen::Vector3d& v, const Eigen::Matrix3d& covariance) {
-  const double n = v.norm();
-  if (!(n > 0.0)) return std::sqrt(std::max(0.0, covariance.diagonal().maxCoeff()));
-  const Eigen::Vector3d u = v / n;
-  return std::sqrt(std::max(0.0, u.dot(covariance * u)));
 }
 
 void checkImages(const cv::Mat& top, const cv::Mat& bottom, const PairRectificationOptions& o) {
@@ -264,7 +257,7 @@ PairRectification estimatePairRectification(const cv::Mat& top, const cv::Mat& b
   const Eigen::Matrix3d covariance = sigma * sigma * normal.inverse();
   out.bottom_to_top = pose.rotation();
   out.turn_rad = pose.turn.norm();
-  out.turn_standard_error_rad = angleStandardError(pose.turn, covariance);
+  out.turn_standard_error_rad = vision_detail::normStandardError<3>(pose.turn, covariance);
   out.inliers = static_cast<int>(inliers.size());
   out.applied =
       out.turn_rad >= options.min_angle_rad && out.turn_rad >= options.min_significance * out.turn_standard_error_rad;

@@ -10,6 +10,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "cell_index.h"
+#include "norm_standard_error.h"
 #include "room_reverb/common/error.h"
 
 namespace room_reverb::core {
@@ -315,15 +316,6 @@ OffsetFit fitDisparityOffset(const PlaneRays& r, const DisparityOffsetOptions& o
   return out;
 }
 
-// The standard error of the amplitude of (cos, sin) along its own direction.
-double amplitudeStandardError(const Vector7& x, const Matrix7& covariance) {
-  const Eigen::Vector2d v(x[kCos], x[kSin]);
-  const Eigen::Matrix2d c = covariance.block<2, 2>(kCos, kCos);
-  if (!(v.norm() > 0.0)) return std::sqrt(std::max(0.0, c.diagonal().maxCoeff()));
-  const Eigen::Vector2d u = v.normalized();
-  return std::sqrt(std::max(0.0, u.dot(c * u)));
-}
-
 }  // namespace
 
 DisparityOffset estimateDisparityOffset(const PointCloud& cloud, double baseline_m, const Eigen::Matrix3d& level,
@@ -380,7 +372,9 @@ DisparityOffset estimateDisparityOffset(const PointCloud& cloud, double baseline
   out.standard_error_rad = std::sqrt(std::max(0.0, fit.covariance(kConstant, kConstant)));
   out.cos_rad = total[kCos];
   out.sin_rad = total[kSin];
-  out.azimuth_standard_error_rad = both_planes ? amplitudeStandardError(total, fit.covariance) : 0.0;
+  const Eigen::Matrix2d azimuth_covariance = fit.covariance.block<2, 2>(kCos, kCos);
+  const Eigen::Vector2d azimuth(total[kCos], total[kSin]);
+  out.azimuth_standard_error_rad = both_planes ? vision_detail::normStandardError<2>(azimuth, azimuth_covariance) : 0.0;
   out.plane_tilt_rad = std::atan(std::hypot(total[kTiltX], total[kTiltY]));
   // An offset bends the floor and the ceiling alike; where each alone asks for a different
   // one, what bends them is not the offset (a matcher's bias on one of them, a floor that
