@@ -30,10 +30,17 @@
 // features at feature_width px, the fit, the bottom image turned bicubic) on each scene rendered
 // with its bottom camera turned by (0.4, -0.6, 0.3) degrees against the top one:
 //   turn_err_mrad  the turn found against the truth [mrad]
+// BM_WholeRoute times what `room_reverb room-model` does with a pair, every step with its
+// defaults: the pair ingested (levelled by its images' straight edges, rectified), the
+// stereo, the cloud, the disparity offset, the layout, materials and relief; the scene
+// rendered as in BM_PairRectification (the bottom camera turned). Counters:
+//   ingest_s       median wall-clock time of the ingest (levelling and rectification) [s]
+//   size_err_cm    as above
 // Run: scripts/bench (all benchmarks) or .ws/devel/lib/room_reverb/bench_visual_route
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <map>
 #include <opencv2/imgproc.hpp>
@@ -44,6 +51,7 @@
 #include "room_reverb/common/error.h"
 #include "room_reverb/common/memory_reuse.h"
 #include "room_reverb/synthetic_capture/capture_scene.h"
+#include "room_reverb/vision/capture_ingest.h"
 #include "room_reverb/vision/depth_cloud.h"
 #include "room_reverb/vision/equirect_rotation.h"
 #include "room_reverb/vision/pair_rectification.h"
@@ -164,8 +172,7 @@ BENCHMARK(BM_PairToPointCloudExposedApart)->DenseRange(0, static_cast<int>(kScen
 
 const Eigen::Vector3d kBottomTurnDeg(0.4, -0.6, 0.3);
 
-void BM_PairRectification(benchmark::State& state) {
-  const std::string name = kScenes[static_cast<std::size_t>(state.range(0))];
+const StereoCapture& turnedCapture(const std::string& name) {
   static std::map<std::string, StereoCapture> cache;
   auto it = cache.find(name);
   if (it == cache.end()) {
@@ -173,7 +180,13 @@ void BM_PairRectification(benchmark::State& state) {
     s.options.camera.bottom_turn_deg = kBottomTurnDeg;
     it = cache.emplace(name, renderCapture(s.room, MaterialLibrary::loadDefault(), s.options)).first;
   }
-  const StereoCapture& c = it->second;
+  return it->second;
+}
+
+
+void BM_PairRectification(benchmark::State& state) {
+  const std::string name = kScenes[static_cast<std::size_t>(state.range(0))];
+  const StereoCapture& c = turnedCapture(name);
   state.SetLabel(name);
   PairRectificationOptions options;
   options.feature_width = static_cast<int>(state.range(1));
@@ -191,6 +204,38 @@ BENCHMARK(BM_PairRectification)
     ->ArgsProduct({benchmark::CreateDenseRange(0, static_cast<int>(kScenes.size()) - 1, 1), {1024, 2048}})
     ->ArgNames({"scene", "feature_width"})
     ->Unit(benchmark::kMillisecond);
+
+void BM_WholeRoute(benchmark::State& state) {
+  const std::string name = kScenes[static_cast<std::size_t>(state.range(0))];
+  const CaptureScene truth = scene(name);
+  const StereoCapture& c = turnedCapture(name);
+  state.SetLabel(name);
+  VisualRouteOptions options;
+  loadDefaultMaterialModels(options);
+  VisualRoute route;
+  std::vector<double> ingest_s;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    const IngestedCapture pair = ingestCapture(c.top.color, c.bottom.color, CaptureIngestOptions{});
+    ingest_s.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    options.level_from_cloud = pair.level_from_cloud;
+    try {
+      route = runVisualRoute(pair.top, pair.bottom, 0.2, options, pair.leveling.tilt);
+    } catch (const InputError& e) {
+      state.SkipWithError(e.what());
+      return;
+    }
+    benchmark::DoNotOptimize(route.layout.model.objects.data());
+  }
+  double size_err = 0.0;
+  for (int k = 0; k < (truth.room.has_ceiling ? 3 : 2); ++k) {
+    size_err = std::max(size_err, std::abs(route.layout.model.size_m[k] - truth.room.size_m[k]));
+  }
+  state.counters["ingest_s"] = median(ingest_s);
+  state.counters["size_err_cm"] = 100.0 * size_err;
+}
+BENCHMARK(BM_WholeRoute)->DenseRange(0, static_cast<int>(kScenes.size()) - 1)->Unit(benchmark::kMillisecond)
+    ->Iterations(3)->UseRealTime();
 
 void BM_PointCloudToRoomModel(benchmark::State& state) {
   const std::string name = kScenes[static_cast<std::size_t>(state.range(0))];

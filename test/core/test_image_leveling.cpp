@@ -164,7 +164,9 @@ TEST(EquirectRotation, SamplesAcrossTheSeamAndThePolesOnTheSphere) {
   // or row would be off there by up to half a pixel's change of the field, about 2.5 here.)
   const int width = 64;
   const cv::Mat image = fieldImage(width, Eigen::Matrix3d::Identity());
-  for (const Eigen::Quaterniond& q : {yawPitchRoll(180.0, 0.0, 0.0), yawPitchRoll(40.0, 30.0, -20.0),
+  // (Turns about the pole alone, a fractional pixel's worth among them, take
+  // rotateEquirect's shortcut for them.)
+  for (const Eigen::Quaterniond& q : {yawPitchRoll(180.0, 0.0, 0.0), yawPitchRoll(-37.3, 0.0, 0.0), yawPitchRoll(40.0, 30.0, -20.0),
                                       yawPitchRoll(-100.0, 85.0, 10.0)}) {
     const Eigen::Matrix3d R = q.toRotationMatrix();
     const cv::Mat out = rotateEquirect(image, R, cv::INTER_LINEAR);

@@ -91,5 +91,13 @@ struct ManhattanImageEstimate {
 // Manhattan structure (see ManhattanImageOptions), with the numbers that fell short.
 ManhattanImageEstimate estimateManhattanFrame(const cv::Mat& image, const ManhattanImageOptions& options = {});
 ManhattanImageEstimate estimateManhattanFrame(const std::vector<cv::Mat>& images, const ManhattanImageOptions& options = {});
+// The same for images whose cameras are turned against each other: image i's segments are
+// turned by rotations[i] (its camera frame -> the frame the estimate is in; a rectified
+// pair: identity for the top camera and the bottom camera's turn, PairRectification::
+// bottom_rotation, for the bottom one), so the images need not be resampled first.
+// InputError unless there is one rotation per image, each a rotation.
+ManhattanImageEstimate estimateManhattanFrame(const std::vector<cv::Mat>& images,
+                                              const std::vector<Eigen::Matrix3d>& rotations,
+                                              const ManhattanImageOptions& options = {});
 
 }  // namespace room_reverb::core

@@ -61,8 +61,9 @@ IngestedCapture ingestCapture(const cv::Mat& top, const cv::Mat& bottom, const C
     out.bottom = bottom;
   }
 
-  // The pair rectified; the levelling sees the rectified pair, and each image is
-  // resampled once, through both turns.
+  // The pair rectified; the levelling sees the rectified pair (the bottom image's line
+  // segments turned by the rectification), and each image is resampled once, through
+  // both turns.
   const cv::Mat top_as_captured = out.top, bottom_as_captured = out.bottom;  // headers: no copies
   out.rectification = estimatePairRectification(out.top, out.bottom, options.rectification);
   const PairRectification& pair = out.rectification;
@@ -77,38 +78,49 @@ IngestedCapture ingestCapture(const cv::Mat& top, const cv::Mat& bottom, const C
                   "agree); the pair is rectified",
                   pair.turn_rad * 180.0 / M_PI, pair.inliers, pair.matches);
     out.warnings.emplace_back(line);
-    out.bottom = rotateEquirect(bottom_as_captured, pair.bottom_rotation, interpolation);
   } else if (options.rectification.enabled && !pair.estimated) {
     out.warnings.push_back("pair: too few features match between the two images (" + std::to_string(pair.matches) +
                            ") to tell how the cameras stand; the pair is used as it comes");
   }
+  // Both images turned by the levelling's image rotation, the bottom one after its own
+  // turn; a turn that is exactly none leaves the image as it is (an interpolating kernel
+  // at whole pixels would give it back unchanged).
+  const auto turned = [&](const cv::Mat& image, const Eigen::Matrix3d& R) {
+    return R.isIdentity(0.0) ? image : rotateEquirect(image, R, interpolation);
+  };
+  const auto finish = [&]() {
+    out.top = turned(top_as_captured, out.leveling.image_rotation);
+    out.bottom = turned(bottom_as_captured, out.leveling.image_rotation * pair.bottom_rotation);
+    return out;
+  };
 
   switch (options.leveling) {
     case LevelingSource::kNone:
-      return out;
+      return finish();
     case LevelingSource::kImu:
       out.leveling = levelingFromImu(*imu_camera_to_world);
-      return out;  // no yaw: the images stay as they are
+      out.leveling.image_rotation.setIdentity();  // no yaw: the images stay as they are
+      return finish();
     case LevelingSource::kImage:
     case LevelingSource::kImuAndImage: {
       ManhattanImageOptions manhattan = options.manhattan;
       if (uses_imu) manhattan.known_up = cameraUpFromImu(*imu_camera_to_world);
       try {
-        out.manhattan = estimateManhattanFrame(std::vector<cv::Mat>{out.top, out.bottom}, manhattan);
+        out.manhattan = estimateManhattanFrame(std::vector<cv::Mat>{top_as_captured, bottom_as_captured},
+                                               {Eigen::Matrix3d::Identity(), pair.bottom_rotation}, manhattan);
       } catch (const ManhattanStructureError& e) {
         out.level_from_cloud = true;
         out.warnings.push_back(std::string("leveling: ") + e.what() + "; the images are not levelled" +
                                (uses_imu ? " (tilted by the IMU)" : "") + " and the point cloud levels the room");
         if (uses_imu) out.leveling = levelingFromImu(*imu_camera_to_world);
-        return out;
+        out.leveling.image_rotation.setIdentity();
+        return finish();
       }
       out.leveling = splitLeveling(out.manhattan->camera_to_manhattan);
       break;
     }
   }
-  out.top = rotateEquirect(top_as_captured, out.leveling.image_rotation, interpolation);
-  out.bottom = rotateEquirect(bottom_as_captured, out.leveling.image_rotation * pair.bottom_rotation, interpolation);
-  return out;
+  return finish();
 }
 
 }  // namespace room_reverb::core

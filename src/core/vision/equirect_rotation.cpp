@@ -1,6 +1,7 @@
 // Equirectangular rotation: one cv::remap over the image padded on the sphere.
 #include "room_reverb/vision/equirect_rotation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -49,19 +50,36 @@ cv::Mat rotateEquirect(const cv::Mat& image, const Eigen::Matrix3d& R, int inter
     sin_azimuth[static_cast<std::size_t>(col)] = std::sin(phi);
   }
   cv::Mat map_x(g.height, g.width, CV_32FC1), map_y(g.height, g.width, CV_32FC1);
-  forEachRow(g.height, 0, [&](int row) {
-    const double theta = equirectElevation(g, row);
-    const double cos_theta = std::cos(theta), sin_theta = std::sin(theta);
-    float* mx = map_x.ptr<float>(row);
-    float* my = map_y.ptr<float>(row);
+  if (std::abs(R(2, 2) - 1.0) < 1e-12) {
+    // A turn about the pole (the levelling's yaw) keeps every row's elevation and moves
+    // every column by the same azimuth: each column's source is worked out once, on the
+    // horizon, and every row reads its own row.
+    std::vector<float> source_x(static_cast<std::size_t>(g.width));
     for (int col = 0; col < g.width; ++col) {
       const auto c = static_cast<std::size_t>(col);
-      const Eigen::Vector3d direction(cos_theta * cos_azimuth[c], cos_theta * sin_azimuth[c], sin_theta);
-      const Eigen::Vector2f p = vision_detail::paddedRemapCoordinates(g, output_to_input * direction);
-      mx[col] = p.x();
-      my[col] = p.y();
+      source_x[c] = vision_detail::paddedRemapCoordinates(
+                        g, output_to_input * Eigen::Vector3d(cos_azimuth[c], sin_azimuth[c], 0.0))
+                        .x();
     }
-  });
+    forEachRow(g.height, 0, [&](int row) {
+      std::copy(source_x.begin(), source_x.end(), map_x.ptr<float>(row));
+      std::fill_n(map_y.ptr<float>(row), g.width, static_cast<float>(row + vision_detail::kEquirectPadPx));
+    });
+  } else {
+    forEachRow(g.height, 0, [&](int row) {
+      const double theta = equirectElevation(g, row);
+      const double cos_theta = std::cos(theta), sin_theta = std::sin(theta);
+      float* mx = map_x.ptr<float>(row);
+      float* my = map_y.ptr<float>(row);
+      for (int col = 0; col < g.width; ++col) {
+        const auto c = static_cast<std::size_t>(col);
+        const Eigen::Vector3d direction(cos_theta * cos_azimuth[c], cos_theta * sin_azimuth[c], sin_theta);
+        const Eigen::Vector2f p = vision_detail::paddedRemapCoordinates(g, output_to_input * direction);
+        mx[col] = p.x();
+        my[col] = p.y();
+      }
+    });
+  }
   cv::Mat out;
   cv::remap(vision_detail::padEquirectOnSphere(image), out, map_x, map_y, interpolation, cv::BORDER_REPLICATE);
   return out;

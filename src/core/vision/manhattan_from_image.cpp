@@ -11,6 +11,7 @@
 
 #include "room_reverb/common/error.h"
 #include "room_reverb/vision/image_leveling.h"
+#include "rotation_check.h"
 #include "sphere_line_segments.h"
 #include "vanishing_directions.h"
 
@@ -71,18 +72,40 @@ Eigen::Matrix3d namedAxes(const Eigen::Matrix3d& V, const std::optional<Eigen::V
 }  // namespace
 
 ManhattanImageEstimate estimateManhattanFrame(const std::vector<cv::Mat>& images, const ManhattanImageOptions& options) {
+  return estimateManhattanFrame(images, std::vector<Eigen::Matrix3d>(images.size(), Eigen::Matrix3d::Identity()), options);
+}
+
+ManhattanImageEstimate estimateManhattanFrame(const std::vector<cv::Mat>& images,
+                                              const std::vector<Eigen::Matrix3d>& rotations,
+                                              const ManhattanImageOptions& options) {
   validateOptions(options);
   if (images.empty()) throw InputError("Manhattan frame: no image given");
+  if (rotations.size() != images.size()) throw InputError("Manhattan frame: one rotation per image is needed");
+  for (const Eigen::Matrix3d& R : rotations) vision_detail::requireRotation(R, "Manhattan frame");
   std::vector<vision_detail::SphereSegment> segments;
-  for (const cv::Mat& image : images) {
-    const cv::Mat grey = greyEquirect(image);
+  // Images of one size share the views' resampling maps.
+  std::vector<cv::Mat> greys;
+  for (const cv::Mat& image : images) greys.push_back(greyEquirect(image));
+  for (std::size_t first = 0; first < greys.size();) {
+    std::size_t end = first + 1;
+    while (end < greys.size() && greys[end].size() == greys[first].size()) ++end;
     // A view's centre pixel spans what an equirect pixel spans: 2 pi / W radians.
-    const int view_size = options.view_size_px > 0
-                              ? options.view_size_px
-                              : static_cast<int>(std::ceil(grey.cols / kPi * std::tan(0.5 * options.view_fov_deg * kDeg)));
-    const auto found =
-        vision_detail::detectSphereSegments(grey, view_size, options.view_fov_deg * kDeg, options.min_segment_deg * kDeg);
-    segments.insert(segments.end(), found.begin(), found.end());
+    const int view_size =
+        options.view_size_px > 0
+            ? options.view_size_px
+            : static_cast<int>(std::ceil(greys[first].cols / kPi * std::tan(0.5 * options.view_fov_deg * kDeg)));
+    const auto found = vision_detail::detectSphereSegments(
+        std::vector<cv::Mat>(greys.begin() + static_cast<std::ptrdiff_t>(first), greys.begin() + static_cast<std::ptrdiff_t>(end)),
+        view_size, options.view_fov_deg * kDeg, options.min_segment_deg * kDeg);
+    for (std::size_t k = 0; k < found.size(); ++k) {
+      // A great circle turns with its camera: its normal by the same rotation.
+      const Eigen::Matrix3d& R = rotations[first + k];
+      for (vision_detail::SphereSegment segment : found[k]) {
+        segment.normal = R * segment.normal;
+        segments.push_back(segment);
+      }
+    }
+    first = end;
   }
   const auto count = static_cast<int>(segments.size());
   if (count < options.min_segments) {

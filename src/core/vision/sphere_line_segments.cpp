@@ -29,10 +29,13 @@ std::array<Eigen::Matrix3d, 6> cubeViews() {
 
 }  // namespace
 
-std::vector<SphereSegment> detectSphereSegments(const cv::Mat& grey_equirect, int view_size_px, double view_fov_rad,
-                                                double min_length_rad) {
-  const EquirectGeometry g{grey_equirect.cols, grey_equirect.rows};
-  const cv::Mat padded = padEquirectOnSphere(grey_equirect);
+std::vector<std::vector<SphereSegment>> detectSphereSegments(const std::vector<cv::Mat>& grey_equirects,
+                                                             int view_size_px, double view_fov_rad,
+                                                             double min_length_rad) {
+  if (grey_equirects.empty()) return {};
+  const EquirectGeometry g{grey_equirects.front().cols, grey_equirects.front().rows};
+  std::vector<cv::Mat> padded;
+  for (const cv::Mat& grey : grey_equirects) padded.push_back(padEquirectOnSphere(grey));
   const std::array<Eigen::Matrix3d, 6> views = cubeViews();
   const double focal_px = 0.5 * view_size_px / std::tan(0.5 * view_fov_rad);
   const double centre_px = 0.5 * (view_size_px - 1);  // OpenCV's convention: pixel i's centre at i
@@ -40,7 +43,8 @@ std::vector<SphereSegment> detectSphereSegments(const cv::Mat& grey_equirect, in
     return (view_to_camera * Eigen::Vector3d((x - centre_px) / focal_px, (y - centre_px) / focal_px, 1.0)).normalized();
   };
 
-  std::array<std::vector<SphereSegment>, 6> found;
+  // found[view][image]
+  std::array<std::vector<std::vector<SphereSegment>>, 6> found;
   forEachRow(6, 0, [&](int view) {
     const Eigen::Matrix3d& R = views[static_cast<std::size_t>(view)];
     cv::Mat map_x(view_size_px, view_size_px, CV_32FC1), map_y(view_size_px, view_size_px, CV_32FC1);
@@ -51,19 +55,28 @@ std::vector<SphereSegment> detectSphereSegments(const cv::Mat& grey_equirect, in
         map_y.at<float>(row, col) = p.y();
       }
     }
-    cv::Mat perspective;
-    cv::remap(padded, perspective, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
-    std::vector<cv::Vec4f> lines;
-    cv::createLineSegmentDetector(cv::LSD_REFINE_STD)->detect(perspective, lines);
-    for (const cv::Vec4f& l : lines) {
-      const Eigen::Vector3d a = ray(R, l[0], l[1]), b = ray(R, l[2], l[3]);
-      const Eigen::Vector3d n = a.cross(b);
-      const double length = std::atan2(n.norm(), a.dot(b));
-      if (length >= min_length_rad) found[static_cast<std::size_t>(view)].push_back({n.normalized(), length});
+    std::vector<std::vector<SphereSegment>>& per_image = found[static_cast<std::size_t>(view)];
+    per_image.resize(padded.size());
+    const cv::Ptr<cv::LineSegmentDetector> detector = cv::createLineSegmentDetector(cv::LSD_REFINE_STD);
+    for (std::size_t image = 0; image < padded.size(); ++image) {
+      cv::Mat perspective;
+      cv::remap(padded[image], perspective, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+      std::vector<cv::Vec4f> lines;
+      detector->detect(perspective, lines);
+      for (const cv::Vec4f& l : lines) {
+        const Eigen::Vector3d a = ray(R, l[0], l[1]), b = ray(R, l[2], l[3]);
+        const Eigen::Vector3d n = a.cross(b);
+        const double length = std::atan2(n.norm(), a.dot(b));
+        if (length >= min_length_rad) per_image[image].push_back({n.normalized(), length});
+      }
     }
   });
-  std::vector<SphereSegment> segments;
-  for (const auto& view_segments : found) segments.insert(segments.end(), view_segments.begin(), view_segments.end());
+  std::vector<std::vector<SphereSegment>> segments(padded.size());
+  for (std::size_t image = 0; image < padded.size(); ++image) {
+    for (const auto& view_segments : found) {
+      segments[image].insert(segments[image].end(), view_segments[image].begin(), view_segments[image].end());
+    }
+  }
   return segments;
 }
 

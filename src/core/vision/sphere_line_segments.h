@@ -20,10 +20,13 @@ struct SphereSegment {
   double length_rad;       // angle between its end points
 };
 
-// Segments of at least min_length_rad in an 8-bit single-channel equirectangular image.
-// Each view spans view_fov_rad (< pi) over view_size_px pixels. A segment lying in the
-// overlap of two views may be found in both.
-std::vector<SphereSegment> detectSphereSegments(const cv::Mat& grey_equirect, int view_size_px, double view_fov_rad,
-                                                double min_length_rad);
+// Segments of at least min_length_rad in 8-bit single-channel equirectangular images of
+// one size, image by image and view by view. Each view spans view_fov_rad (< pi) over
+// view_size_px pixels; its resampling map is worked out once for all the images (the
+// map's trigonometry costs as much as the resampling). A segment lying in the overlap of
+// two views may be found in both. One list per image.
+std::vector<std::vector<SphereSegment>> detectSphereSegments(const std::vector<cv::Mat>& grey_equirects,
+                                                             int view_size_px, double view_fov_rad,
+                                                             double min_length_rad);
 
 }  // namespace room_reverb::core::vision_detail

@@ -6,6 +6,9 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <vector>
+
+#include "room_reverb/common/parallel_rows.h"
 
 namespace room_reverb::core::vision_detail {
 namespace {
@@ -116,13 +119,24 @@ VanishingDirections fitVanishingDirections(const std::vector<SphereSegment>& seg
 
   // A minimal sample's directions are off by about a segment's noise, so hypotheses are
   // scored, and first refined, with a doubled threshold.
+  // The hypotheses are drawn in order from the one generator and scored on all cores;
+  // the first of the best wins, so the result does not depend on the thread count.
+  std::vector<std::optional<Eigen::Matrix3d>> hypotheses;
+  hypotheses.reserve(static_cast<std::size_t>(ransac_iterations));
+  for (int i = 0; i < ransac_iterations; ++i) hypotheses.push_back(hypothesis(segments, pick, rng, known_up));
+  std::vector<double> supports(hypotheses.size(), -1.0);
+  constexpr int kChunk = 64;  // hypotheses per task: each is a pass over every segment
+  const int chunks = (ransac_iterations + kChunk - 1) / kChunk;
+  forEachRow(chunks, 0, [&](int chunk) {
+    const std::size_t end = std::min(hypotheses.size(), static_cast<std::size_t>(chunk + 1) * kChunk);
+    for (std::size_t i = static_cast<std::size_t>(chunk) * kChunk; i < end; ++i) {
+      if (hypotheses[i]) supports[i] = support(*hypotheses[i], segments, 2.0 * threshold);
+    }
+  });
   Eigen::Matrix3d best = Eigen::Matrix3d::Identity();
   double best_support = -1.0;
-  for (int i = 0; i < ransac_iterations; ++i) {
-    const std::optional<Eigen::Matrix3d> V = hypothesis(segments, pick, rng, known_up);
-    if (!V) continue;
-    const double s = support(*V, segments, 2.0 * threshold);
-    if (s > best_support) best_support = s, best = *V;
+  for (std::size_t i = 0; i < hypotheses.size(); ++i) {
+    if (hypotheses[i] && supports[i] > best_support) best_support = supports[i], best = *hypotheses[i];
   }
 
   VanishingDirections out;
