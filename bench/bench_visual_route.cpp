@@ -35,6 +35,8 @@
 // stereo, the cloud, the disparity offset, the layout, materials and relief; the scene
 // rendered as in BM_PairRectification (the bottom camera turned). Counters:
 //   ingest_s       median wall-clock time of the ingest (levelling and rectification) [s]
+//   stereo_s, cloud_s  of the stereo and the point cloud [s]
+//   model_s        of the rest: disparity offset, layout, materials and relief [s]
 //   size_err_cm    as above
 // Run: scripts/bench (all benchmarks) or .ws/devel/lib/room_reverb/bench_visual_route
 #include <benchmark/benchmark.h>
@@ -213,7 +215,7 @@ void BM_WholeRoute(benchmark::State& state) {
   VisualRouteOptions options;
   loadDefaultMaterialModels(options);
   VisualRoute route;
-  std::vector<double> ingest_s;
+  std::vector<double> ingest_s, stereo_s, cloud_s, rest_s;
   for (auto _ : state) {
     const auto start = std::chrono::steady_clock::now();
     const IngestedCapture pair = ingestCapture(c.top.color, c.bottom.color, CaptureIngestOptions{});
@@ -226,12 +228,18 @@ void BM_WholeRoute(benchmark::State& state) {
       return;
     }
     benchmark::DoNotOptimize(route.layout.model.objects.data());
+    stereo_s.push_back(route.times.stereo_s);
+    cloud_s.push_back(route.times.cloud_s);
+    rest_s.push_back(route.times.range_bias_s + route.times.layout_s + route.times.materials_s + route.times.relief_s);
   }
   double size_err = 0.0;
   for (int k = 0; k < (truth.room.has_ceiling ? 3 : 2); ++k) {
     size_err = std::max(size_err, std::abs(route.layout.model.size_m[k] - truth.room.size_m[k]));
   }
   state.counters["ingest_s"] = median(ingest_s);
+  state.counters["stereo_s"] = median(stereo_s);
+  state.counters["cloud_s"] = median(cloud_s);
+  state.counters["model_s"] = median(rest_s);
   state.counters["size_err_cm"] = 100.0 * size_err;
 }
 BENCHMARK(BM_WholeRoute)->DenseRange(0, static_cast<int>(kScenes.size()) - 1)->Unit(benchmark::kMillisecond)

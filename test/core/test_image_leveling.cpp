@@ -272,6 +272,33 @@ TEST(ManhattanFromImage, BothCamerasOfTheRigPooled) {
   EXPECT_NEAR(both.yaw_rad / kDeg, -22.0, 0.5);
 }
 
+TEST(ManhattanFromImage, ACameraTurnedOnTheBarIsTurnedBackBySegmentsNotPixels) {
+  // The bottom camera stands turned 2.5 degrees against the top one; its segments, turned
+  // by that rotation, give the top camera's frame as its image resampled would.
+  CaptureScene s = scene("kt", 1024);
+  s.room.rig_rotation = yawPitchRoll(12.0, 1.0, -0.5);
+  s.options.camera.bottom_turn_deg = Eigen::Vector3d(1.5, -1.8, 0.8);
+  const StereoCapture capture = renderCapture(s.room, MaterialLibrary::loadDefault(), s.options);
+  const Eigen::Vector3d turn = s.options.camera.bottom_turn_deg * kDeg;
+  const Eigen::Matrix3d bottom_to_top = Eigen::AngleAxisd(turn.norm(), turn.normalized()).toRotationMatrix();
+  const Eigen::Matrix3d truth = capture.top.rotation.toRotationMatrix();  // top camera -> room
+  const double as_it_comes = manhattanError(estimateManhattanFrame(capture.bottom.color).camera_to_manhattan, truth).total_deg;
+  const double turned_back =
+      manhattanError(estimateManhattanFrame(std::vector<cv::Mat>{capture.bottom.color}, {bottom_to_top}).camera_to_manhattan,
+                     truth)
+          .total_deg;
+  const double pooled = manhattanError(estimateManhattanFrame(std::vector<cv::Mat>{capture.top.color, capture.bottom.color},
+                                                              {Eigen::Matrix3d::Identity(), bottom_to_top})
+                                           .camera_to_manhattan,
+                                       truth)
+                            .total_deg;
+  std::cout << "bottom camera as it comes " << as_it_comes << " deg, turned back " << turned_back << " deg, pooled "
+            << pooled << " deg\n";
+  EXPECT_GT(as_it_comes, 2.0);
+  EXPECT_LT(turned_back, 0.3);
+  EXPECT_LT(pooled, 0.3);
+}
+
 TEST(ManhattanFromImage, KnownUpFixesZAndLeavesTheYaw) {
   const CaptureScene s = scene("yawed_rig_studio", 1024);
   Eigen::Matrix3d truth;
@@ -320,8 +347,15 @@ TEST(ManhattanFromImage, BadInput) {
   bad.inlier_deg = 0.0;
   expectInputError([&] { estimateManhattanFrame(grey, bad); }, {"options"});
   bad = {};
+  bad.max_view_size_px = 10;
+  expectInputError([&] { estimateManhattanFrame(grey, bad); }, {"options", "max_view_size_px"});
+  bad = {};
   bad.known_up = Eigen::Vector3d(0.0, 0.0, 2.0);
   expectInputError([&] { estimateManhattanFrame(grey, bad); }, {"known_up"});
+  const std::vector<cv::Mat> two{grey, grey};
+  expectInputError([&] { estimateManhattanFrame(two, {Eigen::Matrix3d::Identity()}); }, {"one rotation per image"});
+  expectInputError([&] { estimateManhattanFrame(two, {Eigen::Matrix3d::Identity(), 2.0 * Eigen::Matrix3d::Identity()}); },
+                   {"not a rotation"});
 }
 
 // ---------------------------------------------------------------------------------------

@@ -40,6 +40,12 @@ struct ManhattanImageOptions {
   // resolution matches the panorama's.
   double view_fov_deg = 100.0;
   int view_size_px = 0;
+  // The side picked by view_size_px = 0 is at most this (0: no cap). Views of 512 px from a
+  // 2048 px panorama (where the picked side is 776) put the tilt of the bundled rooms,
+  // rendered turned by 1.8-3.2 degrees, within 0.060 degrees (mean 0.032) against 0.056
+  // (0.028) at full size, and the yaw within 0.049 (0.021) against 0.043 (0.013), in 45 %
+  // of the time; at 388 px the tilt is within 0.090.
+  int max_view_size_px = 512;
   double min_segment_deg = 1.5;   // shorter segments are dropped: their direction is too uncertain
   double inlier_deg = 1.0;        // largest angle between a segment's great circle and its vanishing direction
   int ransac_iterations = 3000;

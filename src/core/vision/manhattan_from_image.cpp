@@ -23,11 +23,13 @@ constexpr double kDeg = kPi / 180.0;
 constexpr int kMinWidthPx = 256;
 
 void validateOptions(const ManhattanImageOptions& o) {
-  if (!(o.view_fov_deg > 90.0 && o.view_fov_deg < 150.0) || o.view_size_px < 0 || !(o.min_segment_deg > 0.0) ||
+  if (!(o.view_fov_deg > 90.0 && o.view_fov_deg < 150.0) || o.view_size_px < 0 || o.max_view_size_px < 0 ||
+      (o.max_view_size_px > 0 && o.max_view_size_px < 64) || !(o.min_segment_deg > 0.0) ||
       !(o.inlier_deg > 0.0 && o.inlier_deg < 10.0) || o.ransac_iterations < 1 || o.min_segments < 3 ||
       !(o.min_inlier_fraction >= 0.0 && o.min_inlier_fraction <= 1.0) ||
       !(o.min_second_axis_fraction >= 0.0 && o.min_second_axis_fraction <= 0.5) || o.min_axis_segments < 0) {
     throw InputError("Manhattan frame: options out of range (need 90 < view_fov_deg < 150, view_size_px >= 0, "
+                     "max_view_size_px 0 or >= 64, "
                      "min_segment_deg > 0, 0 < inlier_deg < 10, ransac_iterations >= 1, min_segments >= 3, "
                      "min_inlier_fraction in [0, 1], min_second_axis_fraction in [0, 0.5], min_axis_segments >= 0)");
   }
@@ -90,10 +92,11 @@ ManhattanImageEstimate estimateManhattanFrame(const std::vector<cv::Mat>& images
     std::size_t end = first + 1;
     while (end < greys.size() && greys[end].size() == greys[first].size()) ++end;
     // A view's centre pixel spans what an equirect pixel spans: 2 pi / W radians.
-    const int view_size =
-        options.view_size_px > 0
-            ? options.view_size_px
-            : static_cast<int>(std::ceil(greys[first].cols / kPi * std::tan(0.5 * options.view_fov_deg * kDeg)));
+    int view_size = options.view_size_px;
+    if (view_size == 0) {
+      view_size = static_cast<int>(std::ceil(greys[first].cols / kPi * std::tan(0.5 * options.view_fov_deg * kDeg)));
+      if (options.max_view_size_px > 0) view_size = std::min(view_size, options.max_view_size_px);
+    }
     const auto found = vision_detail::detectSphereSegments(
         std::vector<cv::Mat>(greys.begin() + static_cast<std::ptrdiff_t>(first), greys.begin() + static_cast<std::ptrdiff_t>(end)),
         view_size, options.view_fov_deg * kDeg, options.min_segment_deg * kDeg);
