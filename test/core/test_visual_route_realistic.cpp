@@ -21,7 +21,7 @@
 //   [ROOM_REVERB_PRINT_RELIEF=1] (each face's and object's relief: seen share off its plane,
 //   scattering at 1 kHz)
 //   [ROOM_REVERB_ROUTE_WITHOUT=exposure,noise,subpixel,planes,texture,junctions,joints,patch_cap,range_bias,
-//   rectification] (routeOptions, ingestOptions)
+//   rectification,view_cap] (routeOptions, ingestOptions)
 //   [ROOM_REVERB_SENSOR_NOISE=2] (the cameras' noise, grey levels at the capture's width)
 //   .ws/devel/lib/room_reverb/test_visual_route_realistic --gtest_filter='*Report*'
 #include <gtest/gtest.h>
@@ -240,13 +240,13 @@ CameraImperfections consumerCamera(int index) {
 }
 
 // As `room_reverb room-model` ingests a pair; ROOM_REVERB_ROUTE_WITHOUT=rectification takes
-// the pair as it comes.
+// the pair as it comes, view_cap levels by line segments in views of the panorama's full
+// resolution.
 CaptureIngestOptions ingestOptions() {
   CaptureIngestOptions o;
-  const char* without_env = std::getenv("ROOM_REVERB_ROUTE_WITHOUT");
-  if (without_env != nullptr && std::string(without_env).find("rectification") != std::string::npos) {
-    o.rectification.enabled = false;
-  }
+  const std::string without = std::getenv("ROOM_REVERB_ROUTE_WITHOUT") ? std::getenv("ROOM_REVERB_ROUTE_WITHOUT") : "";
+  if (without.find("rectification") != std::string::npos) o.rectification.enabled = false;
+  if (without.find("view_cap") != std::string::npos) o.manhattan.max_view_size_px = 0;
   return o;
 }
 
