@@ -207,13 +207,26 @@ BENCHMARK(BM_PairRectification)
     ->ArgNames({"scene", "feature_width"})
     ->Unit(benchmark::kMillisecond);
 
+// The route's default options, the shipped material models loaded.
+VisualRouteOptions defaultRouteOptions() {
+  VisualRouteOptions options;
+  loadDefaultMaterialModels(options);
+  return options;
+}
+
+// The largest error of the room's dimensions [m] (a room without a ceiling: two).
+double largestSizeError(const RoomModel& got, const RoomModel& truth) {
+  double error = 0.0;
+  for (int k = 0; k < (truth.has_ceiling ? 3 : 2); ++k) error = std::max(error, std::abs(got.size_m[k] - truth.size_m[k]));
+  return error;
+}
+
 void BM_WholeRoute(benchmark::State& state) {
   const std::string name = kScenes[static_cast<std::size_t>(state.range(0))];
   const CaptureScene truth = scene(name);
   const StereoCapture& c = turnedCapture(name);
   state.SetLabel(name);
-  VisualRouteOptions options;
-  loadDefaultMaterialModels(options);
+  VisualRouteOptions options = defaultRouteOptions();
   VisualRoute route;
   std::vector<double> ingest_s, stereo_s, cloud_s, rest_s;
   for (auto _ : state) {
@@ -232,15 +245,11 @@ void BM_WholeRoute(benchmark::State& state) {
     cloud_s.push_back(route.times.cloud_s);
     rest_s.push_back(route.times.range_bias_s + route.times.layout_s + route.times.materials_s + route.times.relief_s);
   }
-  double size_err = 0.0;
-  for (int k = 0; k < (truth.room.has_ceiling ? 3 : 2); ++k) {
-    size_err = std::max(size_err, std::abs(route.layout.model.size_m[k] - truth.room.size_m[k]));
-  }
   state.counters["ingest_s"] = median(ingest_s);
   state.counters["stereo_s"] = median(stereo_s);
   state.counters["cloud_s"] = median(cloud_s);
   state.counters["model_s"] = median(rest_s);
-  state.counters["size_err_cm"] = 100.0 * size_err;
+  state.counters["size_err_cm"] = 100.0 * largestSizeError(route.layout.model, truth.room);
 }
 BENCHMARK(BM_WholeRoute)->DenseRange(0, static_cast<int>(kScenes.size()) - 1)->Unit(benchmark::kMillisecond)
     ->Iterations(3)->UseRealTime();
@@ -251,8 +260,7 @@ void BM_PointCloudToRoomModel(benchmark::State& state) {
   const StereoCapture& c = capture(name);
   const PointCloud& cloud = stereoCloud(name);
   state.SetLabel(name);
-  VisualRouteOptions options;
-  loadDefaultMaterialModels(options);
+  const VisualRouteOptions options = defaultRouteOptions();
   RoomLayout layout;
   std::vector<double> range_bias_s, layout_s, materials_s, relief_s;
   for (auto _ : state) {
@@ -270,10 +278,6 @@ void BM_PointCloudToRoomModel(benchmark::State& state) {
     relief_s.push_back(times.relief_s);
   }
   const RoomModel& got = layout.model;
-  double size_err = 0.0;
-  for (int k = 0; k < (truth.room.has_ceiling ? 3 : 2); ++k) {
-    size_err = std::max(size_err, std::abs(got.size_m[k] - truth.room.size_m[k]));
-  }
   double iou_min = 1.0, iou_furniture = 1.0;
   for (const CuboidObject& object : truth.room.objects) {
     if (object.size_m.maxCoeff() < 0.5) continue;
@@ -293,7 +297,7 @@ void BM_PointCloudToRoomModel(benchmark::State& state) {
       right += area;
     }
   }
-  state.counters["size_err_cm"] = 100.0 * size_err;
+  state.counters["size_err_cm"] = 100.0 * largestSizeError(got, truth.room);
   state.counters["yaw_err_deg"] = std::abs(layout.rig_yaw_rad - yawOf(truth.room.rig_rotation)) * 180.0 / kPi;
   state.counters["iou_min"] = iou_min;
   state.counters["objects"] = static_cast<double>(got.objects.size());
