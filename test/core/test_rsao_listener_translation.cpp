@@ -108,6 +108,8 @@ int withinBoth(const ReflectionScore& s) {
 struct EarlyLevels {
   std::vector<double> early_db;
   double drr_db = 0.0;
+  double direct_db = 0.0, rest_db = 0.0;  // the DRR's two parts
+  double after_50ms_db = 0.0;             // W's energy from 50 ms after the direct sound
 };
 
 EarlyLevels earlyLevels(const AudioBuffer& ambix, double direct_s) {
@@ -126,11 +128,15 @@ EarlyLevels earlyLevels(const AudioBuffer& ambix, double direct_s) {
     for (std::size_t n = at(direct_s - 0.001); n < at(direct_s + 0.050); ++n) e += static_cast<double>(band[n]) * band[n];
     levels.early_db.push_back(10.0 * std::log10(e + 1e-30));
   }
-  double direct = 0.0, rest = 0.0;
+  double direct = 0.0, rest = 0.0, after_50ms = 0.0;
   for (std::size_t n = 0; n < w.size(); ++n) {
     (n < at(direct_s + 0.0025) ? direct : rest) += static_cast<double>(w[n]) * w[n];
+    if (n >= at(direct_s + 0.050)) after_50ms += static_cast<double>(w[n]) * w[n];
   }
+  levels.after_50ms_db = 10.0 * std::log10(after_50ms);
   levels.drr_db = 10.0 * std::log10(direct / rest);
+  levels.direct_db = 10.0 * std::log10(direct);
+  levels.rest_db = 10.0 * std::log10(rest);
   return levels;
 }
 
@@ -142,6 +148,11 @@ void addLevelErrors(const Rsao& rsao, const ReflectionRoom& there, std::vector<d
   const EarlyLevels heard = earlyLevels(resynthesizeRsao(rsao, options), rsao.reflections.front().time_of_arrival_s);
   for (std::size_t b = 0; b < truth.early_db.size(); ++b) early.push_back(heard.early_db[b] - truth.early_db[b]);
   drr.push_back(heard.drr_db - truth.drr_db);
+  if (std::getenv("ROOM_REVERB_PRINT_DRR_PARTS")) {
+    std::printf("      DRR parts against the room: direct %+.2f dB, rest %+.2f dB, after 50 ms %+.2f dB\n",
+                heard.direct_db - truth.direct_db, heard.rest_db - truth.rest_db,
+                heard.after_50ms_db - truth.after_50ms_db);
+  }
 }
 
 // Level errors of an RSAO against another RSAO, both resynthesised (the check:
@@ -153,7 +164,7 @@ EarlyLevels meanEarlyLevels(const Rsao& rsao, double duration_s) {
   const char* env = std::getenv("ROOM_REVERB_LEVEL_SEEDS");
   const int seeds = env != nullptr ? std::max(1, std::atoi(env)) : 1;
   std::vector<double> early;
-  double drr = 0.0;
+  double drr = 0.0, direct = 0.0, rest = 0.0, after = 0.0;
   for (int seed = 1; seed <= seeds; ++seed) {
     ResynthesisOptions options;
     options.duration_s = duration_s;
@@ -162,10 +173,16 @@ EarlyLevels meanEarlyLevels(const Rsao& rsao, double duration_s) {
     if (early.empty()) early.assign(one.early_db.size(), 0.0);
     for (std::size_t b = 0; b < early.size(); ++b) early[b] += std::pow(10.0, one.early_db[b] / 10.0) / seeds;
     drr += one.drr_db / seeds;
+    direct += one.direct_db;
+    rest += one.rest_db;
+    after += one.after_50ms_db;
   }
   EarlyLevels mean;
   for (double e : early) mean.early_db.push_back(10.0 * std::log10(e));
   mean.drr_db = drr;
+  mean.direct_db = direct / seeds;
+  mean.rest_db = rest / seeds;
+  mean.after_50ms_db = after / seeds;
   return mean;
 }
 
@@ -173,6 +190,11 @@ void addLevelErrors(const Rsao& rsao, const Rsao& reference, double duration_s, 
                     std::vector<double>& drr) {
   const EarlyLevels truth = meanEarlyLevels(reference, duration_s);
   const EarlyLevels heard = meanEarlyLevels(rsao, duration_s);
+  if (std::getenv("ROOM_REVERB_PRINT_DRR_PARTS")) {
+    std::printf("      DRR parts against its own RSAO: direct %+.2f dB, rest %+.2f dB, after 50 ms %+.2f dB\n",
+                heard.direct_db - truth.direct_db, heard.rest_db - truth.rest_db,
+                heard.after_50ms_db - truth.after_50ms_db);
+  }
   for (std::size_t b = 0; b < truth.early_db.size(); ++b) early.push_back(heard.early_db[b] - truth.early_db[b]);
   drr.push_back(heard.drr_db - truth.drr_db);
 }
@@ -964,7 +986,10 @@ TEST(ListenerTranslation, MovedLowBandsStayNearTheTruth) {
 
 // The report of docs/six_dof.md over both sets; ROOM_REVERB_PER_ROOM=1 adds each room's
 // levels, ROOM_REVERB_PER_POSITION=1 each moved position's; ROOM_REVERB_PAPER_LPC=1 fits
-// each tap's shape on its whole window (docs/rsao.md's comparison).
+// each tap's shape on its whole window (docs/rsao.md's comparison); ROOM_REVERB_LEVEL_SEEDS=N
+// takes each RSAO's levels against its own RSAO over N resynthesis seeds;
+// ROOM_REVERB_PRINT_DRR_PARTS=1 prints each comparison's direct sound, rest and energy
+// after 50 ms apart.
 TEST(ListenerTranslationReport, BothSets) {
   if (!std::getenv("ROOM_REVERB_SIX_DOF_REPORT")) GTEST_SKIP() << "set ROOM_REVERB_SIX_DOF_REPORT=1 for the report";
   for (const ReflectionRoomSet set : {ReflectionRoomSet::kDevelopment, ReflectionRoomSet::kHeldOut}) {
