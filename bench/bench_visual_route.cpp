@@ -37,6 +37,7 @@
 //   ingest_s       median wall-clock time of the ingest (levelling and rectification) [s]
 //   stereo_s, cloud_s  of the stereo and the point cloud [s]
 //   model_s        of the rest: disparity offset, layout, materials and relief [s]
+//   layout_s       of the layout fit alone (cloud -> cuboids) [s]
 //   size_err_cm    as above
 // Run: scripts/bench (all benchmarks) or .ws/devel/lib/room_reverb/bench_visual_route
 #include <benchmark/benchmark.h>
@@ -228,7 +229,7 @@ void BM_WholeRoute(benchmark::State& state) {
   state.SetLabel(name);
   VisualRouteOptions options = defaultRouteOptions();
   VisualRoute route;
-  std::vector<double> ingest_s, stereo_s, cloud_s, rest_s;
+  std::vector<double> ingest_s, stereo_s, cloud_s, rest_s, layout_s;
   for (auto _ : state) {
     const auto start = std::chrono::steady_clock::now();
     const IngestedCapture pair = ingestCapture(c.top.color, c.bottom.color, CaptureIngestOptions{});
@@ -244,11 +245,13 @@ void BM_WholeRoute(benchmark::State& state) {
     stereo_s.push_back(route.times.stereo_s);
     cloud_s.push_back(route.times.cloud_s);
     rest_s.push_back(route.times.range_bias_s + route.times.layout_s + route.times.materials_s + route.times.relief_s);
+    layout_s.push_back(route.times.layout_s);
   }
   state.counters["ingest_s"] = median(ingest_s);
   state.counters["stereo_s"] = median(stereo_s);
   state.counters["cloud_s"] = median(cloud_s);
   state.counters["model_s"] = median(rest_s);
+  state.counters["layout_s"] = median(layout_s);
   state.counters["size_err_cm"] = 100.0 * largestSizeError(route.layout.model, truth.room);
 }
 BENCHMARK(BM_WholeRoute)->DenseRange(0, static_cast<int>(kScenes.size()) - 1)->Unit(benchmark::kMillisecond)
