@@ -140,23 +140,6 @@ EarlyLevels earlyLevels(const AudioBuffer& ambix, double direct_s) {
   return levels;
 }
 
-// Level errors of an RSAO against the RIR at its position: per octave band and DRR, dB.
-void addLevelErrors(const Rsao& rsao, const ReflectionRoom& there, std::vector<double>& early, std::vector<double>& drr) {
-  const EarlyLevels truth = earlyLevels(there.noiseless, there.images.front().time_s);
-  ResynthesisOptions options;
-  options.duration_s = there.ambix.durationS();
-  const EarlyLevels heard = earlyLevels(resynthesizeRsao(rsao, options), rsao.reflections.front().time_of_arrival_s);
-  for (std::size_t b = 0; b < truth.early_db.size(); ++b) early.push_back(heard.early_db[b] - truth.early_db[b]);
-  drr.push_back(heard.drr_db - truth.drr_db);
-  if (std::getenv("ROOM_REVERB_PRINT_DRR_PARTS")) {
-    std::printf("      DRR parts against the room: direct %+.2f dB, rest %+.2f dB, after 50 ms %+.2f dB\n",
-                heard.direct_db - truth.direct_db, heard.rest_db - truth.rest_db,
-                heard.after_50ms_db - truth.after_50ms_db);
-  }
-}
-
-// Level errors of an RSAO against another RSAO, both resynthesised (the check:
-// the moved RSAO against the one estimated from the new position's own RIR), dB.
 // Each RSAO's levels are the mean energy over resynthesis seeds 1..N (ROOM_REVERB_LEVEL_SEEDS,
 // default 1): the late part's noise in a 50 ms window at 125 Hz has about nine degrees of
 // freedom, and one draw moves its energy by a few dB.
@@ -173,30 +156,44 @@ EarlyLevels meanEarlyLevels(const Rsao& rsao, double duration_s) {
     if (early.empty()) early.assign(one.early_db.size(), 0.0);
     for (std::size_t b = 0; b < early.size(); ++b) early[b] += std::pow(10.0, one.early_db[b] / 10.0) / seeds;
     drr += one.drr_db / seeds;
-    direct += one.direct_db;
-    rest += one.rest_db;
-    after += one.after_50ms_db;
+    direct += one.direct_db / seeds;
+    rest += one.rest_db / seeds;
+    after += one.after_50ms_db / seeds;
   }
   EarlyLevels mean;
   for (double e : early) mean.early_db.push_back(10.0 * std::log10(e));
   mean.drr_db = drr;
-  mean.direct_db = direct / seeds;
-  mean.rest_db = rest / seeds;
-  mean.after_50ms_db = after / seeds;
+  mean.direct_db = direct;
+  mean.rest_db = rest;
+  mean.after_50ms_db = after;
   return mean;
 }
 
-void addLevelErrors(const Rsao& rsao, const Rsao& reference, double duration_s, std::vector<double>& early,
-                    std::vector<double>& drr) {
-  const EarlyLevels truth = meanEarlyLevels(reference, duration_s);
-  const EarlyLevels heard = meanEarlyLevels(rsao, duration_s);
+// The differences heard - truth per octave band and of the DRR, dB, appended to `early`
+// and `drr`; ROOM_REVERB_PRINT_DRR_PARTS=1 prints the DRR's parts against `truth_name`.
+void appendLevelErrors(const EarlyLevels& heard, const EarlyLevels& truth, const char* truth_name,
+                       std::vector<double>& early, std::vector<double>& drr) {
+  for (std::size_t b = 0; b < truth.early_db.size(); ++b) early.push_back(heard.early_db[b] - truth.early_db[b]);
+  drr.push_back(heard.drr_db - truth.drr_db);
   if (std::getenv("ROOM_REVERB_PRINT_DRR_PARTS")) {
-    std::printf("      DRR parts against its own RSAO: direct %+.2f dB, rest %+.2f dB, after 50 ms %+.2f dB\n",
+    std::printf("      DRR parts against %s: direct %+.2f dB, rest %+.2f dB, after 50 ms %+.2f dB\n", truth_name,
                 heard.direct_db - truth.direct_db, heard.rest_db - truth.rest_db,
                 heard.after_50ms_db - truth.after_50ms_db);
   }
-  for (std::size_t b = 0; b < truth.early_db.size(); ++b) early.push_back(heard.early_db[b] - truth.early_db[b]);
-  drr.push_back(heard.drr_db - truth.drr_db);
+}
+
+// Level errors of an RSAO against the RIR at its position.
+void addLevelErrors(const Rsao& rsao, const ReflectionRoom& there, std::vector<double>& early, std::vector<double>& drr) {
+  appendLevelErrors(meanEarlyLevels(rsao, there.ambix.durationS()),
+                    earlyLevels(there.noiseless, there.images.front().time_s), "the room", early, drr);
+}
+
+// Level errors of an RSAO against another RSAO, both resynthesised (the check:
+// the moved RSAO against the one estimated from the new position's own RIR).
+void addLevelErrors(const Rsao& rsao, const Rsao& reference, double duration_s, std::vector<double>& early,
+                    std::vector<double>& drr) {
+  appendLevelErrors(meanEarlyLevels(rsao, duration_s), meanEarlyLevels(reference, duration_s), "its own RSAO", early,
+                    drr);
 }
 
 struct MovedScore {
@@ -987,7 +984,7 @@ TEST(ListenerTranslation, MovedLowBandsStayNearTheTruth) {
 // The report of docs/six_dof.md over both sets; ROOM_REVERB_PER_ROOM=1 adds each room's
 // levels, ROOM_REVERB_PER_POSITION=1 each moved position's; ROOM_REVERB_PAPER_LPC=1 fits
 // each tap's shape on its whole window (docs/rsao.md's comparison); ROOM_REVERB_LEVEL_SEEDS=N
-// takes each RSAO's levels against its own RSAO over N resynthesis seeds;
+// takes each resynthesised RSAO's levels over N seeds;
 // ROOM_REVERB_PRINT_DRR_PARTS=1 prints each comparison's direct sound, rest and energy
 // after 50 ms apart.
 TEST(ListenerTranslationReport, BothSets) {

@@ -1,5 +1,6 @@
 #include "subpixel_disparity.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
@@ -14,7 +15,7 @@ constexpr double kMinGradientEnergy = 4.0;
 // A step below this [px] ends the iterations: the next would move the disparity by less
 // than a thousandth of a pixel, 0.01 % of the range of a wall 8 m away at 2048 x 1024.
 constexpr double kConverged = 0.005;
-// Window columns summed lane by lane (below); wider windows take the plain sum.
+// Window columns summed lane by lane (below), this many at a time.
 constexpr int kMaxLanes = 16;
 
 }  // namespace
@@ -51,40 +52,29 @@ double refineDisparity(const EpipolarImage& left, const EpipolarImage& right, in
     const double base = std::floor(x0);
     const double a = x0 - base;
     const int shift = static_cast<int>(base);
+    // One single-precision lane per window column, summed down the rows and then across
+    // the lanes, in blocks of kMaxLanes columns: the lanes are independent, so the
+    // compiler takes them four or eight at a time, where one running double sum would
+    // take the terms one by one (the grey levels are 8-bit; a lane sums at most
+    // 2 half_rows + 1 terms).
+    const auto wa = static_cast<float>(a), wb = static_cast<float>(1.0 - a);
     double num = 0.0, den = 0.0;
-    if (width <= kMaxLanes) {
-      // One single-precision lane per window column, summed down the rows and then across
-      // the lanes: the lanes are independent, so the compiler takes them four or eight at
-      // a time, where one running double sum would take the terms one by one (the grey
-      // levels are 8-bit; a lane sums at most 2 half_rows + 1 terms).
-      const auto wa = static_cast<float>(a), wb = static_cast<float>(1.0 - a);
+    for (int block = 0; block < width; block += kMaxLanes) {
+      const int lanes = std::min(kMaxLanes, width - block);
       std::array<float, kMaxLanes> lane_num{}, lane_den{};
-      const int first = col - half_cols;
+      const int first = col - half_cols + block;
       for (int r = row - half_rows; r <= row + half_rows; ++r) {
         const float* l = left.grey.ptr<float>(r) + first;
         const float* g = right.grey.ptr<float>(r) + first + shift;
         const float* gx = right.dx.ptr<float>(r) + first + shift;
-        for (int j = 0; j < width; ++j) {
+        for (int j = 0; j < lanes; ++j) {
           const float value = wb * g[j] + wa * g[j + 1];
           const float slope = wb * gx[j] + wa * gx[j + 1];
           lane_num[static_cast<std::size_t>(j)] += (l[j] - value) * slope;
           lane_den[static_cast<std::size_t>(j)] += slope * slope;
         }
       }
-      for (int j = 0; j < width; ++j) num += lane_num[static_cast<std::size_t>(j)], den += lane_den[static_cast<std::size_t>(j)];
-    } else {
-      for (int r = row - half_rows; r <= row + half_rows; ++r) {
-        const float* l = left.grey.ptr<float>(r);
-        const float* g = right.grey.ptr<float>(r);
-        const float* gx = right.dx.ptr<float>(r);
-        for (int c = col - half_cols; c <= col + half_cols; ++c) {
-          const int k = c + shift;
-          const double value = (1.0 - a) * g[k] + a * g[k + 1];
-          const double slope = (1.0 - a) * gx[k] + a * gx[k + 1];
-          num += (l[c] - value) * slope;
-          den += slope * slope;
-        }
-      }
+      for (int j = 0; j < lanes; ++j) num += lane_num[static_cast<std::size_t>(j)], den += lane_den[static_cast<std::size_t>(j)];
     }
     const double samples = (2.0 * half_rows + 1.0) * (2.0 * half_cols + 1.0);
     if (den < kMinGradientEnergy * samples) return d0;
