@@ -196,6 +196,53 @@ WallChoice wallAtEdge(const std::vector<PlanePeak>& peaks, const WallBand& band,
   return wallAtSurfaceEnd(below, edge, edge_from_ceiling);
 }
 
+// Where only the ground ends and no layer of the calibrated width stands there: a wall
+// the stereo ranges far worse than the calibrated noise (a plain facade far away, whose
+// few pixels of disparity carry little texture to match: a concrete wall 12.6 m from the
+// rig scatters its points over 5-9 % of their range between quartiles, against the
+// calibrated 1 % sigma) spreads over many of those windows, and none stands out from its
+// flanks. An open side has nothing standing at the ground's end at any width. So the
+// planes are sought again with the window widened kWidenings times, on the band's points
+// away from the walls across (which run along the axis and would fill a wide window's
+// flanks as much as the window). A plane so found scatters its foot over the ground as
+// far as its window reaches, and the ground's edge with it: it may lie inside the edge by
+// its own window and the calibrated tolerance. Of those covering at least
+// min_layer_coverage of the room's length, the one of most support is the wall.
+std::optional<WallChoice> scatteredWallAtEdge(const WallBand& band, const std::pair<double, double>& extent,
+                                              const BoxFitParams& params, bool below, double edge) {
+  constexpr std::array<double, 3> kWidenings = {2.0, 4.0, 8.0};
+  constexpr double kAcrossShare = 0.1;  // of the room's length at either end: the walls across
+  const double length = extent.second - extent.first;
+  std::vector<double> inner;
+  for (std::size_t i = 0; i < band.coordinate.size(); ++i) {
+    const double l = band.lateral[i];
+    if (l > extent.first + kAcrossShare * length && l < extent.second - kAcrossShare * length) {
+      inner.push_back(band.coordinate[i]);
+    }
+  }
+  if (inner.empty()) return std::nullopt;
+  const PlaneHistogram histogram(inner, params.bin_m);
+  const double tolerance = std::max(params.edge_tolerance_m, params.spread.halfWidth(edge));
+  for (double widen : kWidenings) {
+    PlaneSpread wide = params.spread;
+    wide.noise_fraction *= widen;
+    wide.min_half_width_m *= widen;
+    const PlanePeak* best = nullptr;
+    const auto peaks = histogram.peaks(wide, params.min_plane_support, params.min_plane_contrast);
+    for (const PlanePeak& p : peaks) {
+      const double at = std::abs(p.position_m);
+      if ((p.position_m < 0.0) != below || at > edge + tolerance || at < edge - tolerance - wide.halfWidth(at)) continue;
+      if (lateralCoverage(band, p.position_m, wide.halfWidth(at), extent.first, extent.second) <
+          params.min_layer_coverage) {
+        continue;
+      }
+      if (!best || p.support > best->support) best = &p;
+    }
+    if (best) return WallChoice{best->position_m, WallBasis::kScatteredPlane, 0.4, best->contrast};
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 WallPair findWallPair(const WallBand& band, const std::vector<double>& ray_coordinate,
@@ -217,6 +264,11 @@ WallPair findWallPair(const WallBand& band, const std::vector<double>& ray_coord
     } else {
       choice = wallByRays(peaks, rays, params, below);
       if (!choice && edge) choice = wallAtSurfaceEnd(below, edge->distance_m, edge_from_ceiling);
+    }
+    if (choice && choice->basis == WallBasis::kOpen) {
+      if (!extent) extent = lateralExtent(band);
+      const auto scattered = scatteredWallAtEdge(band, *extent, params, below, edge->distance_m);
+      if (scattered) choice = scattered;
     }
     if (!choice) {
       throw InputError(std::string("room layout: no wall found on the ") + (below ? "-" : "+") + axis +

@@ -55,6 +55,7 @@ enum class WallBasis {
   kEdge,         // the ceiling's or floor's edge; the wall itself is hidden or cluttered
   kRayStop,      // beyond the ceiling's ranged edge, where the rays aimed past it stop (ray_stops.h)
   kOpen,         // nothing stands where the floor ends: an open side
+  kScatteredPlane,  // where the floor ends, a plane whose points scatter beyond the calibrated noise
   kCeilingJunction,  // where the image shows the ceiling meeting it (wall_junctions.h)
 };
 
@@ -94,7 +95,9 @@ struct WallChoice {
 // with a window stops more than the window lets through, however large the facade seen
 // through it looks in area. If no candidate qualifies, the outermost one. With no such
 // plane either, the surface's farthest point: an open side if nothing stands there and the
-// surface is the ground, else a wall hidden there.
+// surface is the ground, else a wall hidden there. Where the ground ends with no layer
+// there, a plane whose points scatter two or four times the calibrated noise is sought
+// about the edge before the side is taken for open (scatteredWallAtEdge).
 //
 // Throws InputError naming the side if a side has neither a plane nor a surface.
 struct WallPair {

@@ -170,6 +170,11 @@ void recordFaceEvidence(const AlignedBox& box, RoomLayout& result) {
                                   "past that edge stop, " + where + " (the ceiling near the wall has no range: a light "
                                   "panel or a plain surface)");
         break;
+      case layout::WallBasis::kScatteredPlane:
+        evidence.basis = "plane at the floor's edge, its points scattered";
+        result.warnings.push_back(name + ": its points scatter far beyond the stereo's usual noise (a plain or far "
+                                  "wall); placed at their plane where the floor ends, " + where);
+        break;
       case layout::WallBasis::kCeilingJunction:
         evidence.basis = "where the image shows the ceiling meeting it";  // warned where it is placed
         break;

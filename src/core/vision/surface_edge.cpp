@@ -5,6 +5,36 @@
 
 namespace room_reverb::core::layout {
 
+namespace {
+
+// The farthest point of a surface without a step: the farthest before the first stretch
+// of kGapShare of its distance (at least kMinGapM) that holds no point. A stray ranged far
+// beyond the surface (a mismatch at the rim of a far wall) is no part of it: the ground of
+// a rendered courtyard ends 13 m from the rig and six stray voxels lie at 26-27 m.
+double reachBeforeGap(const std::vector<double>& count, const std::vector<double>& distances, double bin_m) {
+  constexpr double kGapShare = 0.1;
+  constexpr double kMinGapM = 1.0;
+  std::vector<double> sorted = distances;
+  const auto middle = sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2);
+  std::nth_element(sorted.begin(), middle, sorted.end());
+  std::size_t last = static_cast<std::size_t>(std::max(0.0, *middle) / bin_m);
+  for (std::size_t b = last; b < count.size(); ++b) {
+    if (count[b] > 0.0) {
+      last = b;
+    } else if (static_cast<double>(b - last) * bin_m >= std::max(kMinGapM, kGapShare * static_cast<double>(last) * bin_m)) {
+      break;
+    }
+  }
+  double reach = 0.0;
+  const double end = static_cast<double>(last + 1) * bin_m;
+  for (double d : distances) {
+    if (d < end) reach = std::max(reach, d);
+  }
+  return reach;
+}
+
+}  // namespace
+
 std::optional<SurfaceEdge> surfaceEdge(const std::vector<double>& distances, double bin_m, double step_span_m,
                                   std::size_t min_points) {
   if (distances.size() < min_points) return std::nullopt;
@@ -49,7 +79,7 @@ std::optional<SurfaceEdge> surfaceEdge(const std::vector<double>& distances, dou
       edge_bin = b;
     }
   }
-  if (!edge_bin) return SurfaceEdge{far, false};
+  if (!edge_bin) return SurfaceEdge{reachBeforeGap(count, distances, bin_m), false};
   // Within the boundary's neighbourhood, the step's place from the filling of the two bins
   // around it: half of the inside level is where a blurred step is.
   const std::size_t b = *edge_bin;

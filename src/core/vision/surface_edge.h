@@ -20,9 +20,10 @@ constexpr double kMinSurfaceLevel = 0.1;
 // `step_span_m` either side) to a fraction of what it was and never comes back to half of
 // it further out: far away a surface thins out gradually as the rig's rays spread over it,
 // which is no step; a light's shadow is a step the ceiling comes back from; strays and a
-// facade seen through a window beyond the wall are too thin to come back. Without a step (a surface seen thinning out to the farthest
-// ranges), `distance_m` is its farthest point and `step` false. nullopt with fewer than
-// `min_points` points.
+// facade seen through a window beyond the wall are too thin to come back. Without a step
+// (a surface seen thinning out to the farthest ranges), `distance_m` is its farthest point
+// before the first empty stretch of a tenth of its distance (at least 1 m; strays lie
+// beyond) and `step` false. nullopt with fewer than `min_points` points.
 struct SurfaceEdge {
   double distance_m = 0.0;
   bool step = true;
