@@ -212,46 +212,59 @@ bool floatsInOpenAir(const CuboidObject& object, const RoomFrame& frame) {
   return true;
 }
 
-// Whether a cluster is the tail of a wall's range noise rather than something standing in
-// front of the wall. Where the stereo ranges a wall poorly (far, or seen steeply, where a
+// Whether a cluster is the tail of a face's range noise rather than something standing in
+// front of the face. Where the stereo ranges a wall poorly (far, or seen steeply, where a
 // vertical baseline gives little disparity) its points scatter far beyond the wall's
-// window, and the scatter inside the room forms clusters clear of the faces. Such a tail
-// touches the wall, is densest next to it and thins out into the room, and the wall
-// itself is seen behind it. Something against a wall hides the wall behind it, and its
-// points gather at its front. So a cluster that touches wall f is a tail if, over the
-// middle of its outline on the wall, its points are densest in the layer next to the
-// wall's window and the window itself holds at least half that density.
-bool wallNoiseTail(const std::vector<std::uint32_t>& cluster, const std::vector<Eigen::Vector3d>& room_centroid,
+// window, and the scatter inside the room forms clusters clear of the faces; the ground of
+// a large room seen at grazing angles scatters upwards the same way (the rendered
+// courtyard's gravel 5-9 m from the rig left clusters 0.1-0.2 m high). Such a tail
+// touches the face, is densest next to it and thins out into the room, and the face
+// itself is seen behind it. Something against a wall or on the floor hides the face
+// behind or under it, and its points gather at its front or top. So a cluster that
+// touches face f (the floor or a wall) is a tail if, over the middle of its outline on
+// the face, its points are densest in the layer next to the face's window and the window
+// itself holds at least half that density.
+bool faceNoiseTail(const std::vector<std::uint32_t>& cluster, const std::vector<Eigen::Vector3d>& room_centroid,
                    const std::vector<Voxel>& voxels, const RoomFrame& frame, double voxel_m) {
   constexpr double kOutline = 0.1;       // outline: the 10-90 % range of the cluster's voxels
   constexpr double kTouchVoxels = 2.0;   // a cluster within this many voxels of the window touches it
-  constexpr double kWallShare = 0.5;     // the window's density over the cluster's densest layer
+  constexpr double kFaceShare = 0.5;     // the window's density over the cluster's densest layer
   constexpr double kStandsOnFloorM = 0.2;   // a cluster whose lowest points are this near the floor ...
   constexpr double kStandingHeightM = 1.0;  // ... and that rises this high stands there
-  for (int face = 2; face < 6; ++face) {
+  constexpr double kFloorTailM = 0.3;       // the highest a tail of the floor's noise rises
+  const auto quantile = [](std::vector<double> values, double q) {
+    const auto k = static_cast<std::ptrdiff_t>(q * static_cast<double>(values.size() - 1));
+    std::nth_element(values.begin(), values.begin() + k, values.end());
+    return values[static_cast<std::size_t>(k)];
+  };
+  for (int face : {0, 2, 3, 4, 5}) {
     const double margin = frame.margin[static_cast<std::size_t>(face)];
-    const int axis = face < 4 ? 0 : 1, lateral = 1 - axis;
-    std::vector<double> distance, along, height;
+    // The two coordinates across the face: along the wall and up it, or the floor's x and y.
+    const int first = face == 0 ? 0 : (face < 4 ? 1 : 0), second = face == 0 ? 1 : 2;
+    std::vector<double> distance, across_first, across_second;
     for (std::uint32_t v : cluster) {
       const Eigen::Vector3d& p = room_centroid[v];
       distance.push_back(frame.faceDistances(p)[static_cast<std::size_t>(face)]);
-      along.push_back(p[lateral]), height.push_back(p.z());
+      across_first.push_back(p[first]), across_second.push_back(p[second]);
     }
-    const auto quantile = [](std::vector<double> values, double q) {
-      const auto k = static_cast<std::ptrdiff_t>(q * static_cast<double>(values.size() - 1));
-      std::nth_element(values.begin(), values.begin() + k, values.end());
-      return values[static_cast<std::size_t>(k)];
-    };
     if (quantile(distance, 0.02) > margin + kTouchVoxels * voxel_m) continue;
+    // The ground's scatter rises a few decimetres at most (0.1-0.2 m from gravel 9 m from
+    // the rendered courtyard's rig); a seat rises 0.4 m, and what rises that high is furniture.
+    if (face == 0 && quantile(distance, 0.98) > kFloorTailM) continue;
     // Standing on the floor and rising a metre or more: shelving or a unit, whose wall
     // shows between its boards as a wall shows through its own noise.
-    if (quantile(height, 0.02) <= kStandsOnFloorM && quantile(height, 0.98) - quantile(height, 0.02) >= kStandingHeightM) {
-      continue;
+    if (face != 0) {
+      std::vector<double> height;
+      for (std::uint32_t v : cluster) height.push_back(room_centroid[v].z());
+      if (quantile(height, 0.02) <= kStandsOnFloorM &&
+          quantile(height, 0.98) - quantile(height, 0.02) >= kStandingHeightM) {
+        continue;
+      }
     }
-    const double a_lo = quantile(along, kOutline), a_hi = quantile(along, 1.0 - kOutline);
-    const double z_lo = quantile(height, kOutline), z_hi = quantile(height, 1.0 - kOutline);
+    const double a_lo = quantile(across_first, kOutline), a_hi = quantile(across_first, 1.0 - kOutline);
+    const double b_lo = quantile(across_second, kOutline), b_hi = quantile(across_second, 1.0 - kOutline);
     const auto inOutline = [&](const Eigen::Vector3d& p) {
-      return p[lateral] >= a_lo && p[lateral] <= a_hi && p.z() >= z_lo && p.z() <= z_hi;
+      return p[first] >= a_lo && p[first] <= a_hi && p[second] >= b_lo && p[second] <= b_hi;
     };
     // The cluster's points in layers of the window's thickness, from the window inwards.
     const double layer = std::max(2.0 * margin, 2.0 * voxel_m);
@@ -269,7 +282,7 @@ bool wallNoiseTail(const std::vector<std::uint32_t>& cluster, const std::vector<
       const Eigen::Vector3d& p = room_centroid[v];
       if (std::abs(frame.faceDistances(p)[static_cast<std::size_t>(face)]) <= margin && inOutline(p)) window += voxels[v].count;
     }
-    if (window / (2.0 * margin) >= kWallShare * layers[0] / layer) return true;
+    if (window / (2.0 * margin) >= kFaceShare * layers[0] / layer) return true;
   }
   return false;
 }
@@ -287,12 +300,12 @@ Furniture fitFurniture(const PointCloud& cloud, const VoxelGrid& grid, const Roo
   Clusters clusters =
       splitClustersAtNecks(grid, connectedVoxelClusters(grid, candidate, params.min_voxels, params.link_voxels),
                            params.link_voxels, params.split);
-  // A split can leave a piece (a bridge's stub) below the size of an object; a wall's
+  // A split can leave a piece (a bridge's stub) below the size of an object; a face's
   // range noise is no object.
   clusters.erase(std::remove_if(clusters.begin(), clusters.end(),
                                 [&](const auto& c) {
                                   return c.size() < params.min_voxels ||
-                                         wallNoiseTail(c, fitter.roomCentroids(), voxels, frame, grid.size());
+                                         faceNoiseTail(c, fitter.roomCentroids(), voxels, frame, grid.size());
                                 }),
                  clusters.end());
   Pieces pieces = fitter.fit(std::move(clusters));
