@@ -10,18 +10,29 @@ namespace {
 constexpr double kHalfNormalMedian = 0.6745;  // median of |x| for x ~ N(0, 1)
 constexpr double kWindowHalfWidths = 4.0;
 
-// The weighted median of (value, weight) pairs (reordered); 0 if empty.
-double weightedMedian(std::vector<std::pair<double, double>>& samples) {
-  if (samples.empty()) return 0.0;
-  std::sort(samples.begin(), samples.end());
+// The weighted median of (value, weight) pairs with values in (0, `window`], to a
+// 4096th of the window (a tenth of a millimetre on a wall's 0.4 m window): from a
+// histogram in linear time, where sorting a wall's hundreds of thousands of points took a
+// tenth of the courtyard's layout. 0 if empty.
+double weightedMedian(const std::vector<std::pair<double, double>>& samples, double window) {
+  constexpr std::size_t kBins = 4096;
+  if (samples.empty() || !(window > 0.0)) return 0.0;
+  std::vector<double> mass(kBins, 0.0);
   double total = 0.0;
-  for (const auto& s : samples) total += s.second;
-  double below = 0.0;
   for (const auto& [value, weight] : samples) {
-    below += weight;
-    if (below >= 0.5 * total) return value;
+    mass[std::min(kBins - 1, static_cast<std::size_t>(value / window * kBins))] += weight;
+    total += weight;
   }
-  return samples.back().first;
+  double below = 0.0;
+  for (std::size_t b = 0; b < kBins; ++b) {
+    if (below + mass[b] >= 0.5 * total) {
+      // Within the bin, in proportion to the mass still wanted.
+      const double fraction = mass[b] > 0.0 ? (0.5 * total - below) / mass[b] : 0.5;
+      return (static_cast<double>(b) + fraction) * window / kBins;
+    }
+    below += mass[b];
+  }
+  return window;
 }
 
 }  // namespace
@@ -53,7 +64,7 @@ std::array<double, 6> measuredFaceSpreads(const std::vector<WeightedPoint>& raw,
     }
   }
   std::array<double, 6> sigma{};
-  for (int face = 0; face < 6; ++face) sigma[face] = weightedMedian(beyond[face]) / kHalfNormalMedian;
+  for (int face = 0; face < 6; ++face) sigma[face] = weightedMedian(beyond[face], window[face]) / kHalfNormalMedian;
   return sigma;
 }
 

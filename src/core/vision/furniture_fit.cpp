@@ -224,8 +224,23 @@ bool floatsInOpenAir(const CuboidObject& object, const RoomFrame& frame) {
 // touches face f (the floor or a wall) is a tail if, over the middle of its outline on
 // the face, its points are densest in the layer next to the face's window and the window
 // itself holds at least half that density.
+// Per face (kRoomSurfaceNames order), the voxels in its window: each cluster's test asks
+// for a few of them, and the courtyard has hundreds of clusters and 300 000 voxels.
+using FaceWindows = std::array<std::vector<std::uint32_t>, 6>;
+FaceWindows faceWindows(const std::vector<Eigen::Vector3d>& room_centroid, const RoomFrame& frame) {
+  FaceWindows windows;
+  for (std::uint32_t v = 0; v < room_centroid.size(); ++v) {
+    const auto d = frame.faceDistances(room_centroid[v]);
+    for (std::size_t f = 0; f < 6; ++f) {
+      if (frame.usesFace(static_cast<int>(f)) && std::abs(d[f]) <= frame.margin[f]) windows[f].push_back(v);
+    }
+  }
+  return windows;
+}
+
 bool faceNoiseTail(const std::vector<std::uint32_t>& cluster, const std::vector<Eigen::Vector3d>& room_centroid,
-                   const std::vector<Voxel>& voxels, const RoomFrame& frame, double voxel_m) {
+                   const std::vector<Voxel>& voxels, const FaceWindows& windows, const RoomFrame& frame,
+                   double voxel_m) {
   constexpr double kOutline = 0.1;       // outline: the 10-90 % range of the cluster's voxels
   constexpr double kTouchVoxels = 2.0;   // a cluster within this many voxels of the window touches it
   constexpr double kFaceShare = 0.5;     // the window's density over the cluster's densest layer
@@ -278,9 +293,8 @@ bool faceNoiseTail(const std::vector<std::uint32_t>& cluster, const std::vector<
     }
     if (layers.empty() || std::max_element(layers.begin(), layers.end()) != layers.begin()) continue;
     double window = 0.0;
-    for (std::size_t v = 0; v < voxels.size(); ++v) {
-      const Eigen::Vector3d& p = room_centroid[v];
-      if (std::abs(frame.faceDistances(p)[static_cast<std::size_t>(face)]) <= margin && inOutline(p)) window += voxels[v].count;
+    for (std::uint32_t v : windows[static_cast<std::size_t>(face)]) {
+      if (inOutline(room_centroid[v])) window += voxels[v].count;
     }
     if (window / (2.0 * margin) >= kFaceShare * layers[0] / layer) return true;
   }
@@ -302,10 +316,11 @@ Furniture fitFurniture(const PointCloud& cloud, const VoxelGrid& grid, const Roo
                            params.link_voxels, params.split);
   // A split can leave a piece (a bridge's stub) below the size of an object; a face's
   // range noise is no object.
+  const FaceWindows windows = faceWindows(fitter.roomCentroids(), frame);
   clusters.erase(std::remove_if(clusters.begin(), clusters.end(),
                                 [&](const auto& c) {
                                   return c.size() < params.min_voxels ||
-                                         faceNoiseTail(c, fitter.roomCentroids(), voxels, frame, grid.size());
+                                         faceNoiseTail(c, fitter.roomCentroids(), voxels, windows, frame, grid.size());
                                 }),
                  clusters.end());
   Pieces pieces = fitter.fit(std::move(clusters));

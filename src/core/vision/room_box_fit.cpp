@@ -280,18 +280,7 @@ WallPair findWallPair(const WallBand& band, const std::vector<double>& ray_coord
   return pair;
 }
 
-double AlignedBox::facePosition(int face) const {
-  switch (face) {
-    case 0: return floor_z;
-    case 1: return top_z;
-    case 2: return x_lo;
-    case 3: return x_hi;
-    case 4: return y_lo;
-    default: return y_hi;
-  }
-}
 
-double AlignedBox::margin(int face, const PlaneSpread& spread) const { return spread.halfWidth(facePosition(face)); }
 
 AlignedBox fitAlignedBox(const std::vector<Eigen::Vector3d>& voxels, const std::vector<WeightedPoint>& raw,
                          const HorizontalPlanes& planes, const BoxFitParams& params) {

@@ -122,9 +122,19 @@ struct AlignedBox {
   std::array<WallChoice, 6> choice{};  // what each face rests on (floor and ceiling: kPlane)
 
   // How close to a face a point may be and still be taken as lying on it: the face's
-  // window (see PlaneSpread) at its distance from the rig.
-  double margin(int face, const PlaneSpread& spread) const;
-  double facePosition(int face) const;
+  // window (see PlaneSpread) at its distance from the rig. Inline: the fit asks it for
+  // every point of the cloud.
+  double margin(int face, const PlaneSpread& spread) const { return spread.halfWidth(facePosition(face)); }
+  double facePosition(int face) const {
+    switch (face) {
+      case 0: return floor_z;
+      case 1: return top_z;
+      case 2: return x_lo;
+      case 3: return x_hi;
+      case 4: return y_lo;
+      default: return y_hi;
+    }
+  }
 };
 
 // A raw point in the aligned frame, weighted by one over the number of points in its
