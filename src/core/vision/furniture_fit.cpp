@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <numeric>
 #include <string>
 
@@ -109,14 +110,29 @@ class ClusterFitter {
     p.line_owner.resize(seen_.size());
     for (std::size_t i = 0; i < seen_.size(); ++i) p.line_owner[i] = p.voxel_cluster[seen_[i]];
     p.boxes.assign(p.clusters.size(), CuboidObject{});  // a zero box for a cluster without points
+    // A cluster's box depends on its own voxels alone (its points, and the lines of sight
+    // it owns, which do not carve it): one the merges and cuts left as it was keeps the box
+    // an earlier fit gave it.
+    std::vector<std::vector<std::uint32_t>> keys(p.clusters.size());
+    std::vector<std::size_t> todo;
+    for (std::size_t k = 0; k < p.clusters.size(); ++k) {
+      keys[k] = p.clusters[k];
+      std::sort(keys[k].begin(), keys[k].end());
+      const auto known = fitted_.find(keys[k]);
+      if (known != fitted_.end()) {
+        p.boxes[k] = known->second;
+      } else if (!p.points[k].empty()) {
+        todo.push_back(k);
+      }
+    }
     // Each cluster carves against every other voxel seen: the clusters go to the cores.
-    forEachRow(static_cast<int>(p.clusters.size()), 0, [&](int row) {
-      const auto k = static_cast<std::size_t>(row);
-      if (p.points[k].empty()) return;
+    forEachRow(static_cast<int>(todo.size()), 0, [&](int row) {
+      const std::size_t k = todo[static_cast<std::size_t>(row)];
       const auto self = static_cast<std::int32_t>(k);
       const CuboidObject seen_part = fitCuboid(p.points[k], params_.cuboid);
       p.boxes[k] = normalisedCuboid(extendHiddenSides(seen_part, lines_, OwnLines{&p.line_owner, self, self}, params_.hidden));
     });
+    for (std::size_t k : todo) fitted_.emplace(std::move(keys[k]), p.boxes[k]);
     return p;
   }
 
@@ -152,6 +168,7 @@ class ClusterFitter {
   std::vector<Eigen::Vector3d> room_centroid_;
   std::vector<std::uint32_t> seen_;  // the voxels inside the room, one line of sight each
   SightLines lines_;
+  mutable std::map<std::vector<std::uint32_t>, CuboidObject> fitted_;  // by sorted voxels
 };
 
 // The clusters with every pair the fitter takes for one object joined (transitively).
