@@ -6,7 +6,9 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
+#include <opencv2/imgproc.hpp>
 #include <string>
+#include <utility>
 
 #include "room_reverb/acoustics/material.h"
 #include "room_reverb/common/error.h"
@@ -100,6 +102,37 @@ TEST(PairRectification, FindsTheBottomCamerasTurnOnRenderedRooms) {
     EXPECT_LT(turn_error, 1.2e-3) << c.room;
     EXPECT_LT(angleBetween(found.bottom_rotation, found.bottom_to_top), 1e-12);
   }
+}
+
+// Features found on the images shrunk to half their width and followed again at full
+// size place the turn more closely than the shrunk images alone can (at half the mean
+// error here); fewer features are found at half size, so not always as closely as
+// features found at full size (above).
+TEST(PairRectification, MatchesFoundShrunkAreFollowedAtFullSize) {
+  double followed_sum = 0.0, shrunk_sum = 0.0, followed_worst = 0.0;
+  int cases = 0;
+  for (const auto& [room, turn] : {std::pair{"mr", Eigen::Vector3d(0.3, -0.8, 0.5)},
+                                   std::pair{"kt", Eigen::Vector3d(-0.7, 0.2, -1.2)},
+                                   std::pair{"lounge_furniture", Eigen::Vector3d(1.5, 0.4, 0.2)}}) {
+    CaptureScene s = scene(room, 1024);
+    const StereoCapture pair = render(s, Eigen::Vector3d::Zero(), turn);
+    PairRectificationOptions half;
+    half.feature_width = 512;
+    const PairRectification followed = estimatePairRectification(pair.top.color, pair.bottom.color, half);
+    cv::Mat top_small, bottom_small;
+    cv::resize(pair.top.color, top_small, cv::Size(512, 256), 0, 0, cv::INTER_AREA);
+    cv::resize(pair.bottom.color, bottom_small, cv::Size(512, 256), 0, 0, cv::INTER_AREA);
+    const PairRectification shrunk = estimatePairRectification(top_small, bottom_small, half);
+    ASSERT_TRUE(followed.estimated && shrunk.estimated) << room;
+    const double followed_error = angleBetween(followed.bottom_to_top, turnOf(turn));
+    const double shrunk_error = angleBetween(shrunk.bottom_to_top, turnOf(turn));
+    std::printf("[ measured ] %s: turn error %.3f mrad followed at 1024 px, %.3f mrad at 512 px alone\n", room,
+                1e3 * followed_error, 1e3 * shrunk_error);
+    followed_sum += followed_error, shrunk_sum += shrunk_error, followed_worst = std::max(followed_worst, followed_error);
+    ++cases;
+  }
+  EXPECT_LT(followed_worst, 1.5e-3);
+  EXPECT_LT(followed_sum / cases, 0.7 * shrunk_sum / cases);
 }
 
 TEST(PairRectification, APairThatStandsTrueIsLeftAlone) {
