@@ -57,6 +57,7 @@ struct RouteScore {
   std::string refusal;
   Eigen::Vector3d error_pct = Eigen::Vector3d::Zero();  // (fitted - true) / true size
   std::array<double, 6> face_error_m{};                  // each truth face's fitted place, outwards positive
+  std::array<std::string, 6> face_basis{};               // what the fitted face at each truth face rests on
   double yaw_error_deg = 0.0;                            // the fitted walls' turn against the true ones
   double material_area_share = 0.0;                      // box area in the right family
   std::string confusions;                                // "truth->fitted" of wrong faces
@@ -345,6 +346,17 @@ RouteScore scoreRoom(const ClutteredRoom& room, int index, const std::string& ph
   const Eigen::Vector3d lo = a.cwiseMin(b), hi = a.cwiseMax(b);
   score.face_error_m = {-lo.z(), hi.z() - room.truth.size_m.z(), -lo.x(), hi.x() - room.truth.size_m.x(),
                         -lo.y(), hi.y() - room.truth.size_m.y()};
+  // Each truth face's fitted face: the one whose outward normal the fit turns onto it.
+  const std::array<Eigen::Vector3d, 6> outward = {-Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ(),
+                                                  -Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitX(),
+                                                  -Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitY()};
+  for (std::size_t k = 0; k < 6; ++k) {
+    std::size_t best = 0;
+    for (std::size_t j = 1; j < 6; ++j) {
+      if ((truth_from_fit * outward[j]).dot(outward[k]) > (truth_from_fit * outward[best]).dot(outward[k])) best = j;
+    }
+    score.face_basis[k] = route.layout.face_evidence[best].basis;
+  }
   double right = 0.0, total = 0.0;
   for (std::size_t k = 0; k < 6; ++k) {
     const auto truth_face = room.truth.surfaces.find(kRoomSurfaceNames[k]);
@@ -378,9 +390,16 @@ void print(const ClutteredRoom& room, const RouteScore& s) {
   if (const char* faces = std::getenv("ROOM_REVERB_PRINT_FACES"); faces != nullptr && *faces == '1') {
     std::printf("             faces outwards [cm]:");
     for (std::size_t k = 0; k < 6; ++k) std::printf(" %s %+.1f", kRoomSurfaceNames[k], 100.0 * s.face_error_m[k]);
+    std::printf("\n             faces rest on:");
+    for (std::size_t k = 0; k < 6; ++k) std::printf(" %s: %s;", kRoomSurfaceNames[k], s.face_basis[k].c_str());
     std::printf("\n");
   }
   if (const char* objects = std::getenv("ROOM_REVERB_PRINT_OBJECTS"); objects != nullptr && *objects == '1') {
+    for (const CuboidObject& o : room.truth.objects) {
+      std::printf("             true   %-10s centre %.4f %.4f %.4f size %.4f %.4f %.4f yaw %+.5f %s\n", o.label.c_str(),
+                  o.center_m.x(), o.center_m.y(), o.center_m.z(), o.size_m.x(), o.size_m.y(), o.size_m.z(), o.yaw_rad,
+                  o.material.c_str());
+    }
     for (const CuboidObject& o : s.objects) {
       std::printf("             object %-10s centre %.4f %.4f %.4f size %.4f %.4f %.4f yaw %+.5f %s\n", o.label.c_str(),
                   o.center_m.x(), o.center_m.y(), o.center_m.z(), o.size_m.x(), o.size_m.y(), o.size_m.z(), o.yaw_rad,
