@@ -70,6 +70,24 @@ double yawOf(const Eigen::Quaterniond& q) {
   return std::atan2(x.y(), x.x());
 }
 
+// The scan's options with 300 000 rays (large rooms, small objects) and `seed`.
+RoomScanOptions denseScanOptions(std::uint32_t seed) {
+  RoomScanOptions options;
+  options.seed = seed;
+  options.rays = 300000;
+  return options;
+}
+
+// Each point of box face `face` (kRoomSurfaceNames index) ranged anew with `fraction` of
+// its range as 1-sigma noise: a face the stereo ranges worse than the rest.
+void scatterFace(RoomScan& scan, int face, float fraction, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<float> noise(0.0f, fraction);
+  for (std::size_t i = 0; i < scan.cloud.points.size(); ++i) {
+    if (scan.face[i] == face) scan.cloud.points[i].p *= 1.0f + noise(rng);
+  }
+}
+
 // The layout's room against the truth: sizes within 3 cm or 1 %, rig yaw within 1
 // degree, rig position within 3 cm.
 void expectRoomMatches(const RoomLayout& layout, const RoomModel& truth, const std::string& name) {
@@ -210,11 +228,7 @@ TEST(RoomLayout, AFloorNoisierThanCalibratedIsFoundWithAWarning) {
   scan_options.range_noise_fraction = 0.01;
   scan_options.seed = 8;
   RoomScan scan = scanRoomModel(truth, scan_options);
-  std::mt19937 rng(8);
-  std::normal_distribution<float> noise(0.0f, 0.04f);
-  for (std::size_t i = 0; i < scan.cloud.points.size(); ++i) {
-    if (scan.face[i] == 0) scan.cloud.points[i].p *= 1.0f + noise(rng);
-  }
+  scatterFace(scan, 0, 0.04f, 8);
   RoomLayoutOptions options = optionsFor(scan_options);
   const RoomLayout layout = fitRoomLayout(scan.cloud, options);
   expectRoomMatches(layout, truth, "KT yaw 17, floor 4 % noise");
@@ -279,9 +293,7 @@ TEST(RoomLayout, ACeilingWhoseRangeEndsShortOfTheWallIsNotTheWall) {
 TEST(RoomLayout, CourtyardWithoutCeiling) {
   // The paper's courtyard (CY): 10.10 x 19.00 m, open to the sky; walls 6 m high here.
   const RoomModel truth = room({10.10, 19.00, 6.0}, {3.35, 12.63, 1.70}, 17.0, false);
-  RoomScanOptions scan_options;
-  scan_options.seed = 7;
-  scan_options.rays = 300000;
+  const RoomScanOptions scan_options = denseScanOptions(7);
   const RoomScan scan = scanRoomModel(truth, scan_options);
   const RoomLayout layout = fitRoomLayout(scan.cloud, optionsFor(scan_options));
   expectRoomMatches(layout, truth, "CY yaw 17, no ceiling");
@@ -295,9 +307,7 @@ TEST(RoomLayout, CourtyardWithoutCeiling) {
 // ends, not where they do.
 TEST(RoomLayout, ASideWhereOnlyTheGroundEndsIsOpen) {
   const RoomModel scanned = room({10.10, 28.00, 6.0}, {3.35, 21.63, 1.70}, 0.0, false);
-  RoomScanOptions scan_options;
-  scan_options.seed = 7;
-  scan_options.rays = 300000;
+  const RoomScanOptions scan_options = denseScanOptions(7);
   const RoomScan scan = scanRoomModel(scanned, scan_options);
   PointCloud cloud;
   for (std::size_t i = 0; i < scan.cloud.points.size(); ++i) {
@@ -325,15 +335,9 @@ TEST(RoomLayout, ASideWhereOnlyTheGroundEndsIsOpen) {
 // says how it found it.
 TEST(RoomLayout, AWallScatteredFarBeyondTheCalibratedNoiseIsAWall) {
   const RoomModel truth = room({10.10, 19.00, 6.0}, {3.35, 12.63, 1.70}, 17.0, false);
-  RoomScanOptions scan_options;
-  scan_options.seed = 7;
-  scan_options.rays = 300000;
+  const RoomScanOptions scan_options = denseScanOptions(7);
   RoomScan scan = scanRoomModel(truth, scan_options);
-  std::mt19937 rng(7);
-  std::normal_distribution<float> noise(0.0f, 0.05f);
-  for (std::size_t i = 0; i < scan.cloud.points.size(); ++i) {
-    if (scan.face[i] == 4) scan.cloud.points[i].p *= 1.0f + noise(rng);
-  }
+  scatterFace(scan, 4, 0.05f, 7);
   const RoomLayout layout = fitRoomLayout(scan.cloud, optionsFor(scan_options));
   const RoomModel& fitted = layout.model;
   std::printf("[ measured ] %-30s size error [cm] %+5.2f %+5.2f, wall_y_min: %s\n", "CY, y_min scattered 5 %",
@@ -375,9 +379,7 @@ TEST(RoomLayout, WallMountedUnitsStayObjectsInFrontOfTheirWall) {
       cuboid("shelf", {2.6, 4.13, 1.6}, {1.6, 0.3, 0.8}, 0.0),       // on wall_y_max
       cuboid("wall_unit", {5.435, 1.2, 1.75}, {0.35, 1.2, 0.7}, 0.0),  // on wall_x_max
   };
-  RoomScanOptions scan_options;
-  scan_options.seed = 31;
-  scan_options.rays = 300000;
+  const RoomScanOptions scan_options = denseScanOptions(31);
   const RoomScan scan = scanRoomModel(truth, scan_options);
   const RoomLayout layout = fitRoomLayout(scan.cloud, optionsFor(scan_options));
   expectRoomMatches(layout, truth, "MR yaw 17, wall-mounted units");
@@ -399,9 +401,7 @@ TEST(RoomLayout, AWallsRangeNoiseTailIsNoObject) {
   // 4.6 m from a rig 1.4 m below, is ranged with 0.3 m of noise: the fit must keep the
   // wall there and make no object of the scatter.
   RoomModel truth = room({6.0, 5.0, 3.0}, {2.0, 2.5, 1.4}, 0.0);
-  RoomScanOptions scan_options;
-  scan_options.seed = 32;
-  scan_options.rays = 300000;
+  const RoomScanOptions scan_options = denseScanOptions(32);
   RoomScan scan = scanRoomModel(truth, scan_options);
   std::mt19937 random(33);
   std::normal_distribution<double> noise(0.0, 0.3);
@@ -433,9 +433,7 @@ TEST(RoomLayout, TheGroundsRangeNoiseTailIsNoObject) {
   // high standing in it stays an object.
   RoomModel truth = room({10.10, 19.00, 6.0}, {3.35, 12.63, 1.70}, 0.0, false);
   truth.objects = {cuboid("planter", {6.0, 6.0, 0.25}, {2.0, 2.0, 0.5}, 0.0)};
-  RoomScanOptions scan_options;
-  scan_options.seed = 34;
-  scan_options.rays = 300000;
+  const RoomScanOptions scan_options = denseScanOptions(34);
   RoomScan scan = scanRoomModel(truth, scan_options);
   std::mt19937 random(35);
   std::normal_distribution<double> noise(0.0, 1.0);
@@ -678,9 +676,7 @@ TEST(RoomLayout, NothingFloatsInARoomWithoutACeiling) {
       cuboid("planter", {6.0, 9.0, 0.25}, {2.0, 2.0, 0.5}, 0.0),
       cuboid("bench", {1.0, 14.0, 0.23}, {0.5, 1.8, 0.46}, 0.0),
   };
-  RoomScanOptions scan_options;
-  scan_options.seed = 41;
-  scan_options.rays = 300000;
+  const RoomScanOptions scan_options = denseScanOptions(41);
   RoomScan scan = scanRoomModel(truth, scan_options);
   const Eigen::Vector3d scatter_centre(5.5, 15.0, 5.2), scatter_size(1.2, 1.2, 0.5);
   std::mt19937 random(42);
