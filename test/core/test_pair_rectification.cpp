@@ -128,9 +128,11 @@ TEST(PairRectification, MatchesFoundShrunkAreFollowedAtFullSize) {
     const double shrunk_error = angleBetween(shrunk.bottom_to_top, turnOf(turn));
     std::printf("[ measured ] %s: turn error %.3f mrad followed at 1024 px, %.3f mrad at 512 px alone\n", room,
                 1e3 * followed_error, 1e3 * shrunk_error);
+    EXPECT_LT(followed_error, shrunk_error) << room;
     followed_sum += followed_error, shrunk_sum += shrunk_error, followed_worst = std::max(followed_worst, followed_error);
     ++cases;
   }
+  // Measured 0.22-1.39 mrad (the lounge, whose half-size images give the fewest features).
   EXPECT_LT(followed_worst, 1.5e-3);
   EXPECT_LT(followed_sum / cases, 0.7 * shrunk_sum / cases);
 }

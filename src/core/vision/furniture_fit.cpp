@@ -93,7 +93,7 @@ class ClusterFitter {
   const std::vector<Eigen::Vector3d>& roomCentroids() const { return room_centroid_; }
 
   // The clusters' points and boxes.
-  Pieces fit(Clusters clusters) const {
+  Pieces fit(Clusters clusters) {
     Pieces p;
     p.clusters = std::move(clusters);
     p.voxel_cluster.assign(grid_.voxels().size(), -1);
@@ -168,7 +168,7 @@ class ClusterFitter {
   std::vector<Eigen::Vector3d> room_centroid_;
   std::vector<std::uint32_t> seen_;  // the voxels inside the room, one line of sight each
   SightLines lines_;
-  mutable std::map<std::vector<std::uint32_t>, CuboidObject> fitted_;  // by sorted voxels
+  std::map<std::vector<std::uint32_t>, CuboidObject> fitted_;  // boxes fitted, by their sorted voxels
 };
 
 // The clusters with every pair the fitter takes for one object joined (transitively).
@@ -229,18 +229,6 @@ bool floatsInOpenAir(const CuboidObject& object, const RoomFrame& frame) {
   return true;
 }
 
-// Whether a cluster is the tail of a face's range noise rather than something standing in
-// front of the face. Where the stereo ranges a wall poorly (far, or seen steeply, where a
-// vertical baseline gives little disparity) its points scatter far beyond the wall's
-// window, and the scatter inside the room forms clusters clear of the faces; the ground of
-// a large room seen at grazing angles scatters upwards the same way (the rendered
-// courtyard's gravel 5-9 m from the rig left clusters 0.1-0.2 m high). Such a tail
-// touches the face, is densest next to it and thins out into the room, and the face
-// itself is seen behind it. Something against a wall or on the floor hides the face
-// behind or under it, and its points gather at its front or top. So a cluster that
-// touches face f (the floor or a wall) is a tail if, over the middle of its outline on
-// the face, its points are densest in the layer next to the face's window and the window
-// itself holds at least half that density.
 // Per face (kRoomSurfaceNames order), the voxels in its window: each cluster's test asks
 // for a few of them, and the courtyard has hundreds of clusters and 300 000 voxels.
 using FaceWindows = std::array<std::vector<std::uint32_t>, 6>;
@@ -255,6 +243,18 @@ FaceWindows faceWindows(const std::vector<Eigen::Vector3d>& room_centroid, const
   return windows;
 }
 
+// Whether a cluster is the tail of a face's range noise rather than something standing in
+// front of the face. Where the stereo ranges a wall poorly (far, or seen steeply, where a
+// vertical baseline gives little disparity) its points scatter far beyond the wall's
+// window, and the scatter inside the room forms clusters clear of the faces; the ground of
+// a large room seen at grazing angles scatters upwards the same way (the rendered
+// courtyard's gravel 5-9 m from the rig left clusters 0.1-0.2 m high). Such a tail
+// touches the face, is densest next to it and thins out into the room, and the face
+// itself is seen behind it. Something against a wall or on the floor hides the face
+// behind or under it, and its points gather at its front or top. So a cluster that
+// touches face f (the floor or a wall) is a tail if, over the middle of its outline on
+// the face, its points are densest in the layer next to the face's window and the window
+// itself holds at least half that density.
 bool faceNoiseTail(const std::vector<std::uint32_t>& cluster, const std::vector<Eigen::Vector3d>& room_centroid,
                    const std::vector<Voxel>& voxels, const FaceWindows& windows, const RoomFrame& frame,
                    double voxel_m) {
@@ -323,7 +323,7 @@ bool faceNoiseTail(const std::vector<std::uint32_t>& cluster, const std::vector<
 Furniture fitFurniture(const PointCloud& cloud, const VoxelGrid& grid, const RoomFrame& frame,
                        const FurnitureParams& params) {
   const auto& voxels = grid.voxels();
-  const ClusterFitter fitter(cloud, grid, frame, params);
+  ClusterFitter fitter(cloud, grid, frame, params);
   std::vector<bool> candidate(voxels.size(), false);
   for (std::size_t v = 0; v < voxels.size(); ++v) {
     candidate[v] = voxels[v].hint != VoxelHint::structure && frame.clearOfFaces(fitter.roomCentroids()[v]);

@@ -23,6 +23,9 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 const cv::Size kTrackingWindow(15, 15);  // Lucas-Kanade's window [px]
+// Normalised grey levels as 8 bits: unit contrast this many levels about kNormalisedMid.
+constexpr double kNormalisedContrast = 40.0;
+constexpr double kNormalisedMid = 128.0;
 const cv::TermCriteria kTrackingStop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01);
 
 struct Match {
@@ -153,7 +156,7 @@ cv::Mat contrastNormalised(const cv::Mat& grey) {
   cv::sqrt(cv::max(variance, 1.0), deviation);
   cv::Mat normalised = (f - mean) / deviation;
   cv::Mat out;
-  normalised.convertTo(out, CV_8U, 40.0, 128.0);
+  normalised.convertTo(out, CV_8U, kNormalisedContrast, kNormalisedMid);
   return out;
 }
 
@@ -179,7 +182,8 @@ cv::Mat patchNormalised(const cv::Mat& patch) {
   cv::Scalar mean, deviation;
   cv::meanStdDev(patch, mean, deviation);
   cv::Mat out;
-  patch.convertTo(out, CV_8U, 40.0 / std::max(deviation[0], 1.0), 128.0 - 40.0 * mean[0] / std::max(deviation[0], 1.0));
+  const double gain = kNormalisedContrast / std::max(deviation[0], 1.0);
+  patch.convertTo(out, CV_8U, gain, kNormalisedMid - gain * mean[0]);
   return out;
 }
 

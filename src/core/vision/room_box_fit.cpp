@@ -280,8 +280,6 @@ WallPair findWallPair(const WallBand& band, const std::vector<double>& ray_coord
   return pair;
 }
 
-
-
 AlignedBox fitAlignedBox(const std::vector<Eigen::Vector3d>& voxels, const std::vector<WeightedPoint>& raw,
                          const HorizontalPlanes& planes, const BoxFitParams& params) {
   const PlaneSpread& spread = params.spread;

@@ -96,7 +96,7 @@ struct WallChoice {
 // through it looks in area. If no candidate qualifies, the outermost one. With no such
 // plane either, the surface's farthest point: an open side if nothing stands there and the
 // surface is the ground, else a wall hidden there. Where the ground ends with no layer
-// there, a plane whose points scatter two or four times the calibrated noise is sought
+// there, a plane whose points scatter two, four or eight times the calibrated noise is sought
 // about the edge before the side is taken for open (scatteredWallAtEdge).
 //
 // Throws InputError naming the side if a side has neither a plane nor a surface.
